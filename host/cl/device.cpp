@@ -1,0 +1,200 @@
+#include "cl/device.h"
+
+#include "cl/kernel_source.h"
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <unistd.h>
+
+namespace ht {
+namespace fs = std::filesystem;
+
+std::string cl_error_name(int err) {
+    switch (err) {
+    case CL_DEVICE_NOT_FOUND: return "CL_DEVICE_NOT_FOUND";
+    case CL_DEVICE_NOT_AVAILABLE: return "CL_DEVICE_NOT_AVAILABLE";
+    case CL_COMPILER_NOT_AVAILABLE: return "CL_COMPILER_NOT_AVAILABLE";
+    case CL_MEM_OBJECT_ALLOCATION_FAILURE: return "CL_MEM_OBJECT_ALLOCATION_FAILURE (device memory exhausted)";
+    case CL_OUT_OF_RESOURCES: return "CL_OUT_OF_RESOURCES";
+    case CL_OUT_OF_HOST_MEMORY: return "CL_OUT_OF_HOST_MEMORY";
+    case CL_BUILD_PROGRAM_FAILURE: return "CL_BUILD_PROGRAM_FAILURE";
+    case CL_INVALID_VALUE: return "CL_INVALID_VALUE";
+    case CL_INVALID_BUFFER_SIZE: return "CL_INVALID_BUFFER_SIZE (larger than the device's max allocation)";
+    case CL_INVALID_KERNEL_ARGS: return "CL_INVALID_KERNEL_ARGS";
+    case CL_INVALID_WORK_GROUP_SIZE: return "CL_INVALID_WORK_GROUP_SIZE";
+    case CL_INVALID_BUILD_OPTIONS: return "CL_INVALID_BUILD_OPTIONS";
+    case CL_PLATFORM_NOT_FOUND_KHR: return "CL_PLATFORM_NOT_FOUND_KHR (no OpenCL platform installed)";
+    default: return "OpenCL error " + std::to_string(err);
+    }
+}
+
+namespace {
+const char* kInstallHint =
+    "no OpenCL platform found: install an OpenCL driver, e.g. `apt-get install pocl-opencl-icd` "
+    "(CPU) or your GPU vendor's ICD";
+
+std::string type_name(cl_device_type t) {
+    if (t & CL_DEVICE_TYPE_GPU) return "GPU";
+    if (t & CL_DEVICE_TYPE_CPU) return "CPU";
+    if (t & CL_DEVICE_TYPE_ACCELERATOR) return "ACCELERATOR";
+    return "OTHER";
+}
+
+struct Found {
+    cl::Platform platform;
+    cl::Device device;
+    DeviceInfo info;
+};
+
+std::vector<Found> enumerate() {
+    std::vector<cl::Platform> platforms;
+    try {
+        cl::Platform::get(&platforms);
+    } catch (const cl::Error& e) {
+        throw DeviceError(kInstallHint);
+    }
+    if (platforms.empty()) throw DeviceError(kInstallHint);
+    std::vector<Found> out;
+    for (auto& p : platforms) {
+        std::vector<cl::Device> devs;
+        try {
+            p.getDevices(CL_DEVICE_TYPE_ALL, &devs);
+        } catch (const cl::Error&) {
+            continue;  // a platform without devices
+        }
+        for (auto& d : devs) {
+            Found f{p, d, {}};
+            DeviceInfo& i = f.info;
+            i.index = int(out.size());
+            i.platform = p.getInfo<CL_PLATFORM_NAME>();
+            i.platform_version = p.getInfo<CL_PLATFORM_VERSION>();
+            i.name = d.getInfo<CL_DEVICE_NAME>();
+            i.vendor = d.getInfo<CL_DEVICE_VENDOR>();
+            i.version = d.getInfo<CL_DEVICE_VERSION>();
+            i.driver = d.getInfo<CL_DRIVER_VERSION>();
+            i.c_version = d.getInfo<CL_DEVICE_OPENCL_C_VERSION>();
+            i.type = type_name(d.getInfo<CL_DEVICE_TYPE>());
+            i.compute_units = d.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
+            i.global_mem = d.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
+            i.max_alloc = d.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
+            i.max_work_group = d.getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>();
+            out.push_back(f);
+        }
+    }
+    if (out.empty()) throw DeviceError("OpenCL platforms are installed but report no device");
+    return out;
+}
+
+// FNV-1a 64, enough to key a cache (not a security boundary).
+unsigned long long fnv1a(const std::string& s, unsigned long long h = 1469598103934665603ull) {
+    for (unsigned char c : s) { h ^= c; h *= 1099511628211ull; }
+    return h;
+}
+}  // namespace
+
+std::vector<DeviceInfo> list_devices() {
+    std::vector<DeviceInfo> out;
+    for (auto& f : enumerate()) out.push_back(f.info);
+    return out;
+}
+
+std::string program_cache_dir() {
+    if (const char* d = std::getenv("HAIRTRACE_CACHE_DIR")) return d;
+    if (const char* x = std::getenv("XDG_CACHE_HOME")) return std::string(x) + "/hairtrace";
+    if (const char* h = std::getenv("HOME")) return std::string(h) + "/.cache/hairtrace";
+    return "off";
+}
+
+ClContext::ClContext(int device_index) {
+    auto found = enumerate();
+    const Found* pick = nullptr;
+    if (device_index >= 0) {
+        if (device_index >= int(found.size()))
+            throw DeviceError("--device " + std::to_string(device_index) + ": there are only " +
+                              std::to_string(found.size()) + " OpenCL devices (see `hairtrace devices`)");
+        pick = &found[device_index];
+    } else {
+        for (auto& f : found)
+            if (f.info.type == "GPU" || f.info.type == "CPU") { pick = &f; break; }
+        if (!pick) pick = &found[0];
+    }
+    info_ = pick->info;
+    device_ = pick->device;
+    try {
+        context_ = cl::Context(device_);
+        queue_ = cl::CommandQueue(context_, device_);
+    } catch (const cl::Error& e) {
+        throw DeviceError("cannot create an OpenCL context on " + info_.name + ": " +
+                          cl_error_name(e.err()));
+    }
+}
+
+cl::Program ClContext::build(const std::string& main_file, const std::string& options) {
+    auto t0 = std::chrono::steady_clock::now();
+    const std::string source = assemble_kernel_source(main_file);
+    const std::string key_text = source + "\n--options " + options + "\n--device " + info_.name +
+                                 "\n--driver " + info_.driver + "\n--platform " +
+                                 info_.platform_version;
+    char key[32];
+    std::snprintf(key, sizeof key, "%016llx", fnv1a(key_text));
+    std::string dir = program_cache_dir();
+    fs::path bin_path;
+    if (dir != "off") bin_path = fs::path(dir) / (std::string(key) + ".bin");
+
+    last_build_cached_ = false;
+    cl::Program program;
+    bool built = false;
+    if (!bin_path.empty() && fs::exists(bin_path)) {
+        std::ifstream f(bin_path, std::ios::binary);
+        std::vector<unsigned char> bin((std::istreambuf_iterator<char>(f)), {});
+        try {
+            cl::Program::Binaries bins{bin};
+            program = cl::Program(context_, {device_}, bins);
+            program.build({device_}, options.c_str());
+            built = true;
+            last_build_cached_ = true;
+        } catch (const cl::Error&) {
+            built = false;  // stale or foreign binary: rebuild from source below
+        }
+    }
+    if (!built) {
+        program = cl::Program(context_, source);
+        try {
+            program.build({device_}, options.c_str());
+        } catch (const cl::Error& e) {
+            std::string log;
+            try {
+                log = program.getBuildInfo<CL_PROGRAM_BUILD_LOG>(device_);
+            } catch (...) {
+            }
+            throw DeviceError("OpenCL build of kernels/" + main_file + " failed (" +
+                              cl_error_name(e.err()) + ") with options '" + options + "':\n" + log);
+        }
+        if (!bin_path.empty()) {
+            try {
+                auto bins = program.getInfo<CL_PROGRAM_BINARIES>();
+                if (!bins.empty() && !bins[0].empty()) {
+                    fs::create_directories(bin_path.parent_path());
+                    fs::path tmp = bin_path;
+                    tmp += ".tmp" + std::to_string(::getpid());
+                    {
+                        std::ofstream f(tmp, std::ios::binary);
+                        f.write(reinterpret_cast<const char*>(bins[0].data()), bins[0].size());
+                    }
+                    fs::rename(tmp, bin_path);  // atomic: readers never see a partial binary
+                }
+            } catch (...) {
+                // The cache is an optimisation; a read-only home must not fail the render.
+            }
+        }
+    }
+    last_build_ms_ =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return program;
+}
+
+}  // namespace ht

@@ -1,0 +1,108 @@
+// In-memory scene: what every loader produces and everything downstream consumes.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace ht {
+
+using Vec3f = std::array<float, 3>;
+
+// A bad scene file or scene description.  what() is one line naming the file and the problem.
+struct SceneError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+// Hair strands: strand s owns points [first_point[s], first_point[s+1]).
+struct Strands {
+    std::vector<Vec3f> points;
+    std::vector<float> radius;          // per point, > 0
+    std::vector<uint32_t> first_point;  // size strand_count + 1
+    std::vector<uint32_t> material;     // per strand, index into Scene::materials
+
+    size_t strand_count() const { return first_point.empty() ? 0 : first_point.size() - 1; }
+    size_t point_count() const { return points.size(); }
+    size_t segment_count() const;  // sum over strands of (points - 1)
+};
+
+struct Camera {
+    Vec3f eye{0, 0, 10};
+    Vec3f target{0, 0, 0};
+    Vec3f up{0, 1, 0};
+    float yfov_deg = 30.0f;
+    bool has_aspect = false;
+    float aspect = 1.0f;  // width / height if the scene states it
+};
+
+enum class LightType { Point, Spot, Directional, Sphere };
+struct Light {
+    LightType type = LightType::Point;
+    Vec3f position{0, 0, 0};
+    Vec3f direction{0, -1, 0};  // direction light travels
+    Vec3f color{1, 1, 1};
+    float intensity = 1.0f;     // W/sr (point/spot), lux-like irradiance (directional)
+    float radius = 0.0f;        // sphere lights
+    float inner_cone_deg = 0.0f, outer_cone_deg = 45.0f;
+};
+
+// Hair material as the user states it.  Validation and conversion to the kernel layout
+// (HtMaterial) happen in one place: host/fiber/material.h.
+struct HairMaterialDesc {
+    std::string name = "hair";
+    std::string model = "marschner";  // kajiya | marschner | zinke | chiang
+    // absorption: sigma_a per unit radius, or melanin concentrations, or a target colour
+    bool has_sigma_a = false;
+    Vec3f sigma_a{0.1f, 0.1f, 0.1f};
+    bool has_melanin = false;
+    float eumelanin = 0.0f, pheomelanin = 0.0f;
+    bool has_color = false;
+    Vec3f color{0.8f, 0.6f, 0.4f};
+    float eta = 1.55f;
+    float beta_m = 0.3f, beta_n = 0.3f, alpha_deg = 2.0f;
+    // Marschner / Zinke parameters (degrees)
+    float alpha_r_deg = -7.5f, beta_r_deg = 7.5f;
+    float caustic_wc_deg = 15.0f, caustic_kg = 2.5f, caustic_deta = 0.3f, caustic_dhm = 0.5f;
+    float eccentricity = 1.0f;
+    // Kajiya-Kay
+    Vec3f kd{0.6f, 0.45f, 0.3f};
+    Vec3f ks{0.3f, 0.3f, 0.3f};
+    float ks_exponent = 40.0f;
+};
+
+struct Scene {
+    std::string source;  // file name or builtin:NAME, for messages and metadata
+    Strands strands;
+    std::vector<HairMaterialDesc> materials;  // at least one
+    bool has_camera = false;
+    Camera camera;
+    std::vector<Light> lights;
+    std::vector<std::string> warnings;  // repairs made while loading (counted, one line each)
+};
+
+struct LoadOptions {
+    bool thickness_is_diameter = false;  // .hair: thickness is the radius unless stated
+    float default_radius = 0.0f;         // > 0 overrides a file's missing radius
+};
+
+// Dispatch on the extension or the builtin: prefix.  Throws SceneError.
+Scene load_scene(const std::string& path, const LoadOptions& opt = {});
+
+// Individual loaders (throw SceneError).
+Scene load_hair_file(const std::string& path, const LoadOptions& opt);
+Scene load_usc_data(const std::string& path, const LoadOptions& opt);
+Scene load_gltf(const std::string& path, const LoadOptions& opt);
+Scene make_builtin(const std::string& name);  // "strand", "ball"
+
+// Axis-aligned bounds of all points inflated by their radius.
+struct Bounds {
+    Vec3f lo{0, 0, 0}, hi{0, 0, 0};
+};
+Bounds scene_bounds(const Scene& s);
+
+// Adds a camera framing the bounds and a key light when the scene has none.
+void ensure_camera_and_light(Scene& s);
+
+}  // namespace ht

@@ -1,0 +1,105 @@
+/* Struct layouts shared by the host and the kernels, declared once.
+ *
+ * Only float / uint / int fields and fixed arrays of them: no real, no float3 (whose size differs
+ * between OpenCL C and C++), no pointers.  Every struct's size is a multiple of 16 bytes and is
+ * checked on the host with static_assert (host/cl/shared_types.h) so a mismatch fails the build.
+ */
+#ifndef HT_TYPES_H
+#define HT_TYPES_H
+
+#include "compat.h"
+
+/* ---------------------------------------------------------------- geometry */
+
+/* A strand point: position and radius (Embree's RTC_FORMAT_FLOAT4 vertex). */
+typedef struct {
+    float x, y, z, r;
+} HtPoint;
+
+/* One leaf primitive = one capsule segment between points `point` and `point + 1`.
+ * flags: HT_SEG_FIRST marks a strand's first segment, which owns its begin sphere; every other
+ * joint sphere belongs to the segment that ends there (Embree's round linear curve rule). */
+#define HT_SEG_FIRST 1u
+typedef struct {
+    uint point;    /* index of the first point */
+    uint segment;  /* global segment id (Embree primID order: strands back to back) */
+    uint strand;   /* strand id, indexes HtStrand data (material) */
+    uint flags;
+} HtSegment;
+
+/* Binary BVH node, "SoA in node" (POCL_FINDINGS L3): both children's boxes side by side so a
+ * single 8-wide slab test covers both.  lo = (x0,x1,y0,y1,z0,z1, child0, child1) and
+ * hi = (x0,x1,y0,y1,z0,z1, count0, count1), with child/count stored as uint bits.
+ * count == 0: child is an inner node index; count > 0: child is the first index into the
+ * leaf segment array and count the number of segments. */
+typedef struct {
+    float lo[8];
+    float hi[8];
+} HtBvhNode;
+
+/* ---------------------------------------------------------------- rays and hits */
+
+typedef struct {
+    float ox, oy, oz, tmin;
+    float dx, dy, dz, tmax;
+} HtRay;
+
+/* Closest hit.  segment = HT_NO_HIT for a miss.  u = position along the segment [0,1],
+ * h = signed offset across the fibre in units of the radius [-1,1] (MODEL_NOTES §1),
+ * (tx,ty,tz) = unit tangent root->tip. */
+#define HT_NO_HIT 0xFFFFFFFFu
+typedef struct {
+    float t, u, h;
+    uint segment;  /* index into the leaf segment array (not the global id) */
+    float tx, ty, tz, radius;
+} HtHit;
+
+/* ---------------------------------------------------------------- camera and lights */
+
+typedef struct {
+    float eye[4];     /* xyz, w unused */
+    float right[4];   /* scaled by tan(fov/2)*aspect */
+    float up[4];      /* scaled by tan(fov/2) */
+    float forward[4];
+    uint width, height, pad0, pad1;
+} HtCamera;
+
+#define HT_LIGHT_POINT 0u
+#define HT_LIGHT_SPOT 1u
+#define HT_LIGHT_DIRECTIONAL 2u
+#define HT_LIGHT_SPHERE 3u
+typedef struct {
+    uint type, pad0, pad1, pad2;
+    float position[4];   /* xyz; w = sphere radius */
+    float direction[4];  /* unit direction the light travels (spot axis / directional) */
+    float radiance[4];   /* rgb intensity (W/sr) for point/spot, irradiance for directional */
+    float cos_outer, cos_inner, pad3, pad4;
+} HtLight;
+
+/* ---------------------------------------------------------------- materials */
+
+#define HT_MODEL_KAJIYA 0u
+#define HT_MODEL_MARSCHNER 1u
+#define HT_MODEL_ZINKE 2u
+#define HT_MODEL_CHIANG 3u
+#define HT_MODEL_COUNT 4u
+
+/* Hair material as the kernels see it: parameters already validated and converted on the host
+ * (melanin -> sigma_a, degrees -> radians).  Fields not used by a model are ignored by it. */
+typedef struct {
+    uint model, flags, pad0, pad1;
+    float sigma_a[4];      /* absorption per unit radius, rgb */
+    float eta, beta_m, beta_n, alpha;   /* alpha: scale tilt in radians */
+    /* Marschner / Zinke longitudinal shifts and widths (radians) */
+    float alpha_r, alpha_tt, alpha_trt, pad2;
+    float beta_r, beta_tt, beta_trt, pad3;
+    /* Marschner caustic: w_c (radians), k_G, delta_eta', delta_h_M */
+    float caustic_wc, caustic_kg, caustic_deta, caustic_dhm;
+    float eccentricity, pad4, pad5, pad6;
+    /* Kajiya-Kay */
+    float kd[4];
+    float ks[4];
+    float ks_exponent, pad7, pad8, pad9;
+} HtMaterial;
+
+#endif /* HT_TYPES_H */
