@@ -116,4 +116,12 @@ HT_FN real ht_safe_sqrt(real x) { return sqrt(ht_max(x, R(0))); }
 HT_FN real ht_safe_asin(real x) { return asin(ht_clamp(x, R(-1), R(1))); }
 HT_FN real ht_safe_acos(real x) { return acos(ht_clamp(x, R(-1), R(1))); }
 
+/* Finite test that survives -cl-fast-relaxed-math (which lets the compiler assume no NaN/Inf and
+ * fold isfinite() to true): look at the exponent bits instead. */
+#ifdef HT_OPENCL
+HT_FN int ht_isfinite(float x) { return (as_uint(x) & 0x7f800000u) != 0x7f800000u; }
+#else
+HT_FN int ht_isfinite(double x) { return std::isfinite(x) ? 1 : 0; }
+#endif
+
 #endif /* HT_COMPAT_H */

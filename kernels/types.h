@@ -54,6 +54,30 @@ typedef struct {
     float tx, ty, tz, radius;
 } HtHit;
 
+/* ---------------------------------------------------------------- wavefront path state */
+
+/* One path of the current pass.  Path i of a pass renders pixel (pass_offset + i).  The path's
+ * radiance is summed in bounce order inside the path, so float results do not depend on the
+ * order in which queues are compacted. */
+typedef struct {
+    float throughput[3];
+    uint pixel;
+    float radiance[3];
+    uint flags;
+} HtPathState;
+
+/* Unoccluded contribution of a queued shadow ray, added to path `path` if the ray is clear. */
+typedef struct {
+    float contrib[3];
+    uint path;
+} HtShadowContrib;
+
+/* Queue counters read back by the host after each shade: */
+#define HT_COUNTER_SHADOW 0
+#define HT_COUNTER_NEXT 1
+#define HT_COUNTER_NAN 2   /* non-finite values caught and zeroed (reported, never written) */
+#define HT_COUNTER_COUNT 4
+
 /* ---------------------------------------------------------------- camera and lights */
 
 typedef struct {

@@ -61,6 +61,15 @@ private:
 // else ~/.cache/hairtrace.  "off" disables the cache.
 std::string program_cache_dir();
 
+// Build options every hairtrace program uses.  -cl-single-precision-constant: portable headers
+// write literals without an f suffix (they are double on the host), and a double constant would
+// otherwise promote float math to double on devices with fp64 (slow) and warn on devices without.
+// -cl-fast-relaxed-math is deliberately absent: it implies finite-math-only, under which the
+// compiler may delete the NaN/Inf guards the fibre models rely on.
+inline const char* base_kernel_options() {
+    return "-cl-std=CL1.2 -cl-mad-enable -cl-single-precision-constant";
+}
+
 // Rounds n up to a multiple of m.
 inline size_t round_up(size_t n, size_t m) { return (n + m - 1) / m * m; }
 

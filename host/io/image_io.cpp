@@ -1,0 +1,112 @@
+#include "io/image_io.h"
+
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <unistd.h>
+
+namespace ht {
+namespace fs = std::filesystem;
+using namespace OIIO;
+
+namespace {
+std::string lower_ext(const std::string& path) {
+    std::string e = fs::path(path).extension().string();
+    std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return e;
+}
+
+float srgb_encode(float x) {
+    x = std::clamp(x, 0.0f, 1.0f);
+    return x <= 0.0031308f ? 12.92f * x : 1.055f * std::pow(x, 1.0f / 2.4f) - 0.055f;
+}
+}  // namespace
+
+bool is_float_format(const std::string& path) {
+    std::string e = lower_ext(path);
+    return e == ".exr" || e == ".hdr" || e == ".pfm" || e == ".tif" || e == ".tiff";
+}
+
+std::vector<float> film_to_rgb(const Film& film) {
+    size_t n = size_t(film.width) * size_t(film.height);
+    std::vector<float> rgb(3 * n);
+    for (size_t i = 0; i < n; ++i)
+        for (int c = 0; c < 3; ++c) {
+            float v = film.mean(i, c);
+            rgb[3 * i + c] = std::isfinite(v) ? v : 0.0f;  // the kernels never write NaN; belt and braces
+        }
+    return rgb;
+}
+
+void write_image(const std::string& path, const Film& film, const ImageMetadata& meta, float exposure) {
+    std::string ext = lower_ext(path);
+    if (ext.empty()) throw ImageError(path + ": no file extension to choose an image format from");
+    bool linear = is_float_format(path);
+    std::vector<float> rgb = film_to_rgb(film);
+    ImageSpec spec(film.width, film.height, 3, linear ? TypeDesc::FLOAT : TypeDesc::UINT8);
+    if (ext == ".exr") spec.attribute("compression", "zip");
+    for (auto& [k, v] : meta.text) spec.attribute(k, v);
+    for (auto& [k, v] : meta.ints) spec.attribute(k, v);
+    for (auto& [k, v] : meta.floats) spec.attribute(k, v);
+    spec.attribute("oiio:ColorSpace", linear ? "Linear" : "sRGB");
+    spec.attribute("Software", std::string("hairtrace ") + HT_VERSION);
+
+    std::vector<unsigned char> bytes;
+    const void* data = rgb.data();
+    if (!linear) {
+        bytes.resize(rgb.size());
+        for (size_t i = 0; i < rgb.size(); ++i)
+            bytes[i] = (unsigned char)std::lround(255.0f * srgb_encode(rgb[i] * exposure));
+        data = bytes.data();
+    }
+
+    // Write beside the target and rename: a failure never destroys the previous image.
+    fs::path target(path);
+    fs::path tmp = target.parent_path() / (".tmp." + std::to_string(::getpid()) + "." + target.filename().string());
+    auto out = ImageOutput::create(path);  // format from the real name's extension
+    if (!out) throw ImageError(path + ": no image format for extension '" + ext + "'");
+    if (!out->open(tmp.string(), spec)) {
+        std::string err = out->geterror();
+        throw ImageError(path + ": cannot write: " + err);
+    }
+    bool ok = out->write_image(linear ? TypeDesc::FLOAT : TypeDesc::UINT8, data);
+    std::string err = out->geterror();
+    ok = out->close() && ok;
+    if (ok) {
+        std::error_code ec;
+        fs::rename(tmp, target, ec);
+        if (ec) {
+            fs::remove(tmp, ec);
+            throw ImageError(path + ": cannot rename the written image into place: " + ec.message());
+        }
+        return;
+    }
+    if (err.empty()) err = out->geterror();
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    throw ImageError(path + ": write failed" + (err.empty() ? std::string() : ": " + err) +
+                     " (any previous file was kept)");
+}
+
+std::vector<float> read_rgb_image(const std::string& path, int& width, int& height) {
+    auto in = ImageInput::open(path);
+    if (!in) throw ImageError(path + ": cannot read: " + OIIO::geterror());
+    const ImageSpec& spec = in->spec();
+    width = spec.width;
+    height = spec.height;
+    int nc = spec.nchannels;
+    std::vector<float> all(size_t(width) * height * nc);
+    if (!in->read_image(0, 0, 0, nc, TypeDesc::FLOAT, all.data()))
+        throw ImageError(path + ": read failed: " + in->geterror());
+    in->close();
+    std::vector<float> rgb(size_t(width) * height * 3);
+    for (size_t i = 0; i < size_t(width) * height; ++i)
+        for (int c = 0; c < 3; ++c) rgb[3 * i + c] = all[i * nc + std::min(c, nc - 1)];
+    return rgb;
+}
+
+}  // namespace ht

@@ -1,0 +1,37 @@
+// Writing images through OpenImageIO: the extension picks the format.  Float formats (.exr,
+// .hdr, .tif/.tiff as float) get linear radiance; 8-bit formats (.png, .jpg, ...) get an sRGB
+// tone-mapped image.  Files are written to a temporary name and renamed, so a failed write (full
+// disk, permissions) leaves any previous file intact.
+#pragma once
+
+#include "render/renderer.h"
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace ht {
+
+struct ImageError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+struct ImageMetadata {
+    std::map<std::string, std::string> text;    // e.g. "hairtrace:device"
+    std::map<std::string, int> ints;            // e.g. "hairtrace:spp"
+    std::map<std::string, float> floats;        // e.g. "hairtrace:render_seconds"
+};
+
+// Mean radiance per pixel, RGB, row 0 at the top.
+std::vector<float> film_to_rgb(const Film& film);
+
+// Throws ImageError naming the file on failure.
+void write_image(const std::string& path, const Film& film, const ImageMetadata& meta,
+                 float exposure = 1.0f);
+
+// Reads a float RGB(A) image (reference images): width, height, rgb (3 per pixel).
+std::vector<float> read_rgb_image(const std::string& path, int& width, int& height);
+
+bool is_float_format(const std::string& path);
+
+}  // namespace ht

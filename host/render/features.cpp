@@ -1,0 +1,62 @@
+#include "render/features.h"
+
+#include "cl/device.h"
+#include "kernels/types.h"
+
+namespace ht {
+
+namespace {
+const char* kModelNames[4] = {"kajiya", "marschner", "zinke", "chiang"};
+
+int model_index(const std::string& name) {
+    for (int i = 0; i < 4; ++i)
+        if (name == kModelNames[i]) return i;
+    return -1;
+}
+}  // namespace
+
+KernelFeatures scene_features(const Scene& scene) {
+    KernelFeatures f;
+    for (const Light& l : scene.lights) {
+        switch (l.type) {
+        case LightType::Point: f.light_point = true; break;
+        case LightType::Spot: f.light_spot = true; break;
+        case LightType::Directional: f.light_directional = true; break;
+        case LightType::Sphere: f.light_sphere = true; break;
+        }
+    }
+    if (scene.materials.empty()) f.model[model_index(HairMaterialDesc{}.model)] = true;
+    for (const auto& m : scene.materials) {
+        int i = model_index(m.model);
+        if (i >= 0) f.model[i] = true;
+    }
+    return f;
+}
+
+std::string kernel_build_options(const Scene& scene) {
+    KernelFeatures f = scene_features(scene);
+    std::string o = base_kernel_options();
+    auto def = [&](const char* name, bool on) { o += std::string(" -D") + name + "=" + (on ? "1" : "0"); };
+    def("HT_FEATURE_LIGHT_POINT", f.light_point);
+    def("HT_FEATURE_LIGHT_SPOT", f.light_spot);
+    def("HT_FEATURE_LIGHT_DIRECTIONAL", f.light_directional);
+    def("HT_FEATURE_LIGHT_SPHERE", f.light_sphere);
+    def("HT_FEATURE_MODEL_KAJIYA", f.model[HT_MODEL_KAJIYA]);
+    def("HT_FEATURE_MODEL_MARSCHNER", f.model[HT_MODEL_MARSCHNER]);
+    def("HT_FEATURE_MODEL_ZINKE", f.model[HT_MODEL_ZINKE]);
+    def("HT_FEATURE_MODEL_CHIANG", f.model[HT_MODEL_CHIANG]);
+    return o;
+}
+
+std::vector<std::string> describe_features(const KernelFeatures& f) {
+    std::vector<std::string> out;
+    auto add = [&](const char* what, bool on) { out.push_back(std::string(what) + (on ? ": compiled in" : ": compiled out")); };
+    add("point lights", f.light_point);
+    add("spot lights", f.light_spot);
+    add("directional lights", f.light_directional);
+    add("sphere lights", f.light_sphere);
+    for (int i = 0; i < 4; ++i) add((std::string("model ") + kModelNames[i]).c_str(), f.model[i]);
+    return out;
+}
+
+}  // namespace ht

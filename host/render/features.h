@@ -1,0 +1,25 @@
+// What a scene needs from the kernels, as build options: features the scene lacks are compiled
+// out, so the shading kernel carries no code for lights, models or lobes it never uses.
+#pragma once
+
+#include "scene/scene.h"
+
+#include <string>
+#include <vector>
+
+namespace ht {
+
+struct KernelFeatures {
+    bool light_point = false, light_spot = false, light_directional = false, light_sphere = false;
+    bool model[4] = {false, false, false, false};  // indexed by HT_MODEL_*
+};
+
+KernelFeatures scene_features(const Scene& scene);
+
+// "-cl-std=CL1.2 ... -DHT_FEATURE_..=1": the options the render program is built with.
+std::string kernel_build_options(const Scene& scene);
+
+// One line per chosen feature, for --verbose.
+std::vector<std::string> describe_features(const KernelFeatures& f);
+
+}  // namespace ht

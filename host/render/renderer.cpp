@@ -1,0 +1,247 @@
+// The wavefront render loop.  One pass = one sample for a block of pixels; each pass runs the
+// stages below until the extension queue is empty or max_depth is reached:
+//
+//   generate_camera_rays -> [ intersect_closest -> shade -> intersect_shadow -> resolve_shadows ]*
+//                        -> accumulate
+//
+// Queue sizes come back from the device after each shade (one small read); empty queues
+// launch nothing.
+#include "render/renderer.h"
+
+#include "bvh/bvh.h"
+#include "bvh/device_geometry.h"
+#include "render/features.h"
+#include "render/scene_upload.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace ht {
+
+namespace {
+constexpr size_t kLocalSize = 64;  // POCL_FINDINGS: 32-256 equal; a multiple of 8 for GPUs too
+
+cl::NDRange global_for(size_t n) { return cl::NDRange(round_up(std::max<size_t>(n, 1), kLocalSize)); }
+
+template <typename T>
+cl::Buffer device_array(cl::Context& ctx, const std::vector<T>& v) {
+    // OpenCL refuses zero-sized buffers; a one-element dummy keeps kernel signatures uniform.
+    size_t bytes = std::max<size_t>(v.size(), 1) * sizeof(T);
+    std::vector<T> padded = v;
+    if (padded.empty()) padded.resize(1);
+    return cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes, padded.data());
+}
+}  // namespace
+
+struct Renderer::Impl {
+    ClContext& cl;
+    RenderSettings settings;
+    SceneGeometry geometry;
+    DeviceGeometry device_geometry;
+    cl::Buffer strand_material, materials, lights;
+    uint32_t light_count = 0;
+    HtCamera camera{};
+    std::string options;
+    cl::Program program;
+    cl::Kernel k_generate, k_closest, k_shade, k_shadow, k_resolve, k_accumulate;
+    double build_ms = 0;
+    bool build_cached = false;
+
+    // per-pass buffers, sized for max paths per pass
+    size_t capacity = 0;
+    cl::Buffer rays[2], ray_path[2], hits, paths, shadow_rays, shadow_contrib, occluded, counters;
+
+    Impl(ClContext& c, const Scene& scene, const RenderSettings& s) : cl(c), settings(s) {
+        geometry = build_geometry(scene.strands);
+        device_geometry = upload_geometry(cl, geometry);
+        std::vector<uint32_t> mat_of_strand(scene.strands.material.begin(), scene.strands.material.end());
+        strand_material = device_array(cl.context(), mat_of_strand);
+        materials = device_array(cl.context(), make_kernel_materials(scene.materials));
+        auto kl = make_kernel_lights(scene.lights);
+        light_count = uint32_t(kl.size());
+        lights = device_array(cl.context(), kl);
+        camera = make_kernel_camera(scene.camera, s.width, s.height);
+
+        options = kernel_build_options(scene);
+        program = cl.build("stages/wavefront.cl", options);
+        build_ms = cl.last_build_ms();
+        build_cached = cl.last_build_cached();
+        k_generate = cl::Kernel(program, "generate_camera_rays");
+        k_closest = cl::Kernel(program, "intersect_closest");
+        k_shade = cl::Kernel(program, "shade");
+        k_shadow = cl::Kernel(program, "intersect_shadow");
+        k_resolve = cl::Kernel(program, "resolve_shadows");
+        k_accumulate = cl::Kernel(program, "accumulate");
+
+        size_t pixels = size_t(s.width) * size_t(s.height);
+        allocate(std::min(pixels, std::max<size_t>(s.max_paths_per_pass, 1)));
+    }
+
+    void allocate(size_t n) {
+        capacity = n;
+        auto& ctx = cl.context();
+        size_t cap = round_up(n, kLocalSize);
+        for (int i = 0; i < 2; ++i) {
+            rays[i] = cl::Buffer(ctx, CL_MEM_READ_WRITE, cap * sizeof(HtRay));
+            ray_path[i] = cl::Buffer(ctx, CL_MEM_READ_WRITE, cap * sizeof(uint32_t));
+        }
+        hits = cl::Buffer(ctx, CL_MEM_READ_WRITE, cap * sizeof(HtHit));
+        paths = cl::Buffer(ctx, CL_MEM_READ_WRITE, cap * sizeof(HtPathState));
+        shadow_rays = cl::Buffer(ctx, CL_MEM_READ_WRITE, cap * sizeof(HtRay));
+        shadow_contrib = cl::Buffer(ctx, CL_MEM_READ_WRITE, cap * sizeof(HtShadowContrib));
+        occluded = cl::Buffer(ctx, CL_MEM_READ_WRITE, cap * sizeof(uint32_t));
+        counters = cl::Buffer(ctx, CL_MEM_READ_WRITE, HT_COUNTER_COUNT * sizeof(uint32_t));
+    }
+
+    // ---- stages ---------------------------------------------------------------------------
+    void generate_camera_rays(uint32_t offset, uint32_t count, uint32_t sample) {
+        k_generate.setArg(0, camera);
+        k_generate.setArg(1, offset);
+        k_generate.setArg(2, count);
+        k_generate.setArg(3, settings.seed);
+        k_generate.setArg(4, sample);
+        k_generate.setArg(5, rays[0]);
+        k_generate.setArg(6, ray_path[0]);
+        k_generate.setArg(7, paths);
+        launch(k_generate, count);
+    }
+
+    void intersect_closest(int q, uint32_t count) {
+        k_closest.setArg(0, device_geometry.nodes);
+        k_closest.setArg(1, device_geometry.segments);
+        k_closest.setArg(2, device_geometry.points);
+        k_closest.setArg(3, rays[q]);
+        k_closest.setArg(4, hits);
+        k_closest.setArg(5, count);
+        launch(k_closest, count);
+    }
+
+    // Returns (shadow count, next count, non-finite count).
+    std::array<uint32_t, 3> shade(int q, uint32_t count, uint32_t sample, uint32_t bounce) {
+        uint32_t zero[HT_COUNTER_COUNT] = {0, 0, 0, 0};
+        cl.queue().enqueueWriteBuffer(counters, CL_FALSE, 0, sizeof zero, zero);
+        int a = 0;
+        k_shade.setArg(a++, device_geometry.segments);
+        k_shade.setArg(a++, device_geometry.points);
+        k_shade.setArg(a++, strand_material);
+        k_shade.setArg(a++, materials);
+        k_shade.setArg(a++, lights);
+        k_shade.setArg(a++, light_count);
+        k_shade.setArg(a++, rays[q]);
+        k_shade.setArg(a++, hits);
+        k_shade.setArg(a++, ray_path[q]);
+        k_shade.setArg(a++, count);
+        k_shade.setArg(a++, paths);
+        k_shade.setArg(a++, shadow_rays);
+        k_shade.setArg(a++, shadow_contrib);
+        k_shade.setArg(a++, rays[1 - q]);
+        k_shade.setArg(a++, ray_path[1 - q]);
+        k_shade.setArg(a++, counters);
+        k_shade.setArg(a++, settings.seed);
+        k_shade.setArg(a++, sample);
+        k_shade.setArg(a++, bounce);
+        k_shade.setArg(a++, uint32_t(settings.max_depth));
+        k_shade.setArg(a++, settings.background[0]);
+        k_shade.setArg(a++, settings.background[1]);
+        k_shade.setArg(a++, settings.background[2]);
+        launch(k_shade, count);
+        uint32_t out[HT_COUNTER_COUNT];
+        cl.queue().enqueueReadBuffer(counters, CL_TRUE, 0, sizeof out, out);
+        return {out[HT_COUNTER_SHADOW], out[HT_COUNTER_NEXT], out[HT_COUNTER_NAN]};
+    }
+
+    void intersect_shadow(uint32_t count) {
+        k_shadow.setArg(0, device_geometry.nodes);
+        k_shadow.setArg(1, device_geometry.segments);
+        k_shadow.setArg(2, device_geometry.points);
+        k_shadow.setArg(3, shadow_rays);
+        k_shadow.setArg(4, occluded);
+        k_shadow.setArg(5, count);
+        launch(k_shadow, count);
+    }
+
+    void resolve_shadows(uint32_t count) {
+        k_resolve.setArg(0, shadow_contrib);
+        k_resolve.setArg(1, occluded);
+        k_resolve.setArg(2, count);
+        k_resolve.setArg(3, paths);
+        launch(k_resolve, count);
+    }
+
+    void accumulate(cl::Buffer& film, uint32_t count) {
+        k_accumulate.setArg(0, paths);
+        k_accumulate.setArg(1, count);
+        k_accumulate.setArg(2, film);
+        launch(k_accumulate, count);
+    }
+
+    void launch(cl::Kernel& k, size_t n) {
+        cl.queue().enqueueNDRangeKernel(k, cl::NullRange, global_for(n), cl::NDRange(kLocalSize));
+    }
+};
+
+Renderer::Renderer(ClContext& cl, const Scene& scene, const RenderSettings& settings) {
+    try {
+        impl_ = new Impl(cl, scene, settings);
+    } catch (const cl::Error& e) {
+        throw DeviceError(std::string("OpenCL setup failed in ") + e.what() + ": " + cl_error_name(e.err()));
+    }
+}
+Renderer::~Renderer() { delete impl_; }
+const std::string& Renderer::kernel_options() const { return impl_->options; }
+
+RenderStats Renderer::render(Film& film, const ProgressFn& progress) {
+    Impl& r = *impl_;
+    const RenderSettings& s = r.settings;
+    const size_t pixels = size_t(s.width) * size_t(s.height);
+    if (film.width != s.width || film.height != s.height || film.rgba.size() != 4 * pixels) {
+        film.width = s.width;
+        film.height = s.height;
+        film.rgba.assign(4 * pixels, 0.0f);
+    }
+    RenderStats stats;
+    stats.build_ms = r.build_ms;
+    stats.build_cached = r.build_cached;
+    stats.kernel_options = r.options;
+    auto t0 = std::chrono::steady_clock::now();
+    try {
+        cl::Buffer film_buf(r.cl.context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR,
+                            film.rgba.size() * sizeof(float), film.rgba.data());
+        for (int si = 0; si < s.spp; ++si) {
+            const uint32_t sample = uint32_t(s.first_sample + si);
+            for (size_t offset = 0; offset < pixels; offset += r.capacity) {
+                const uint32_t count = uint32_t(std::min(r.capacity, pixels - offset));
+                r.generate_camera_rays(uint32_t(offset), count, sample);
+                stats.camera_rays += count;
+                int q = 0;
+                uint32_t n = count;
+                for (uint32_t bounce = 0; n > 0 && bounce < uint32_t(s.max_depth); ++bounce) {
+                    r.intersect_closest(q, n);
+                    auto [shadows, next, nonfinite] = r.shade(q, n, sample, bounce);
+                    stats.nonfinite_caught += nonfinite;
+                    if (shadows > 0) {
+                        r.intersect_shadow(shadows);
+                        r.resolve_shadows(shadows);
+                    }
+                    stats.shadow_rays += shadows;
+                    stats.extension_rays += next;
+                    q = 1 - q;
+                    n = next;
+                }
+                r.accumulate(film_buf, count);
+            }
+            r.cl.queue().finish();
+            stats.samples = si + 1;
+            if (progress) progress(si + 1, s.spp);
+        }
+        r.cl.queue().enqueueReadBuffer(film_buf, CL_TRUE, 0, film.rgba.size() * sizeof(float),
+                                       film.rgba.data());
+    } catch (const cl::Error& e) {
+        throw DeviceError(std::string("OpenCL failure in ") + e.what() + ": " + cl_error_name(e.err()));
+    }
+    stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return stats;
+}
+
+}  // namespace ht

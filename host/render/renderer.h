@@ -1,0 +1,64 @@
+// The wavefront path tracer on one OpenCL device.
+#pragma once
+
+#include "cl/device.h"
+#include "scene/scene.h"
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace ht {
+
+struct RenderSettings {
+    int width = 512, height = 512;
+    int spp = 16;
+    uint32_t seed = 1;
+    int max_depth = 1;        // 1 = direct light only
+    int first_sample = 0;     // render samples [first_sample, first_sample + spp)
+    Vec3f background{0, 0, 0};
+    size_t max_paths_per_pass = 1u << 20;  // bounds device memory for big images
+};
+
+// Linear radiance film: per pixel (sum r, sum g, sum b, sample count).
+struct Film {
+    int width = 0, height = 0;
+    std::vector<float> rgba;  // 4 floats per pixel
+    // mean radiance of pixel i, channel c
+    float mean(size_t i, int c) const {
+        float n = rgba[4 * i + 3];
+        return n > 0 ? rgba[4 * i + c] / n : 0.0f;
+    }
+};
+
+struct RenderStats {
+    double seconds = 0, build_ms = 0;
+    bool build_cached = false;
+    uint64_t camera_rays = 0, extension_rays = 0, shadow_rays = 0;
+    uint64_t nonfinite_caught = 0;  // NaN/Inf values zeroed by the kernels
+    int samples = 0;
+    std::string kernel_options;
+};
+
+// Called after each finished sample pass with (samples done, samples total).
+using ProgressFn = std::function<void(int, int)>;
+
+class Renderer {
+public:
+    Renderer(ClContext& cl, const Scene& scene, const RenderSettings& settings);
+    ~Renderer();
+    Renderer(const Renderer&) = delete;
+    Renderer& operator=(const Renderer&) = delete;
+
+    // Renders settings.spp samples into film (which may already hold earlier samples).
+    RenderStats render(Film& film, const ProgressFn& progress = {});
+
+    const std::string& kernel_options() const;
+
+private:
+    struct Impl;
+    Impl* impl_;
+};
+
+}  // namespace ht

@@ -1,0 +1,19 @@
+/* Queue append with work-group-aggregated atomics: one global atomic per work-group instead of
+ * one per item (POCL_FINDINGS: ~5x faster than a global atomic_inc per survivor).
+ * Every work-item of the group must call it (it has barriers); `want` says whether it appends.
+ * Returns the slot of this item, or 0xFFFFFFFF if it did not append. */
+#ifndef HT_QUEUE_H
+#define HT_QUEUE_H
+
+HT_FN uint ht_queue_append(int want, __local uint* local_count, __local uint* local_base,
+                           volatile __global uint* counter) {
+    if (get_local_id(0) == 0) *local_count = 0u;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    uint local_slot = want ? atomic_inc((volatile __local uint*)local_count) : 0u;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (get_local_id(0) == 0) *local_base = *local_count ? atomic_add(counter, *local_count) : 0u;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    return want ? *local_base + local_slot : 0xFFFFFFFFu;
+}
+
+#endif

@@ -1,0 +1,25 @@
+/* Stage 1: camera -> extension queue.
+ * Path i of this pass renders pixel (pixel_offset + i) for sample `sample`; its ray goes to
+ * rays[i] and ray_path[i] = i.  Paths start with throughput 1 and radiance 0. */
+#include "../types.h"
+#include "../rng.h"
+#include "../camera.h"
+
+__kernel void generate_camera_rays(HtCamera camera, uint pixel_offset, uint count, uint seed,
+                                   uint sample, __global HtRay* rays, __global uint* ray_path,
+                                   __global HtPathState* paths) {
+    uint i = get_global_id(0);
+    if (i >= count) return;
+    uint pixel = pixel_offset + i;
+    uint px = pixel % camera.width, py = pixel / camera.width;
+    float jx = ht_uniform(seed, pixel, sample, ht_dim(0u, HT_DIM_PIXEL_X));
+    float jy = ht_uniform(seed, pixel, sample, ht_dim(0u, HT_DIM_PIXEL_Y));
+    rays[i] = ht_camera_ray(&camera, px, py, jx, jy);
+    ray_path[i] = i;
+    HtPathState s;
+    s.throughput[0] = s.throughput[1] = s.throughput[2] = 1.0f;
+    s.radiance[0] = s.radiance[1] = s.radiance[2] = 0.0f;
+    s.pixel = pixel;
+    s.flags = 0u;
+    paths[i] = s;
+}

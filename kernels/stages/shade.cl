@@ -1,0 +1,157 @@
+/* Stage 3: closest hits -> shadow queue + next extension queue.
+ *
+ * For ray k (path p = ray_path[k]) with hit hits[k]:
+ *   miss      -> path radiance += throughput * background; the path ends.
+ *   hair hit  -> next-event estimation: one light picked uniformly, the fibre's scattering
+ *                function evaluated for it, and a shadow ray queued carrying the unoccluded
+ *                contribution; then, below max_depth, the fibre model is sampled for the
+ *                extension ray (Russian roulette after HT_RR_START_BOUNCE bounces).
+ * Every path ends each call in exactly one of: terminated, continued (next queue).
+ * Requires a local work size; all work-items reach the queue barriers. */
+#include "../types.h"
+#include "../rng.h"
+#include "../lights.h"
+#include "../queue.h"
+#include "../geometry/fiber_frame.h"
+#include "../fiber/bcsdf.h"
+
+#ifndef HT_RR_START_BOUNCE
+#define HT_RR_START_BOUNCE 3u
+#endif
+
+HT_FN float3 ht_load3(const float* v) { return (float3)(v[0], v[1], v[2]); }
+
+HT_FN int ht_finite3(float3 v) { return ht_isfinite(v.x) && ht_isfinite(v.y) && ht_isfinite(v.z); }
+
+/* Origin for a ray leaving the fibre in direction w: the surface point on w's side of the axis,
+ * a hair outside the fibre, so neither this capsule nor (for gentle bends) its neighbours are
+ * re-hit from the inside.  The BCSDF already accounts for the light's path through the fibre. */
+HT_FN float3 ht_spawn_origin(float3 axis_point, float3 t, float3 fallback_side, float radius,
+                             float3 w) {
+    float3 side = w - dot(w, t) * t;
+    float len2 = dot(side, side);
+    side = len2 > 1e-12f ? side * rsqrt(len2) : fallback_side;
+    return axis_point + side * (radius * 1.01f);
+}
+
+__kernel void shade(__global const HtSegment* segs, __global const HtPoint* points,
+                    __global const uint* strand_material, __global const HtMaterial* materials,
+                    __global const HtLight* lights, uint light_count,
+                    __global const HtRay* rays, __global const HtHit* hits,
+                    __global const uint* ray_path, uint count, __global HtPathState* paths,
+                    __global HtRay* shadow_rays, __global HtShadowContrib* shadow_contrib,
+                    __global HtRay* next_rays, __global uint* next_path,
+                    volatile __global uint* counters, uint seed, uint sample, uint bounce,
+                    uint max_depth, float bg_r, float bg_g, float bg_b) {
+    __local uint lcount, lbase;
+    uint k = get_global_id(0);
+    int active = k < count;
+    int want_shadow = 0, want_next = 0;
+    HtRay shadow_ray, next_ray;
+    float3 shadow_value = (float3)(0.0f);
+    uint p = 0u;
+    HtPathState st;
+
+    if (active) {
+        p = ray_path[k];
+        st = paths[p];
+        HtRay ray = rays[k];
+        HtHit hit = hits[k];
+        float3 thr = ht_load3(st.throughput);
+        float3 dir = (float3)(ray.dx, ray.dy, ray.dz);
+        if (hit.segment == HT_NO_HIT) {
+            float3 add = thr * (float3)(bg_r, bg_g, bg_b);
+            if (ht_finite3(add)) {
+                st.radiance[0] += add.x; st.radiance[1] += add.y; st.radiance[2] += add.z;
+            } else {
+                atomic_inc(&counters[HT_COUNTER_NAN]);
+            }
+        } else {
+            HtSegment seg = segs[hit.segment];
+            HtMaterial mat = materials[strand_material[seg.strand]];
+            HtPoint a = points[seg.point], b = points[seg.point + 1u];
+            float3 pa = (float3)(a.x, a.y, a.z), pb = (float3)(b.x, b.y, b.z);
+            float3 axis_point = pa + (pb - pa) * hit.u;
+            float3 t = (float3)(hit.tx, hit.ty, hit.tz);
+            float3 wo = -dir;
+            float3 fx, fy, fz;
+            ht_fiber_frame(t, wo, &fx, &fy, &fz);
+            float3 wo_l = ht_to_fiber_local(wo, fx, fy, fz);
+            float h = hit.h;
+            float3 p_hit = (float3)(ray.ox, ray.oy, ray.oz) + dir * hit.t;
+
+            /* next-event estimation */
+            if (light_count > 0u) {
+                float ul = ht_uniform(seed, st.pixel, sample, ht_dim(bounce, HT_DIM_LIGHT_PICK));
+                uint li = min((uint)(ul * (float)light_count), light_count - 1u);
+                HtLight light = lights[li];
+                HtLightSample ls;
+                float u = ht_uniform(seed, st.pixel, sample, ht_dim(bounce, HT_DIM_LIGHT_U));
+                float v = ht_uniform(seed, st.pixel, sample, ht_dim(bounce, HT_DIM_LIGHT_V));
+                if (ht_sample_light(&light, p_hit, u, v, &ls)) {
+                    float3 value;
+                    float pdf;
+                    ht_bcsdf_eval(&mat, wo_l, ht_to_fiber_local(ls.wi, fx, fy, fz), h, &value, &pdf);
+                    float3 c = thr * value * ls.li_over_pdf * (float)light_count;
+                    if (!ht_finite3(c)) {
+                        atomic_inc(&counters[HT_COUNTER_NAN]);
+                    } else if (c.x + c.y + c.z > 0.0f) {
+                        float3 o = ht_spawn_origin(axis_point, t, fz, hit.radius, ls.wi);
+                        shadow_ray.ox = o.x; shadow_ray.oy = o.y; shadow_ray.oz = o.z;
+                        shadow_ray.dx = ls.wi.x; shadow_ray.dy = ls.wi.y; shadow_ray.dz = ls.wi.z;
+                        shadow_ray.tmin = 0.0f;
+                        shadow_ray.tmax = min(ls.distance - hit.radius * 1.01f, 1e30f);
+                        shadow_value = c;
+                        want_shadow = shadow_ray.tmax > 0.0f;
+                    }
+                }
+            }
+
+            /* extension ray */
+            if (bounce + 1u < max_depth) {
+                float3 wi_l, weight;
+                float pdf;
+                float u0 = ht_uniform(seed, st.pixel, sample, ht_dim(bounce, HT_DIM_BSDF_0));
+                float u1 = ht_uniform(seed, st.pixel, sample, ht_dim(bounce, HT_DIM_BSDF_0 + 1u));
+                float u2 = ht_uniform(seed, st.pixel, sample, ht_dim(bounce, HT_DIM_BSDF_0 + 2u));
+                float u3 = ht_uniform(seed, st.pixel, sample, ht_dim(bounce, HT_DIM_BSDF_0 + 3u));
+                if (ht_bcsdf_sample(&mat, wo_l, h, u0, u1, u2, u3, &wi_l, &weight, &pdf)) {
+                    float3 nthr = thr * weight;
+                    if (bounce + 1u >= HT_RR_START_BOUNCE) {
+                        /* Russian roulette on the throughput's largest channel */
+                        float q = min(max(nthr.x, max(nthr.y, nthr.z)), 0.95f);
+                        float ur = ht_uniform(seed, st.pixel, sample, ht_dim(bounce, HT_DIM_RR));
+                        nthr = ur < q ? nthr / q : (float3)(0.0f);
+                    }
+                    if (ht_finite3(nthr) && nthr.x + nthr.y + nthr.z > 0.0f) {
+                        float3 wi = fx * wi_l.x + fy * wi_l.y + fz * wi_l.z;
+                        float3 o = ht_spawn_origin(axis_point, t, fz, hit.radius, wi);
+                        next_ray.ox = o.x; next_ray.oy = o.y; next_ray.oz = o.z;
+                        next_ray.dx = wi.x; next_ray.dy = wi.y; next_ray.dz = wi.z;
+                        next_ray.tmin = 0.0f;
+                        next_ray.tmax = 1e30f;
+                        st.throughput[0] = nthr.x; st.throughput[1] = nthr.y; st.throughput[2] = nthr.z;
+                        want_next = 1;
+                    } else if (!ht_finite3(nthr)) {
+                        atomic_inc(&counters[HT_COUNTER_NAN]);
+                    }
+                }
+            }
+        }
+        paths[p] = st;
+    }
+
+    uint s_slot = ht_queue_append(want_shadow, &lcount, &lbase, &counters[HT_COUNTER_SHADOW]);
+    if (want_shadow) {
+        shadow_rays[s_slot] = shadow_ray;
+        HtShadowContrib sc;
+        sc.contrib[0] = shadow_value.x; sc.contrib[1] = shadow_value.y; sc.contrib[2] = shadow_value.z;
+        sc.path = p;
+        shadow_contrib[s_slot] = sc;
+    }
+    uint n_slot = ht_queue_append(want_next, &lcount, &lbase, &counters[HT_COUNTER_NEXT]);
+    if (want_next) {
+        next_rays[n_slot] = next_ray;
+        next_path[n_slot] = p;
+    }
+}
