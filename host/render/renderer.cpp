@@ -45,8 +45,8 @@ struct Renderer::Impl {
     std::string options;
     cl::Program program;
     cl::Kernel k_generate, k_closest, k_shade, k_shadow, k_resolve, k_accumulate;
-    double build_ms = 0;
-    bool build_cached = false;
+    RenderStats stats;
+    cl::Buffer film_buf;
 
     // per-pass buffers, sized for max paths per pass
     size_t capacity = 0;
@@ -65,8 +65,9 @@ struct Renderer::Impl {
 
         options = kernel_build_options(scene);
         program = cl.build("stages/wavefront.cl", options);
-        build_ms = cl.last_build_ms();
-        build_cached = cl.last_build_cached();
+        stats.build_ms = cl.last_build_ms();
+        stats.build_cached = cl.last_build_cached();
+        stats.kernel_options = options;
         k_generate = cl::Kernel(program, "generate_camera_rays");
         k_closest = cl::Kernel(program, "intersect_closest");
         k_shade = cl::Kernel(program, "shade");
@@ -190,58 +191,83 @@ Renderer::Renderer(ClContext& cl, const Scene& scene, const RenderSettings& sett
 }
 Renderer::~Renderer() { delete impl_; }
 const std::string& Renderer::kernel_options() const { return impl_->options; }
+const RenderStats& Renderer::stats() const { return impl_->stats; }
 
-RenderStats Renderer::render(Film& film, const ProgressFn& progress) {
+void Renderer::upload_film(const Film& film) {
+    Impl& r = *impl_;
+    const size_t floats = 4 * size_t(r.settings.width) * size_t(r.settings.height);
+    if (film.rgba.size() != floats)
+        throw std::invalid_argument("film size does not match the render settings");
+    try {
+        r.film_buf = cl::Buffer(r.cl.context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR,
+                                floats * sizeof(float), const_cast<float*>(film.rgba.data()));
+    } catch (const cl::Error& e) {
+        throw DeviceError(std::string("cannot allocate the film on the device: ") + cl_error_name(e.err()));
+    }
+}
+
+void Renderer::download_film(Film& film) {
+    Impl& r = *impl_;
+    film.width = r.settings.width;
+    film.height = r.settings.height;
+    film.rgba.resize(4 * size_t(film.width) * size_t(film.height));
+    try {
+        r.cl.queue().enqueueReadBuffer(r.film_buf, CL_TRUE, 0, film.rgba.size() * sizeof(float), film.rgba.data());
+    } catch (const cl::Error& e) {
+        throw DeviceError(std::string("OpenCL failure reading the film: ") + cl_error_name(e.err()));
+    }
+}
+
+void Renderer::render_sample(uint32_t sample) {
     Impl& r = *impl_;
     const RenderSettings& s = r.settings;
+    const size_t pixels = size_t(s.width) * size_t(s.height);
+    auto t0 = std::chrono::steady_clock::now();
+    try {
+        for (size_t offset = 0; offset < pixels; offset += r.capacity) {
+            const uint32_t count = uint32_t(std::min(r.capacity, pixels - offset));
+            r.generate_camera_rays(uint32_t(offset), count, sample);
+            r.stats.camera_rays += count;
+            int q = 0;
+            uint32_t n = count;
+            for (uint32_t bounce = 0; n > 0 && bounce < uint32_t(s.max_depth); ++bounce) {
+                r.intersect_closest(q, n);
+                auto [shadows, next, nonfinite] = r.shade(q, n, sample, bounce);
+                r.stats.nonfinite_caught += nonfinite;
+                if (shadows > 0) {
+                    r.intersect_shadow(shadows);
+                    r.resolve_shadows(shadows);
+                }
+                r.stats.shadow_rays += shadows;
+                r.stats.extension_rays += next;
+                q = 1 - q;
+                n = next;
+            }
+            r.accumulate(r.film_buf, count);
+        }
+        r.cl.queue().finish();
+    } catch (const cl::Error& e) {
+        throw DeviceError(std::string("OpenCL failure in ") + e.what() + ": " + cl_error_name(e.err()));
+    }
+    r.stats.samples += 1;
+    r.stats.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+RenderStats Renderer::render(Film& film, const ProgressFn& progress) {
+    const RenderSettings& s = impl_->settings;
     const size_t pixels = size_t(s.width) * size_t(s.height);
     if (film.width != s.width || film.height != s.height || film.rgba.size() != 4 * pixels) {
         film.width = s.width;
         film.height = s.height;
         film.rgba.assign(4 * pixels, 0.0f);
     }
-    RenderStats stats;
-    stats.build_ms = r.build_ms;
-    stats.build_cached = r.build_cached;
-    stats.kernel_options = r.options;
-    auto t0 = std::chrono::steady_clock::now();
-    try {
-        cl::Buffer film_buf(r.cl.context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR,
-                            film.rgba.size() * sizeof(float), film.rgba.data());
-        for (int si = 0; si < s.spp; ++si) {
-            const uint32_t sample = uint32_t(s.first_sample + si);
-            for (size_t offset = 0; offset < pixels; offset += r.capacity) {
-                const uint32_t count = uint32_t(std::min(r.capacity, pixels - offset));
-                r.generate_camera_rays(uint32_t(offset), count, sample);
-                stats.camera_rays += count;
-                int q = 0;
-                uint32_t n = count;
-                for (uint32_t bounce = 0; n > 0 && bounce < uint32_t(s.max_depth); ++bounce) {
-                    r.intersect_closest(q, n);
-                    auto [shadows, next, nonfinite] = r.shade(q, n, sample, bounce);
-                    stats.nonfinite_caught += nonfinite;
-                    if (shadows > 0) {
-                        r.intersect_shadow(shadows);
-                        r.resolve_shadows(shadows);
-                    }
-                    stats.shadow_rays += shadows;
-                    stats.extension_rays += next;
-                    q = 1 - q;
-                    n = next;
-                }
-                r.accumulate(film_buf, count);
-            }
-            r.cl.queue().finish();
-            stats.samples = si + 1;
-            if (progress) progress(si + 1, s.spp);
-        }
-        r.cl.queue().enqueueReadBuffer(film_buf, CL_TRUE, 0, film.rgba.size() * sizeof(float),
-                                       film.rgba.data());
-    } catch (const cl::Error& e) {
-        throw DeviceError(std::string("OpenCL failure in ") + e.what() + ": " + cl_error_name(e.err()));
+    upload_film(film);
+    for (int si = 0; si < s.spp; ++si) {
+        render_sample(uint32_t(s.first_sample + si));
+        if (progress && !progress(si + 1, s.spp)) break;
     }
-    stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    return stats;
+    download_film(film);
+    return impl_->stats;
 }
 
 }  // namespace ht

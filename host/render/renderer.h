@@ -41,8 +41,9 @@ struct RenderStats {
     std::string kernel_options;
 };
 
-// Called after each finished sample pass with (samples done, samples total).
-using ProgressFn = std::function<void(int, int)>;
+// Called after each finished sample pass with (samples done, samples total); returning false
+// stops the render after that sample (time limits, interrupts).
+using ProgressFn = std::function<bool(int, int)>;
 
 class Renderer {
 public:
@@ -51,8 +52,15 @@ public:
     Renderer(const Renderer&) = delete;
     Renderer& operator=(const Renderer&) = delete;
 
-    // Renders settings.spp samples into film (which may already hold earlier samples).
+    // Renders samples [settings.first_sample, settings.first_sample + settings.spp) into film,
+    // which may already hold earlier samples (resume).  Stops early when progress says so.
     RenderStats render(Film& film, const ProgressFn& progress = {});
+
+    // The same, one step at a time, for callers that checkpoint between samples:
+    void upload_film(const Film& film);
+    void render_sample(uint32_t sample);  // one pass over every pixel, finished on return
+    void download_film(Film& film);
+    const RenderStats& stats() const;
 
     const std::string& kernel_options() const;
 

@@ -1,0 +1,26 @@
+// The subcommands of the hairtrace executable.  Each takes the arguments after its name and
+// returns the process exit code; errors are thrown (see main.cpp for their exit codes).
+#pragma once
+
+#include "cli/args.h"
+#include "scene/scene.h"
+
+#include <string>
+#include <vector>
+
+namespace ht {
+
+constexpr int kExitOk = 0, kExitUsage = 2, kExitRuntime = 3;
+
+int cmd_render(const std::vector<std::string>& args);
+int cmd_info(const std::vector<std::string>& args);
+int cmd_devices(const std::vector<std::string>& args);
+
+// Scene-loading options shared by every command that reads a scene.
+void add_scene_options(ArgParser& p);
+LoadOptions scene_load_options(const ArgParser& p);
+
+// "r,g,b" or a single value for all three.
+Vec3f parse_rgb(const std::string& option, const std::string& text);
+
+}  // namespace ht

@@ -1,0 +1,222 @@
+// hairtrace render: load, build, render progressively with checkpoints, write images.
+#include "cl/device.h"
+#include "cl/kernel_source.h"
+#include "cli/commands.h"
+#include "io/image_io.h"
+#include "render/checkpoint.h"
+#include "render/error_metrics.h"
+#include "render/features.h"
+#include "render/renderer.h"
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <iostream>
+
+namespace ht {
+
+namespace {
+
+volatile std::sig_atomic_t g_stop_signal = 0;
+extern "C" void on_stop_signal(int sig) { g_stop_signal = sig; }
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+void print_progress(int done, int total, double elapsed) {
+    double eta = done > 0 ? elapsed / done * (total - done) : 0;
+    std::fprintf(stderr, "\rrendering: %d/%d spp  %.1f s elapsed  ETA %.1f s   ", done, total, elapsed, eta);
+    std::fflush(stderr);
+}
+
+// Everything besides the sample count that shapes the image: a checkpoint from another
+// render must not be continued by this one.
+uint64_t render_key(const Scene& scene, const RenderSettings& rs, const std::string& kernel_options) {
+    std::string k = scene.source + "|" + std::to_string(scene.strands.point_count()) + "|" +
+                    std::to_string(scene.strands.strand_count()) + "|" + kernel_options + "|" +
+                    std::to_string(rs.width) + "x" + std::to_string(rs.height) + "|" + std::to_string(rs.seed) + "|" +
+                    std::to_string(rs.max_depth) + "|" + std::to_string(rs.background[0]) + "," +
+                    std::to_string(rs.background[1]) + "," + std::to_string(rs.background[2]);
+    for (auto& m : scene.materials) k += "|" + m.model;
+    return hash_text(k);
+}
+
+}  // namespace
+
+int cmd_render(const std::vector<std::string>& args) {
+    ArgParser p("render");
+    p.positional("SCENE", "scene file or builtin:NAME");
+    p.option("-o", "OUT", "output image; the extension picks the format (.exr linear float, .png sRGB 8-bit)", "", true)
+        .option("--width", "W", "image width in pixels", "512")
+        .option("--height", "H", "image height in pixels", "512")
+        .option("--spp", "N", "samples per pixel", "16")
+        .option("--time-limit", "SECONDS", "stop after the sample that crosses this wall time (0 = none)", "0")
+        .option("--seed", "S", "random seed; the image depends only on seed, spp and scene", "1")
+        .option("--max-depth", "D", "path length in fibre bounces (1 = direct light only)", "1")
+        .option("--model", "M", "override every material's fibre model: kajiya|marschner|zinke|chiang")
+        .option("--background", "R,G,B", "constant radiance of rays that leave the scene", "0,0,0")
+        .option("--exposure", "E", "multiplier applied before tone mapping 8-bit outputs", "1")
+        .option("--checkpoint", "FILE", "write the progressive state to FILE (atomically) every --checkpoint-every seconds, at the end and on SIGINT/SIGTERM")
+        .option("--checkpoint-every", "SECONDS", "checkpoint interval", "60")
+        .option("--resume", "FILE", "continue a render from a checkpoint (same scene, options and seed)")
+        .option("--reference", "REF", "linear image to compare with: prints RMSE, relMSE, max error, NaN count")
+        .option("--device", "I", "OpenCL device index from `hairtrace devices` (default: first CPU/GPU)")
+        .option("--kernel-dir", "DIR", "load kernel sources from DIR instead of the embedded copies");
+    add_scene_options(p);
+    p.flag("--verbose", "print the kernel features chosen for the scene and the build options")
+        .flag("--quiet", "no progress output on stderr")
+        .flag("--help", "this help");
+    p.parse(args);
+    // From here on SIGINT/SIGTERM only set a flag: even one arriving during start-up ends in a
+    // saved checkpoint and images rather than a lost process.
+    g_stop_signal = 0;
+    std::signal(SIGINT, on_stop_signal);
+    std::signal(SIGTERM, on_stop_signal);
+    if (p.has("--help")) {
+        std::cout << p.help()
+                  << "exit codes: 0 ok, 2 bad input or usage, 3 device or runtime failure,\n"
+                     "            130/143 interrupted by SIGINT/SIGTERM after saving the checkpoint and images\n";
+        return kExitOk;
+    }
+    auto outputs = p.all("-o");
+    if (outputs.empty()) throw UsageError("render: no output given (-o OUT.exr and/or -o OUT.png)");
+    for (auto& o : outputs)
+        if (o.find('.') == std::string::npos) throw UsageError("render: output '" + o + "' has no extension");
+
+    RenderSettings rs;
+    rs.width = p.get_int("--width", 1, 16384);
+    rs.height = p.get_int("--height", 1, 16384);
+    rs.spp = p.get_int("--spp", 1, 1 << 24);
+    rs.seed = uint32_t(p.get_int("--seed", 0, 2147483647));
+    rs.max_depth = p.get_int("--max-depth", 1, 1000);
+    rs.background = parse_rgb("--background", p.get("--background"));
+    const double time_limit = p.get_double("--time-limit", 0, 1e9);
+    const double checkpoint_every = p.get_double("--checkpoint-every", 0.01, 1e9);
+    const float exposure = float(p.get_double("--exposure", 0, 1e9));
+    const bool quiet = p.has("--quiet");
+    const std::string checkpoint_path = p.get("--checkpoint");
+    if (p.has("--kernel-dir")) set_kernel_dir(p.get("--kernel-dir"));
+
+    std::vector<float> reference;
+    if (p.has("--reference")) {
+        int rw, rh;
+        reference = read_rgb_image(p.get("--reference"), rw, rh);
+        if (rw != rs.width || rh != rs.height)
+            throw UsageError("--reference " + p.get("--reference") + " is " + std::to_string(rw) + "x" +
+                             std::to_string(rh) + ", the render is " + std::to_string(rs.width) + "x" +
+                             std::to_string(rs.height));
+    }
+
+    Scene scene = load_scene(p.get("SCENE"), scene_load_options(p));
+    if (p.has("--model")) {
+        std::string m = p.get("--model");
+        if (m != "kajiya" && m != "marschner" && m != "zinke" && m != "chiang")
+            throw UsageError("--model must be kajiya, marschner, zinke or chiang, got '" + m + "'");
+        for (auto& mat : scene.materials) mat.model = m;
+    }
+    ensure_camera_and_light(scene);
+    if (!quiet)
+        for (auto& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+
+    ClContext cl(p.has("--device") ? p.get_int("--device", 0, 1000) : -1);
+    if (!quiet)
+        std::fprintf(stderr, "device: %s (%s)\nscene: %s, %zu strands, %zu segments\n", cl.info().name.c_str(),
+                     cl.info().platform.c_str(), scene.source.c_str(), scene.strands.strand_count(),
+                     scene.strands.segment_count());
+    if (p.has("--verbose")) {
+        for (auto& line : describe_features(scene_features(scene))) std::fprintf(stderr, "feature %s\n", line.c_str());
+        std::fprintf(stderr, "kernel options: %s\n", kernel_build_options(scene).c_str());
+    }
+
+    Renderer renderer(cl, scene, rs);
+    const uint64_t key = render_key(scene, rs, renderer.kernel_options());
+    Film film;
+    film.width = rs.width;
+    film.height = rs.height;
+    film.rgba.assign(4 * size_t(rs.width) * rs.height, 0.0f);
+    int first_sample = 0;
+    if (p.has("--resume")) {
+        Checkpoint c = load_checkpoint(p.get("--resume"));
+        if (c.render_key != key || c.width != uint32_t(rs.width) || c.height != uint32_t(rs.height) ||
+            c.seed != rs.seed || c.max_depth != uint32_t(rs.max_depth))
+            throw UsageError("--resume " + p.get("--resume") +
+                             ": the checkpoint belongs to a different render (scene, size, seed, depth or options differ)");
+        film = std::move(c.film);
+        first_sample = int(c.samples_done);
+        if (!quiet) std::fprintf(stderr, "resuming at sample %d of %d\n", first_sample, rs.spp);
+    }
+    renderer.upload_film(film);
+
+    auto save = [&](int samples_done) {
+        if (checkpoint_path.empty()) return;
+        Checkpoint c;
+        c.width = uint32_t(rs.width);
+        c.height = uint32_t(rs.height);
+        c.seed = rs.seed;
+        c.max_depth = uint32_t(rs.max_depth);
+        c.samples_done = uint32_t(samples_done);
+        c.spp_target = uint32_t(rs.spp);
+        c.render_key = key;
+        renderer.download_film(c.film);
+        save_checkpoint(checkpoint_path, c);
+    };
+
+    const auto t0 = Clock::now();
+    auto last_checkpoint = t0;
+    int done = first_sample;
+    bool stopped_by_limit = false;
+    while (done < rs.spp && !g_stop_signal) {
+        renderer.render_sample(uint32_t(done));
+        ++done;
+        if (!quiet) print_progress(done, rs.spp, since(t0));
+        if (!checkpoint_path.empty() && since(last_checkpoint) >= checkpoint_every && done < rs.spp) {
+            save(done);
+            last_checkpoint = Clock::now();
+        }
+        if (time_limit > 0 && since(t0) >= time_limit && done < rs.spp) {
+            stopped_by_limit = true;
+            break;
+        }
+    }
+    if (!quiet) std::fprintf(stderr, "\n");
+    save(done);
+    renderer.download_film(film);
+
+    const RenderStats& st = renderer.stats();
+    if (!quiet) {
+        std::fprintf(stderr, "done: %d spp in %.2f s; %llu camera + %llu extension + %llu shadow rays; kernel build %.0f ms%s\n",
+                     done, since(t0), (unsigned long long)st.camera_rays, (unsigned long long)st.extension_rays,
+                     (unsigned long long)st.shadow_rays, st.build_ms, st.build_cached ? " (cached)" : "");
+        if (stopped_by_limit) std::fprintf(stderr, "stopped by --time-limit after %d of %d spp\n", done, rs.spp);
+        if (g_stop_signal)
+            std::fprintf(stderr, "interrupted after %d of %d spp%s\n", done, rs.spp,
+                         checkpoint_path.empty() ? "" : "; continue with --resume");
+    }
+    if (st.nonfinite_caught && !quiet)
+        std::fprintf(stderr, "warning: %llu non-finite shading values were caught and dropped\n",
+                     (unsigned long long)st.nonfinite_caught);
+
+    ImageMetadata meta;
+    meta.ints["hairtrace:spp"] = done;
+    meta.ints["hairtrace:seed"] = int(rs.seed);
+    meta.ints["hairtrace:max_depth"] = rs.max_depth;
+    meta.floats["hairtrace:render_seconds"] = float(since(t0));
+    meta.text["hairtrace:device"] = cl.info().name + " / " + cl.info().platform + " " + cl.info().driver;
+    meta.text["hairtrace:version"] = HT_VERSION;
+    meta.text["hairtrace:scene"] = scene.source;
+    for (auto& o : outputs) {
+        write_image(o, film, meta, exposure);
+        if (!quiet) std::fprintf(stderr, "wrote %s\n", o.c_str());
+    }
+    if (!reference.empty()) {
+        ErrorMetrics m = compare_images(film_to_rgb(film), reference);
+        std::printf("error vs %s: RMSE %.6g  relMSE %.6g  max %.6g  mean %.6g (reference %.6g)  non-finite %zu  time %.3f s  spp %d\n",
+                    p.get("--reference").c_str(), m.rmse, m.relmse, m.max_abs, m.mean, m.ref_mean, m.nonfinite,
+                    since(t0), done);
+    }
+    if (g_stop_signal) return 128 + int(g_stop_signal);
+    return kExitOk;
+}
+
+}  // namespace ht

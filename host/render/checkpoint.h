@@ -1,0 +1,29 @@
+// Checkpoints of a progressive render: the raw float film (sums, not means) plus what is needed
+// to continue it.  Because every sample's random numbers are a pure function of (seed, pixel,
+// sample), continuing from a checkpoint gives the same bits as never stopping.
+#pragma once
+
+#include "render/renderer.h"
+
+#include <cstdint>
+#include <string>
+
+namespace ht {
+
+struct Checkpoint {
+    uint32_t width = 0, height = 0, seed = 0, max_depth = 0;
+    uint32_t samples_done = 0, spp_target = 0;
+    uint64_t render_key = 0;  // hash of everything else that shapes the image (scene, options)
+    Film film;
+};
+
+// Writes to PATH.tmp, flushes, then renames over PATH: a crash or full disk mid-write never
+// leaves a corrupt checkpoint, and the previous one survives.  Throws ImageError on failure.
+void save_checkpoint(const std::string& path, const Checkpoint& c);
+
+// Throws SceneError (bad input, exit 2) when the file is missing, truncated or corrupt.
+Checkpoint load_checkpoint(const std::string& path);
+
+uint64_t hash_text(const std::string& s);
+
+}  // namespace ht

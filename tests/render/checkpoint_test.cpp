@@ -1,0 +1,106 @@
+// Long renders: checkpoints, resume, interrupts.  Driven through the CLI like a user would.
+#include "io/image_io.h"
+#include "render/checkpoint.h"
+#include "scene/scene.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <csignal>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sys/wait.h>
+#include <thread>
+#include <unistd.h>
+
+#ifdef HT_BINARY
+namespace fs = std::filesystem;
+using namespace ht;
+
+namespace {
+struct TempDir {
+    fs::path path;
+    TempDir() {
+        path = fs::temp_directory_path() / ("ht_ckpt_" + std::to_string(::getpid()) + "_" +
+                                            std::to_string(std::rand()));
+        fs::create_directories(path);
+    }
+    ~TempDir() { fs::remove_all(path); }
+    std::string operator/(const std::string& f) const { return (path / f).string(); }
+};
+
+int run(const std::string& cmd) { return WEXITSTATUS(std::system(cmd.c_str())); }
+
+const std::string kRender = std::string(HT_BINARY) +
+    " render 'builtin:strand?hairs=120&segments=12' --width 40 --height 32 --max-depth 3 --seed 5 --quiet";
+
+std::vector<float> image(const std::string& p) {
+    int w, h;
+    return read_rgb_image(p, w, h);
+}
+}  // namespace
+
+TEST(Checkpoint, ResumedRenderEqualsUninterruptedBitForBit) {
+    TempDir d;
+    ASSERT_EQ(run(kRender + " --spp 6 -o " + (d / "full.exr")), 0);
+    ASSERT_EQ(run(kRender + " --spp 2 --checkpoint " + (d / "c.ckpt") + " -o " + (d / "part.exr")), 0);
+    Checkpoint c = load_checkpoint(d / "c.ckpt");
+    EXPECT_EQ(c.samples_done, 2u);
+    ASSERT_EQ(run(kRender + " --spp 6 --resume " + (d / "c.ckpt") + " -o " + (d / "resumed.exr")), 0);
+    EXPECT_EQ(image(d / "full.exr"), image(d / "resumed.exr"));
+}
+
+TEST(Checkpoint, ResumeOfADifferentRenderIsRefused) {
+    TempDir d;
+    ASSERT_EQ(run(kRender + " --spp 1 --checkpoint " + (d / "c.ckpt") + " -o " + (d / "a.exr")), 0);
+    std::string other = std::string(HT_BINARY) +
+        " render 'builtin:strand?hairs=120&segments=12' --width 40 --height 32 --max-depth 3 --seed 6 --quiet";
+    EXPECT_EQ(run(other + " --spp 2 --resume " + (d / "c.ckpt") + " -o " + (d / "b.exr") + " 2>/dev/null"), 2);
+}
+
+TEST(Checkpoint, CorruptOrTruncatedCheckpointIsBadInput) {
+    TempDir d;
+    ASSERT_EQ(run(kRender + " --spp 1 --checkpoint " + (d / "c.ckpt") + " -o " + (d / "a.exr")), 0);
+    auto size = fs::file_size(d / "c.ckpt");
+    {
+        std::fstream f(d / "c.ckpt", std::ios::in | std::ios::out | std::ios::binary);
+        f.seekp(std::streamoff(size - 7));
+        f.put('\x55');
+    }
+    EXPECT_THROW(load_checkpoint(d / "c.ckpt"), SceneError);
+    EXPECT_EQ(run(kRender + " --spp 2 --resume " + (d / "c.ckpt") + " -o " + (d / "b.exr") + " 2>/dev/null"), 2);
+    fs::resize_file(d / "c.ckpt", size / 2);
+    EXPECT_THROW(load_checkpoint(d / "c.ckpt"), SceneError);
+}
+
+TEST(Checkpoint, SigtermLeavesCheckpointAndValidImage) {
+    TempDir d;
+    std::string cmd = kRender + " --spp 100000 --checkpoint-every 0.01 --checkpoint " + (d / "c.ckpt") + " -o " +
+                      (d / "i.exr");
+    pid_t pid = fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+        execl("/bin/sh", "sh", "-c", ("exec " + cmd).c_str(), (char*)nullptr);
+        _exit(127);
+    }
+    // wait until the render has produced a sample (its first periodic checkpoint)
+    for (int i = 0; i < 1200 && !fs::exists(d / "c.ckpt"); ++i)
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    if (!fs::exists(d / "c.ckpt")) {
+        kill(pid, SIGKILL);
+        waitpid(pid, nullptr, 0);
+        FAIL() << "the render wrote no checkpoint within 60 s";
+    }
+    kill(pid, SIGTERM);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 128 + SIGTERM);
+    Checkpoint c = load_checkpoint(d / "c.ckpt");
+    EXPECT_GT(c.samples_done, 0u);
+    auto img = image(d / "i.exr");
+    EXPECT_EQ(img.size(), size_t(40 * 32 * 3));
+    EXPECT_FALSE(fs::exists(d / "c.ckpt.tmp"));
+}
+#endif
