@@ -64,7 +64,10 @@ typedef struct {
     uint pixel;
     float radiance[3];
     uint flags;
+    float last_pdf;  /* solid-angle pdf of the BCSDF sample that made the current ray (MIS) */
+    float pad0, pad1, pad2;
 } HtPathState;
+#define HT_PATH_FROM_CAMERA 1u  /* the current ray is a camera ray: no MIS on what it sees */
 
 /* Unoccluded contribution of a queued shadow ray, added to path `path` if the ray is clear. */
 typedef struct {
@@ -99,6 +102,14 @@ typedef struct {
     float radiance[4];   /* rgb intensity (W/sr) for point/spot, irradiance for directional */
     float cos_outer, cos_inner, pad3, pad4;
 } HtLight;
+
+/* Environment light: a lat-long radiance map (importance sampled through the CDF tables built
+ * on the host) or, with has_map = 0, a uniform radiance `scale`.  Direction d maps to
+ * u = 0.5 + atan2(d.x, -d.z) / 2pi, v = acos(d.y) / pi (+y up, row 0 at the zenith). */
+typedef struct {
+    uint width, height, has_map, enabled;
+    float scale[4];  /* rgb multiplier (uniform radiance when has_map = 0) */
+} HtEnvironment;
 
 /* ---------------------------------------------------------------- materials */
 

@@ -36,8 +36,9 @@ uint64_t render_key(const Scene& scene, const RenderSettings& rs, const std::str
     std::string k = scene.source + "|" + std::to_string(scene.strands.point_count()) + "|" +
                     std::to_string(scene.strands.strand_count()) + "|" + kernel_options + "|" +
                     std::to_string(rs.width) + "x" + std::to_string(rs.height) + "|" + std::to_string(rs.seed) + "|" +
-                    std::to_string(rs.max_depth) + "|" + std::to_string(rs.background[0]) + "," +
-                    std::to_string(rs.background[1]) + "," + std::to_string(rs.background[2]);
+                    std::to_string(rs.max_depth) + "|" + scene.environment.map_path + "|" +
+                    std::to_string(scene.environment.color[0]) + "," + std::to_string(scene.environment.color[1]) +
+                    "," + std::to_string(scene.environment.color[2]) + "x" + std::to_string(scene.environment.intensity);
     for (auto& m : scene.materials) k += "|" + m.model;
     return hash_text(k);
 }
@@ -55,7 +56,9 @@ int cmd_render(const std::vector<std::string>& args) {
         .option("--seed", "S", "random seed; the image depends only on seed, spp and scene", "1")
         .option("--max-depth", "D", "path length in fibre bounces (1 = direct light only)", "1")
         .option("--model", "M", "override every material's fibre model: kajiya|marschner|zinke|chiang")
-        .option("--background", "R,G,B", "constant radiance of rays that leave the scene", "0,0,0")
+        .option("--background", "R,G,B", "uniform environment radiance (importance sampled like any light); replaces the scene's")
+        .option("--environment", "FILE", "lat-long HDR environment map (.exr/.hdr, +y up); replaces the scene's")
+        .option("--environment-intensity", "K", "multiplier for the environment", "1")
         .option("--exposure", "E", "multiplier applied before tone mapping 8-bit outputs", "1")
         .option("--checkpoint", "FILE", "write the progressive state to FILE (atomically) every --checkpoint-every seconds, at the end and on SIGINT/SIGTERM")
         .option("--checkpoint-every", "SECONDS", "checkpoint interval", "60")
@@ -90,7 +93,6 @@ int cmd_render(const std::vector<std::string>& args) {
     rs.spp = p.get_int("--spp", 1, 1 << 24);
     rs.seed = uint32_t(p.get_int("--seed", 0, 2147483647));
     rs.max_depth = p.get_int("--max-depth", 1, 1000);
-    rs.background = parse_rgb("--background", p.get("--background"));
     const double time_limit = p.get_double("--time-limit", 0, 1e9);
     const double checkpoint_every = p.get_double("--checkpoint-every", 0.01, 1e9);
     const float exposure = float(p.get_double("--exposure", 0, 1e9));
@@ -115,6 +117,9 @@ int cmd_render(const std::vector<std::string>& args) {
             throw UsageError("--model must be kajiya, marschner, zinke or chiang, got '" + m + "'");
         for (auto& mat : scene.materials) mat.model = m;
     }
+    if (p.has("--background")) scene.environment = Environment{"", parse_rgb("--background", p.get("--background")), 1.0f};
+    if (p.has("--environment")) scene.environment.map_path = p.get("--environment");
+    scene.environment.intensity *= float(p.get_double("--environment-intensity", 0, 1e12));
     ensure_camera_and_light(scene);
     if (!quiet)
         for (auto& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());

@@ -10,6 +10,7 @@
 
 #include "bvh/bvh.h"
 #include "bvh/device_geometry.h"
+#include "render/environment.h"
 #include "render/features.h"
 #include "render/scene_upload.h"
 
@@ -41,6 +42,8 @@ struct Renderer::Impl {
     DeviceGeometry device_geometry;
     cl::Buffer strand_material, materials, lights;
     uint32_t light_count = 0;
+    EnvironmentTables environment;
+    cl::Buffer env_texels, env_marginal, env_conditional;
     HtCamera camera{};
     std::string options;
     cl::Program program;
@@ -62,6 +65,10 @@ struct Renderer::Impl {
         light_count = uint32_t(kl.size());
         lights = device_array(cl.context(), kl);
         camera = make_kernel_camera(scene.camera, s.width, s.height);
+        environment = build_environment(scene.environment);
+        env_texels = device_array(cl.context(), environment.texels);
+        env_marginal = device_array(cl.context(), environment.marginal);
+        env_conditional = device_array(cl.context(), environment.conditional);
 
         options = kernel_build_options(scene);
         program = cl.build("stages/wavefront.cl", options);
@@ -129,6 +136,10 @@ struct Renderer::Impl {
         k_shade.setArg(a++, materials);
         k_shade.setArg(a++, lights);
         k_shade.setArg(a++, light_count);
+        k_shade.setArg(a++, environment.header);
+        k_shade.setArg(a++, env_texels);
+        k_shade.setArg(a++, env_marginal);
+        k_shade.setArg(a++, env_conditional);
         k_shade.setArg(a++, rays[q]);
         k_shade.setArg(a++, hits);
         k_shade.setArg(a++, ray_path[q]);
@@ -143,9 +154,6 @@ struct Renderer::Impl {
         k_shade.setArg(a++, sample);
         k_shade.setArg(a++, bounce);
         k_shade.setArg(a++, uint32_t(settings.max_depth));
-        k_shade.setArg(a++, settings.background[0]);
-        k_shade.setArg(a++, settings.background[1]);
-        k_shade.setArg(a++, settings.background[2]);
         launch(k_shade, count);
         uint32_t out[HT_COUNTER_COUNT];
         cl.queue().enqueueReadBuffer(counters, CL_TRUE, 0, sizeof out, out);

@@ -17,7 +17,6 @@ struct RenderSettings {
     uint32_t seed = 1;
     int max_depth = 1;        // 1 = direct light only
     int first_sample = 0;     // render samples [first_sample, first_sample + spp)
-    Vec3f background{0, 0, 0};
     size_t max_paths_per_pass = 1u << 20;  // bounds device memory for big images
 };
 

@@ -72,6 +72,15 @@ struct HairMaterialDesc {
     float ks_exponent = 40.0f;
 };
 
+// Light arriving from infinitely far away: a lat-long HDR map (EXR/HDR, +y up) scaled by
+// `intensity`, or, with no map, the uniform radiance `color * intensity`.
+struct Environment {
+    std::string map_path;
+    Vec3f color{0, 0, 0};
+    float intensity = 1.0f;
+    bool enabled() const { return !map_path.empty() || color[0] > 0 || color[1] > 0 || color[2] > 0; }
+};
+
 struct Scene {
     std::string source;  // file name or builtin:NAME, for messages and metadata
     Strands strands;
@@ -79,6 +88,7 @@ struct Scene {
     bool has_camera = false;
     Camera camera;
     std::vector<Light> lights;
+    Environment environment;
     std::vector<std::string> warnings;  // repairs made while loading (counted, one line each)
 };
 

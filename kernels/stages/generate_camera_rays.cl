@@ -20,6 +20,8 @@ __kernel void generate_camera_rays(HtCamera camera, uint pixel_offset, uint coun
     s.throughput[0] = s.throughput[1] = s.throughput[2] = 1.0f;
     s.radiance[0] = s.radiance[1] = s.radiance[2] = 0.0f;
     s.pixel = pixel;
-    s.flags = 0u;
+    s.flags = HT_PATH_FROM_CAMERA;
+    s.last_pdf = 0.0f;
+    s.pad0 = s.pad1 = s.pad2 = 0.0f;
     paths[i] = s;
 }

@@ -1,16 +1,18 @@
 /* Stage 3: closest hits -> shadow queue + next extension queue.
  *
  * For ray k (path p = ray_path[k]) with hit hits[k]:
- *   miss      -> path radiance += throughput * background; the path ends.
- *   hair hit  -> next-event estimation: one light picked uniformly, the fibre's scattering
- *                function evaluated for it, and a shadow ray queued carrying the unoccluded
- *                contribution; then, below max_depth, the fibre model is sampled for the
- *                extension ray (Russian roulette after HT_RR_START_BOUNCE bounces).
+ *   miss      -> path radiance += throughput * environment (MIS-weighted against the
+ *                environment's next-event estimate unless the ray came from the camera); ends.
+ *   hair hit  -> next-event estimation: one light (or the environment) picked uniformly, the
+ *                fibre's scattering function evaluated for it, and a shadow ray queued carrying
+ *                the unoccluded contribution; then, below max_depth, the fibre model is sampled
+ *                for the extension ray (Russian roulette from HT_RR_START_BOUNCE bounces on).
  * Every path ends each call in exactly one of: terminated, continued (next queue).
  * Requires a local work size; all work-items reach the queue barriers. */
 #include "../types.h"
 #include "../rng.h"
 #include "../lights.h"
+#include "../environment.h"
 #include "../queue.h"
 #include "../geometry/fiber_frame.h"
 #include "../fiber/bcsdf.h"
@@ -22,6 +24,12 @@
 HT_FN float3 ht_load3(const float* v) { return (float3)(v[0], v[1], v[2]); }
 
 HT_FN int ht_finite3(float3 v) { return ht_isfinite(v.x) && ht_isfinite(v.y) && ht_isfinite(v.z); }
+
+/* Power heuristic (Veach): weight of the strategy with pdf a against the one with pdf b. */
+HT_FN float ht_mis_power(float a, float b) {
+    float a2 = a * a, b2 = b * b;
+    return a2 + b2 > 0.0f ? a2 / (a2 + b2) : 0.0f;
+}
 
 /* Origin for a ray leaving the fibre in direction w: the surface point on w's side of the axis,
  * a hair outside the fibre, so neither this capsule nor (for gentle bends) its neighbours are
@@ -36,13 +44,15 @@ HT_FN float3 ht_spawn_origin(float3 axis_point, float3 t, float3 fallback_side, 
 
 __kernel void shade(__global const HtSegment* segs, __global const HtPoint* points,
                     __global const uint* strand_material, __global const HtMaterial* materials,
-                    __global const HtLight* lights, uint light_count,
+                    __global const HtLight* lights, uint light_count, HtEnvironment env,
+                    __global const float* env_texels, __global const float* env_marginal,
+                    __global const float* env_conditional,
                     __global const HtRay* rays, __global const HtHit* hits,
                     __global const uint* ray_path, uint count, __global HtPathState* paths,
                     __global HtRay* shadow_rays, __global HtShadowContrib* shadow_contrib,
                     __global HtRay* next_rays, __global uint* next_path,
                     volatile __global uint* counters, uint seed, uint sample, uint bounce,
-                    uint max_depth, float bg_r, float bg_g, float bg_b) {
+                    uint max_depth) {
     __local uint lcount, lbase;
     uint k = get_global_id(0);
     int active = k < count;
@@ -59,8 +69,15 @@ __kernel void shade(__global const HtSegment* segs, __global const HtPoint* poin
         HtHit hit = hits[k];
         float3 thr = ht_load3(st.throughput);
         float3 dir = (float3)(ray.dx, ray.dy, ray.dz);
+        const uint nee_count = light_count + env.enabled;
         if (hit.segment == HT_NO_HIT) {
-            float3 add = thr * (float3)(bg_r, bg_g, bg_b);
+            float3 le = ht_env_eval(&env, env_texels, dir);
+            float w = 1.0f;
+            if (!(st.flags & HT_PATH_FROM_CAMERA) && env.enabled) {
+                float p_light = ht_env_pdf(&env, env_marginal, env_conditional, dir) / (float)nee_count;
+                w = ht_mis_power(st.last_pdf, p_light);
+            }
+            float3 add = thr * le * w;
             if (ht_finite3(add)) {
                 st.radiance[0] += add.x; st.radiance[1] += add.y; st.radiance[2] += add.z;
             } else {
@@ -81,18 +98,33 @@ __kernel void shade(__global const HtSegment* segs, __global const HtPoint* poin
             float3 p_hit = (float3)(ray.ox, ray.oy, ray.oz) + dir * hit.t;
 
             /* next-event estimation */
-            if (light_count > 0u) {
+            if (nee_count > 0u) {
                 float ul = ht_uniform(seed, st.pixel, sample, ht_dim(bounce, HT_DIM_LIGHT_PICK));
-                uint li = min((uint)(ul * (float)light_count), light_count - 1u);
-                HtLight light = lights[li];
-                HtLightSample ls;
+                uint li = min((uint)(ul * (float)nee_count), nee_count - 1u);
                 float u = ht_uniform(seed, st.pixel, sample, ht_dim(bounce, HT_DIM_LIGHT_U));
                 float v = ht_uniform(seed, st.pixel, sample, ht_dim(bounce, HT_DIM_LIGHT_V));
-                if (ht_sample_light(&light, p_hit, u, v, &ls)) {
+                HtLightSample ls;
+                int ok;
+                if (li < light_count) {
+                    HtLight light = lights[li];
+                    ok = ht_sample_light(&light, p_hit, u, v, &ls);
+                } else {
+                    float3 le;
+                    float pdf_env;
+                    ok = ht_env_sample(&env, env_texels, env_marginal, env_conditional, u, v, &ls.wi, &le,
+                                       &pdf_env);
+                    ls.distance = HT_REAL_MAX;
+                    ls.pdf = pdf_env;
+                    ls.li_over_pdf = ok ? le / pdf_env : (float3)(0.0f);
+                }
+                if (ok) {
                     float3 value;
-                    float pdf;
-                    ht_bcsdf_eval(&mat, wo_l, ht_to_fiber_local(ls.wi, fx, fy, fz), h, &value, &pdf);
-                    float3 c = thr * value * ls.li_over_pdf * (float)light_count;
+                    float pdf_bsdf;
+                    ht_bcsdf_eval(&mat, wo_l, ht_to_fiber_local(ls.wi, fx, fy, fz), h, &value, &pdf_bsdf);
+                    /* lights that BCSDF sampling can also reach (the environment) share the
+                     * estimate by MIS; delta lights cannot be hit and keep weight 1 */
+                    float w = ls.pdf > 0.0f ? ht_mis_power(ls.pdf / (float)nee_count, pdf_bsdf) : 1.0f;
+                    float3 c = thr * value * ls.li_over_pdf * ((float)nee_count * w);
                     if (!ht_finite3(c)) {
                         atomic_inc(&counters[HT_COUNTER_NAN]);
                     } else if (c.x + c.y + c.z > 0.0f) {
@@ -131,6 +163,8 @@ __kernel void shade(__global const HtSegment* segs, __global const HtPoint* poin
                         next_ray.tmin = 0.0f;
                         next_ray.tmax = 1e30f;
                         st.throughput[0] = nthr.x; st.throughput[1] = nthr.y; st.throughput[2] = nthr.z;
+                        st.last_pdf = pdf;
+                        st.flags &= ~HT_PATH_FROM_CAMERA;
                         want_next = 1;
                     } else if (!ht_finite3(nthr)) {
                         atomic_inc(&counters[HT_COUNTER_NAN]);
