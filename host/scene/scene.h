@@ -95,6 +95,9 @@ struct Scene {
 struct LoadOptions {
     bool thickness_is_diameter = false;  // .hair: thickness is the radius unless stated
     float default_radius = 0.0f;         // > 0 overrides a file's missing radius
+    // Refuse scenes whose strand arrays would need more memory than this (checked against the
+    // counts a file states, before anything is allocated).
+    uint64_t max_bytes = uint64_t(16) << 30;
 };
 
 // Dispatch on the extension or the builtin: prefix.  Throws SceneError.
@@ -104,7 +107,25 @@ Scene load_scene(const std::string& path, const LoadOptions& opt = {});
 Scene load_hair_file(const std::string& path, const LoadOptions& opt);
 Scene load_usc_data(const std::string& path, const LoadOptions& opt);
 Scene load_gltf(const std::string& path, const LoadOptions& opt);
-Scene make_builtin(const std::string& name);  // "strand", "ball"
+// Built-in procedural scenes: "strand" (the paper's Fig. 5 blond lock, 2,500 x 100 segments)
+// and "ball" (curly hair ball, 10,000 x 30), optionally with parameters after '?':
+//   hairs=N      number of strands (default 2500 / 10000)
+//   segments=N   segments per strand (default 100 / 30)
+//   seed=N       RNG seed (default 20040001 / 20040002)
+//   radius=R     fibre radius (default 0.1)
+// e.g. "strand?hairs=100&segments=10".  Deterministic: same spec, same bytes.
+Scene make_builtin(const std::string& spec, const LoadOptions& opt = {});
+
+// Writes strands as a Cem Yuksel .hair file (segments + points + thickness arrays, thickness =
+// radius).  Throws SceneError (unwritable file, strand longer than 65,536 points).
+void save_hair_file(const std::string& path, const Scene& scene);
+
+// The default hair material: light blond, Marschner model, sigma_a ~ (0.06, 0.10, 0.20).
+HairMaterialDesc blond_hair_material();
+
+// FNV-1a 64 over the strand arrays (first_point, points, radius, material): equal hashes mean
+// equal geometry, bit for bit.
+uint64_t strands_content_hash(const Strands& s);
 
 // Axis-aligned bounds of all points inflated by their radius.
 struct Bounds {

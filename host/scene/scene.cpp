@@ -1,0 +1,137 @@
+// Scene-level operations: loader dispatch, bounds, default camera and light, hashing.
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <limits>
+
+#include "scene/hygiene.h"
+#include "scene/scene_error.h"
+
+namespace ht {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+std::string lower_extension(const std::string& path) {
+    const size_t slash = path.find_last_of("/\\");
+    const size_t dot = path.find_last_of('.');
+    if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
+    std::string ext = path.substr(dot);
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return ext;
+}
+
+// Invariants everything downstream relies on; a loader that breaks them has a bug.
+void check_scene_invariants(const Scene& s) {
+    if (s.strands.strand_count() == 0)
+        scene_fail(s.source, "the scene holds no hair strands");
+    if (s.materials.empty()) scene_fail(s.source, "the scene has no hair material");
+    for (uint32_t m : s.strands.material)
+        if (m >= s.materials.size())
+            scene_fail(s.source, "a strand refers to material ", m, " of ", s.materials.size());
+}
+
+}  // namespace
+
+size_t Strands::segment_count() const {
+    // Every strand has at least one point, so (points - strands) counts the segments.
+    return strand_count() == 0 ? 0 : point_count() - strand_count();
+}
+
+Scene load_scene(const std::string& path, const LoadOptions& opt) {
+    static const std::string kBuiltin = "builtin:";
+    Scene scene;
+    if (path.compare(0, kBuiltin.size(), kBuiltin) == 0) {
+        scene = make_builtin(path.substr(kBuiltin.size()), opt);
+    } else {
+        const std::string ext = lower_extension(path);
+        if (ext == ".hair")
+            scene = load_hair_file(path, opt);
+        else if (ext == ".data")
+            scene = load_usc_data(path, opt);
+        else if (ext == ".gltf" || ext == ".glb")
+            scene = load_gltf(path, opt);
+        else
+            scene_fail(path, "unknown scene type '", ext.empty() ? std::string("(none)") : ext,
+                       "' (known: .hair, .data, .gltf, .glb, builtin:strand, builtin:ball)");
+    }
+    scene.source = path;
+    check_scene_invariants(scene);
+    return scene;
+}
+
+HairMaterialDesc blond_hair_material() {
+    HairMaterialDesc m;
+    m.name = "blond";
+    m.model = "marschner";
+    m.has_sigma_a = true;
+    m.sigma_a = {0.06f, 0.10f, 0.20f};  // per unit radius: light blond (little eumelanin)
+    m.eta = 1.55f;
+    return m;
+}
+
+Bounds scene_bounds(const Scene& s) {
+    const Strands& st = s.strands;
+    if (st.points.empty()) return {};
+    Bounds b;
+    const float inf = std::numeric_limits<float>::infinity();
+    b.lo = {inf, inf, inf};
+    b.hi = {-inf, -inf, -inf};
+    for (size_t i = 0; i < st.points.size(); ++i) {
+        const float r = i < st.radius.size() ? st.radius[i] : 0.0f;
+        for (int a = 0; a < 3; ++a) {
+            b.lo[a] = std::min(b.lo[a], st.points[i][a] - r);
+            b.hi[a] = std::max(b.hi[a], st.points[i][a] + r);
+        }
+    }
+    return b;
+}
+
+void ensure_camera_and_light(Scene& s) {
+    Bounds b = scene_bounds(s);
+    if (s.strands.points.empty()) b = {{-1, -1, -1}, {1, 1, 1}};
+    const Vec3f c = {(b.lo[0] + b.hi[0]) / 2, (b.lo[1] + b.hi[1]) / 2, (b.lo[2] + b.hi[2]) / 2};
+    const Vec3f half = {(b.hi[0] - b.lo[0]) / 2, (b.hi[1] - b.lo[1]) / 2, (b.hi[2] - b.lo[2]) / 2};
+    const float extent = std::max({2 * half[0], 2 * half[1], 2 * half[2], 1e-6f});
+    if (!s.has_camera) {
+        // From +z: the front face of the box, widened by 5 %, fills the 30 degree view (square
+        // aspect assumed; a wider image only adds margin at the sides).
+        Camera cam;
+        cam.yfov_deg = 30.0f;
+        const float tan_half = static_cast<float>(std::tan(cam.yfov_deg * kPi / 360.0));
+        const float fit = 1.05f * std::max({half[0], half[1], 1e-6f}) / tan_half;
+        cam.target = c;
+        cam.eye = {c[0], c[1], c[2] + half[2] + fit};
+        cam.up = {0, 1, 0};
+        s.camera = cam;
+        s.has_camera = true;
+    }
+    if (s.lights.empty()) {
+        // Key light above, right and in front of the scene; its intensity makes the irradiance
+        // at the centre 1 (intensity / distance^2), so images are exposed alike at any scale.
+        Light l;
+        l.type = LightType::Point;
+        l.position = {c[0] + 0.6f * extent, c[1] + 0.9f * extent, c[2] + 0.9f * extent};
+        const float d2 = (0.36f + 0.81f + 0.81f) * extent * extent;
+        l.intensity = d2;
+        const float d = std::sqrt(d2);
+        l.direction = {-0.6f * extent / d, -0.9f * extent / d, -0.9f * extent / d};
+        s.lights.push_back(l);
+    }
+}
+
+uint64_t strands_content_hash(const Strands& s) {
+    uint64_t h = 1469598103934665603ull;
+    auto feed = [&h](const void* data, size_t bytes) {
+        const unsigned char* p = static_cast<const unsigned char*>(data);
+        for (size_t i = 0; i < bytes; ++i) h = (h ^ p[i]) * 1099511628211ull;
+    };
+    feed(s.first_point.data(), s.first_point.size() * sizeof(uint32_t));
+    feed(s.points.data(), s.points.size() * sizeof(Vec3f));
+    feed(s.radius.data(), s.radius.size() * sizeof(float));
+    feed(s.material.data(), s.material.size() * sizeof(uint32_t));
+    return h;
+}
+
+}  // namespace ht
