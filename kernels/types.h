@@ -120,21 +120,29 @@ typedef struct {
 #define HT_MODEL_COUNT 4u
 
 /* Hair material as the kernels see it: parameters already validated and converted on the host
- * (melanin -> sigma_a, degrees -> radians).  Fields not used by a model are ignored by it. */
+ * (melanin/colour -> sigma_a, degrees -> radians) and derived quantities precomputed, all by
+ * make_kernel_material (host/fiber/material.h).  Fields not used by a model are ignored by it.
+ * 208 bytes (13 x 16). */
 typedef struct {
     uint model, flags, pad0, pad1;
-    float sigma_a[4];      /* absorption per unit radius, rgb */
-    float eta, beta_m, beta_n, alpha;   /* alpha: scale tilt in radians */
+    float sigma_a[4];                 /* absorption per unit radius, rgb (all models but kajiya) */
+    float eta, beta_m, beta_n, alpha; /* alpha: scale tilt in radians (chiang) */
+    /* chiang: d'Eon longitudinal variances for R, TT, TRT, residual (v, v/4, 4v, 4v) */
+    float v[4];
+    /* s: logistic scale (chiang); azim_sigma: std of the zinke azimuthal wrapped Gaussian (radians);
+     * ks_norm: 1 / integral of the Kajiya-Kay specular lobe; ks_exponent: Kajiya-Kay exponent */
+    float s, azim_sigma, ks_norm, ks_exponent;
+    float sin_tilt[4];                /* sin(alpha), sin(2 alpha), sin(4 alpha), 0 */
+    float cos_tilt[4];                /* cos of the same */
     /* Marschner / Zinke longitudinal shifts and widths (radians) */
     float alpha_r, alpha_tt, alpha_trt, pad2;
     float beta_r, beta_tt, beta_trt, pad3;
     /* Marschner caustic: w_c (radians), k_G, delta_eta', delta_h_M */
     float caustic_wc, caustic_kg, caustic_deta, caustic_dhm;
-    float eccentricity, pad4, pad5, pad6;
+    float eccentricity, pad4, pad5, pad6; /* a <= 1: minor/major axis ratio (marschner TRT) */
     /* Kajiya-Kay */
     float kd[4];
     float ks[4];
-    float ks_exponent, pad7, pad8, pad9;
 } HtMaterial;
 
 #endif /* HT_TYPES_H */

@@ -1,0 +1,75 @@
+/* Hair fibre scattering: the one entry point the renderer calls.
+ *
+ * Frame (MODEL_NOTES §1): +x = tangent root->tip, sin theta = w.x, phi = atan2(w.z, w.y); wo and wi
+ * are unit vectors pointing away from the fibre; h in [-1, 1] is the signed offset of the hit across
+ * the fibre in units of the radius (h = sin gamma_o in pbrt's sense).
+ *
+ * `value` is the scattering function with every cosine folded in:
+ *     L_o(wo) = integral over the sphere of value(wo, wi, h) L_i(wi) dwi
+ * (solid-angle measure, no extra cosine).  For chiang this is pbrt-v4's f(wo, wi) |cos theta_i|, so a
+ * white fibre (sigma_a = 0) has integral value dwi = 1 for every wo and h.  `pdf` is the solid-angle
+ * density with which ht_bcsdf_sample generates wi.  Both are finite and >= 0 for every input
+ * (including non-unit / degenerate directions and h outside [-1, 1], which are clamped).
+ *
+ * Lobes (ht_bcsdf_eval_lobes): [0] R, [1] TT, [2] TRT (marschner/zinke: including the glint),
+ * [3] residual (chiang: TRRT+; kajiya: the diffuse term, [0] its specular term). */
+#ifndef HT_FIBER_BCSDF_H
+#define HT_FIBER_BCSDF_H
+
+#include "../types.h"
+#include "kajiya.h"
+#include "chiang.h"
+#include "marschner.h"
+#include "zinke.h"
+
+/* Whether the model returns a delta/near-delta that next-event estimation cannot hit. */
+HT_FN int ht_bcsdf_is_delta(const HtMaterial* m) { return 0; }
+
+HT_FN void ht_bcsdf_eval_lobes(const HtMaterial* m, real3 wo, real3 wi, real h, real3* lobes, real3* value,
+                               real* pdf) {
+    h = ht_clamp(h, R(-1), R(1)); /* also maps NaN h to ... see below */
+    if (!(h == h)) h = R(0);
+    switch (m->model) {
+    case HT_MODEL_KAJIYA: ht_kajiya_eval(m, wo, wi, h, lobes, value, pdf); break;
+    case HT_MODEL_MARSCHNER: ht_marschner_eval(m, wo, wi, h, lobes, value, pdf); break;
+    case HT_MODEL_ZINKE: ht_zinke_eval(m, wo, wi, h, lobes, value, pdf); break;
+    case HT_MODEL_CHIANG: ht_chiang_eval(m, wo, wi, h, lobes, value, pdf); break;
+    default:
+        for (int p = 0; p < 4; ++p) lobes[p] = ht_splat(R(0));
+        *value = ht_splat(R(0));
+        *pdf = R(0);
+    }
+}
+
+// m: material in private memory; wo, wi: unit vectors in the fibre frame; h in [-1,1]
+HT_FN void ht_bcsdf_eval(const HtMaterial* m, real3 wo, real3 wi, real h, real3* value, real* pdf) {
+    real3 lobes[4];
+    ht_bcsdf_eval_lobes(m, wo, wi, h, lobes, value, pdf);
+}
+
+// u: 4 uniforms in [0,1). Returns 0 if no direction could be sampled. weight = value/pdf.
+HT_FN int ht_bcsdf_sample(const HtMaterial* m, real3 wo, real h, real u0, real u1, real u2, real u3, real3* wi,
+                          real3* weight, real* pdf) {
+    if (!(h == h)) h = R(0);
+    h = ht_clamp(h, R(-1), R(1));
+    u0 = ht_clamp(u0, R(0), R(0.99999994));
+    u1 = ht_clamp(u1, R(0), R(0.99999994));
+    u2 = ht_clamp(u2, R(0), R(0.99999994));
+    u3 = ht_clamp(u3, R(0), R(0.99999994));
+    int ok = 0;
+    switch (m->model) {
+    case HT_MODEL_KAJIYA: ok = ht_kajiya_sample(m, wo, h, u0, u1, u2, u3, wi, weight, pdf); break;
+    case HT_MODEL_MARSCHNER: ok = ht_marschner_sample(m, wo, h, u0, u1, u2, u3, wi, weight, pdf); break;
+    case HT_MODEL_ZINKE: ok = ht_zinke_sample(m, wo, h, u0, u1, u2, u3, wi, weight, pdf); break;
+    case HT_MODEL_CHIANG: ok = ht_chiang_sample(m, wo, h, u0, u1, u2, u3, wi, weight, pdf); break;
+    default: break;
+    }
+    if (!ok) {
+        *wi = make_real3(R(1), R(0), R(0));
+        *weight = ht_splat(R(0));
+        *pdf = R(0);
+    }
+    return ok;
+}
+
+#endif

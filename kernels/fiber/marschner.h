@@ -1,0 +1,232 @@
+/* Marschner et al. 2003 far-field model (MODEL_NOTES §2-5):
+ *   S = sum_p M_p(theta_h) N_p(eta'(theta_d), phi) / cos^2 theta_d,   M_p = unit Gaussian(theta_h - alpha_p; beta_p)
+ *   value = S cos(theta_i) / 2
+ * The 1/2 is 1/D for a fibre of diameter D = 2 (units of the radius): the renderer's average over the
+ * hit offset h plays the role of Marschner's D, so a white smooth fibre conserves energy exactly as
+ * pbrt's h-averaged model does (far-field limit of value_chiang averaged over h).  h is not used.
+ * N_p = sum over the exact roots h of Phi(p, h) = phi of A_p(h) / |2 dPhi/dh| (root finding:
+ * monotone pieces split at the TRT caustics, Newton safeguarded by bisection); A_p with the exact
+ * (= Bravais) Fresnel at cos theta_d cos gamma_i and the chord absorption 2 cos gamma_t / cos theta_t.
+ * TRT: caustic removal + glints (w_c, k_G, delta eta', delta h_M) and eccentricity eta*(phi_h),
+ * phi_h measured from the frame's y axis (taken as the major axis of the section).
+ *
+ * Sampling (exact pdf of what is sampled): lobe p by A_p luminance at h = 1/2 (floored at 2 %);
+ * theta_h ~ N(alpha_p, beta_p) (theta_i outside [-90, 90] deg -> no sample); phi: R and TT: h uniform
+ * in [-1, 1], phi = Phi(p, h) (density sum_roots 1/|2 dPhi/dh|); TRT: the same mixed with the glint
+ * Gaussians at +-phi_c (15 % when glints are on) and a uniform (10 %).  eta (not eta*) in the proxy. */
+#ifndef HT_FIBER_MARSCHNER_H
+#define HT_FIBER_MARSCHNER_H
+
+#include "../types.h"
+#include "azimuthal.h"
+
+typedef struct {
+    real sin_o, cos_o, sin_i, cos_i, theta_o, theta_i, theta_h, sin_d, cos_d, phi;
+} HtMarschnerAngles;
+
+HT_FN void ht_marschner_angles(real3 wo, real3 wi, HtMarschnerAngles* a) {
+    ht_theta(wo, &a->sin_o, &a->cos_o);
+    ht_theta(wi, &a->sin_i, &a->cos_i);
+    a->theta_o = ht_asin(a->sin_o);
+    a->theta_i = ht_asin(a->sin_i);
+    a->theta_h = R(0.5) * (a->theta_i + a->theta_o);
+    ht_sincos(R(0.5) * (a->theta_o - a->theta_i), &a->sin_d, &a->cos_d);
+    a->cos_d = fabs(a->cos_d);
+    a->phi = ht_relative_phi(wo, wi);
+}
+
+/* A_p(h) at theta_d for index eta (p = 0, 1, 2). */
+HT_FN real3 ht_marschner_ap(const HtMaterial* m, int p, real h, real eta, real sin_d, real cos_d) {
+    real f = ht_fresnel_dielectric(cos_d * ht_safe_sqrt(R(1) - h * h), eta);
+    if (p == 0) return ht_splat(f);
+    real ht_ = h * ht_inv_eta_prime(eta, sin_d, cos_d);
+    real cgt = ht_safe_sqrt(R(1) - ht_ * ht_);
+    real3 T = ht_chord_transmittance(ht_load3(m->sigma_a), cgt, ht_cos_theta_t(eta, sin_d));
+    real3 a = T * ((R(1) - f) * (R(1) - f));
+    return p == 1 ? a : a * T * f;
+}
+
+/* Caustic parameters of TRT at 1/eta' = inv_ep: centre phi_c, glint interval dh, fade t, h_c. */
+HT_FN void ht_marschner_caustic(const HtMaterial* m, real inv_ep, real* phi_c, real* dh, real* t, real* hc) {
+    real ep2 = R(1) / ht_max(inv_ep * inv_ep, R(1e-30));
+    if (ep2 < R(4)) {
+        real h = sqrt((R(4) - ep2) / R(3));
+        real gi = ht_asin(h), gt = ht_asin(h * inv_ep);
+        *phi_c = fabs(ht_wrap_pi(ht_phi_path(2, gi, gt)));
+        real a = ht_max(ep2 - h * h, R(1e-12)), b = ht_max(R(1) - h * h, R(1e-12));
+        real d2 = R(4) * h / (a * sqrt(a)) - R(2) * h / (b * sqrt(b));
+        *dh = ht_min(m->caustic_dhm, R(2) * sqrt(R(2) * m->caustic_wc / ht_max(fabs(d2), R(1e-12))));
+        *t = R(1);
+        *hc = h;
+    } else {
+        real ep = sqrt(ep2);
+        real x = ht_clamp((ep - R(2)) / ht_max(m->caustic_deta, R(1e-6)), R(0), R(1));
+        *phi_c = R(0);
+        *dh = m->caustic_dhm;
+        *t = R(1) - x * x * (R(3) - R(2) * x);
+        *hc = R(0);
+    }
+}
+
+/* sum over roots of A_p(h)/|2 dPhi/dh| (N_p, smooth circle) and of 1/|2 dPhi/dh| (h-uniform density). */
+HT_FN void ht_marschner_np_raw(const HtMaterial* m, int p, real phi, real eta, real sin_d, real cos_d,
+                               real3* np, real* density) {
+    real inv_ep = ht_inv_eta_prime(eta, sin_d, cos_d);
+    real hs[3];
+    int n = ht_phi_roots(p, phi, inv_ep, hs);
+    real3 acc = ht_splat(R(0));
+    real dens = R(0);
+    for (int k = 0; k < n; ++k) {
+        real s = R(0.5) * ht_inv_dphi_dh(p, hs[k], inv_ep);
+        acc += ht_marschner_ap(m, p, hs[k], eta, sin_d, cos_d) * s;
+        dens += s;
+    }
+    *np = acc;
+    *density = dens;
+}
+
+/* eta* for TRT (eccentricity a <= 1), cos2h = cos(2 phi_h). */
+HT_FN real ht_marschner_eta_star(const HtMaterial* m, real cos2h) {
+    real a = m->eccentricity, eta = m->eta;
+    if (!(a < R(1))) return eta;
+    real e1 = R(2) * (eta - R(1)) * a * a - eta + R(2);
+    real e2 = R(2) * (eta - R(1)) / (a * a) - eta + R(2);
+    return ht_max(R(0.5) * ((e1 + e2) + cos2h * (e1 - e2)), R(1.0001));
+}
+
+/* N'_TRT with caustic removal and glints. */
+HT_FN real3 ht_marschner_ntrt(const HtMaterial* m, real phi, real eta, real sin_d, real cos_d) {
+    real3 n;
+    real dens;
+    ht_marschner_np_raw(m, 2, phi, eta, sin_d, cos_d, &n, &dens);
+    real inv_ep = ht_inv_eta_prime(eta, sin_d, cos_d);
+    real phi_c, dh, t, hc;
+    ht_marschner_caustic(m, inv_ep, &phi_c, &dh, &t, &hc);
+    real wc = m->caustic_wc;
+    real d1 = ht_wrap_pi(phi - phi_c), d2 = ht_wrap_pi(phi + phi_c);
+    real r1 = exp(-R(0.5) * d1 * d1 / (wc * wc)), r2 = exp(-R(0.5) * d2 * d2 / (wc * wc));
+    real3 glint = ht_marschner_ap(m, 2, hc, eta, sin_d, cos_d) *
+                  (t * m->caustic_kg * dh * (ht_gaussian(d1, wc) + ht_gaussian(d2, wc)));
+    return n * ((R(1) - t * r1) * (R(1) - t * r2)) + glint;
+}
+
+/* Lobe selection probabilities (depend on wo only). */
+HT_FN void ht_marschner_probs(const HtMaterial* m, real sin_o, real cos_o, real* pr) {
+    real s = R(0);
+    for (int p = 0; p < 3; ++p) {
+        pr[p] = ht_luminance(ht_marschner_ap(m, p, R(0.5), m->eta, sin_o, cos_o));
+        s += pr[p];
+    }
+    s = ht_max(s, R(1e-12));
+    real t = R(0);
+    for (int p = 0; p < 3; ++p) { pr[p] = ht_max(pr[p] / s, R(0.02)); t += pr[p]; }
+    for (int p = 0; p < 3; ++p) pr[p] /= t;
+}
+
+#define HT_MARSCHNER_TRT_UNIFORM R(0.10)
+#define HT_MARSCHNER_TRT_GLINT R(0.15)
+
+/* Solid-angle pdf of ht_marschner_sample. */
+HT_FN real ht_marschner_pdf(const HtMaterial* m, const HtMarschnerAngles* a) {
+    real pr[3];
+    ht_marschner_probs(m, a->sin_o, a->cos_o, pr);
+    real ab[3] = {m->alpha_r, m->alpha_tt, m->alpha_trt};
+    real bb[3] = {m->beta_r, m->beta_tt, m->beta_trt};
+    real pd = R(0);
+    for (int p = 0; p < 3; ++p) {
+        real pth = R(0.5) * ht_gaussian(a->theta_h - ab[p], bb[p]); /* density of theta_i */
+        real3 np;
+        real dens;
+        ht_marschner_np_raw(m, p, a->phi, m->eta, a->sin_d, a->cos_d, &np, &dens);
+        real pphi = dens;
+        if (p == 2) {
+            real inv_ep = ht_inv_eta_prime(m->eta, a->sin_d, a->cos_d);
+            real phi_c, dh, t, hc;
+            ht_marschner_caustic(m, inv_ep, &phi_c, &dh, &t, &hc);
+            real eg = t > R(0) ? HT_MARSCHNER_TRT_GLINT : R(0);
+            real g = R(0.5) * (ht_wrapped_gaussian(a->phi - phi_c, m->caustic_wc) +
+                               ht_wrapped_gaussian(a->phi + phi_c, m->caustic_wc));
+            pphi = (R(1) - eg - HT_MARSCHNER_TRT_UNIFORM) * dens + eg * g + HT_MARSCHNER_TRT_UNIFORM * HT_INV_TWO_PI;
+        }
+        pd += pr[p] * pth * pphi;
+    }
+    return pd / ht_max(a->cos_i, R(1e-7));
+}
+
+HT_FN void ht_marschner_eval(const HtMaterial* m, real3 wo, real3 wi, real h, real3* lobes, real3* value, real* pdf) {
+    HtMarschnerAngles a;
+    ht_marschner_angles(wo, wi, &a);
+    real geo = R(0.5) * a.cos_i / ht_max(a.cos_d * a.cos_d, R(1e-6));
+    real dens;
+    real3 n0, n1;
+    ht_marschner_np_raw(m, 0, a.phi, m->eta, a.sin_d, a.cos_d, &n0, &dens);
+    ht_marschner_np_raw(m, 1, a.phi, m->eta, a.sin_d, a.cos_d, &n1, &dens);
+    real eta_trt = m->eta;
+    if (m->eccentricity < R(1)) {
+        /* cos(2 phi_h) = cos(2 phi_o + phi), phi_h = (phi_i + phi_o)/2 */
+        real yy = wo.y * wo.y, zz = wo.z * wo.z, r2 = yy + zz;
+        real c2o = r2 > R(1e-24) ? (yy - zz) / r2 : R(1), s2o = r2 > R(1e-24) ? R(2) * wo.y * wo.z / r2 : R(0);
+        real sp, cp;
+        ht_sincos(a.phi, &sp, &cp);
+        eta_trt = ht_marschner_eta_star(m, c2o * cp - s2o * sp);
+    }
+    real3 n2 = ht_marschner_ntrt(m, a.phi, eta_trt, a.sin_d, a.cos_d);
+    lobes[0] = n0 * (geo * ht_gaussian(a.theta_h - m->alpha_r, m->beta_r));
+    lobes[1] = n1 * (geo * ht_gaussian(a.theta_h - m->alpha_tt, m->beta_tt));
+    lobes[2] = n2 * (geo * ht_gaussian(a.theta_h - m->alpha_trt, m->beta_trt));
+    lobes[3] = ht_splat(R(0));
+    for (int p = 0; p < 3; ++p) lobes[p] = ht_sanitize3(lobes[p]);
+    *value = lobes[0] + lobes[1] + lobes[2];
+    *pdf = ht_sanitize(ht_marschner_pdf(m, &a));
+}
+
+HT_FN int ht_marschner_sample(const HtMaterial* m, real3 wo, real h, real u0, real u1, real u2, real u3,
+                              real3* wi, real3* weight, real* pdf) {
+    real sin_o, cos_o;
+    ht_theta(wo, &sin_o, &cos_o);
+    real pr[3];
+    ht_marschner_probs(m, sin_o, cos_o, pr);
+    int p = u0 < pr[0] ? 0 : (u0 < pr[0] + pr[1] ? 1 : 2);
+    real ur = p == 0 ? u0 / pr[0] : (p == 1 ? (u0 - pr[0]) / pr[1] : (u0 - pr[0] - pr[1]) / pr[2]);
+    ur = ht_clamp(ur, R(0), R(0.99999994));
+    real ab[3] = {m->alpha_r, m->alpha_tt, m->alpha_trt};
+    real bb[3] = {m->beta_r, m->beta_tt, m->beta_trt};
+    real n1, n2;
+    ht_normal_pair(u1, u2, &n1, &n2);
+    real theta_o = ht_asin(sin_o);
+    real theta_i = R(2) * (ab[p] + bb[p] * n1) - theta_o;
+    if (!(fabs(theta_i) < HT_HALF_PI)) return 0;
+    real sin_i, cos_i, sin_d, cos_d;
+    ht_sincos(theta_i, &sin_i, &cos_i);
+    ht_sincos(R(0.5) * (theta_o - theta_i), &sin_d, &cos_d);
+    cos_d = fabs(cos_d);
+    real inv_ep = ht_inv_eta_prime(m->eta, sin_d, cos_d);
+    real hh = R(2) * u3 - R(1);
+    real dphi;
+    if (p < 2) {
+        dphi = ht_phi_path(p, ht_asin(hh), ht_asin(hh * inv_ep));
+    } else {
+        real phi_c, dh, t, hc;
+        ht_marschner_caustic(m, inv_ep, &phi_c, &dh, &t, &hc);
+        real eg = t > R(0) ? HT_MARSCHNER_TRT_GLINT : R(0);
+        if (ur < HT_MARSCHNER_TRT_UNIFORM) {
+            dphi = HT_TWO_PI * (u3 - R(0.5));
+        } else if (ur < HT_MARSCHNER_TRT_UNIFORM + eg) {
+            dphi = (u3 < R(0.5) ? phi_c : -phi_c) + m->caustic_wc * n2;
+        } else {
+            dphi = ht_phi_path(2, ht_asin(hh), ht_asin(hh * inv_ep));
+        }
+    }
+    real3 w = ht_dir_from(wo, sin_i, cos_i, ht_wrap_pi(dphi));
+    real3 lobes[4];
+    real3 value;
+    real pd;
+    ht_marschner_eval(m, wo, w, h, lobes, &value, &pd);
+    *wi = w;
+    *pdf = pd;
+    if (!(pd > R(0))) return 0;
+    *weight = ht_sanitize3(value / pd);
+    return 1;
+}
+
+#endif

@@ -1,0 +1,110 @@
+/* Zinke, Sobottka, Weber 2004 near-field model, simplified variant (no s-dependence) with the rough
+ * lobes of the paper's §4 / Appendix 1 (MODEL_NOTES §6):
+ *   value = sum_p 1/2 g(theta_h - alpha_p; beta_p) cos(theta_i)/cos^2(theta_d) * W_p(h) * D(phi - Phi(p, h); sigma_w)
+ *   W_R  = A_R(h) S'_R(h),  W_TT = A_TT(h) S'_TT(h),   S'_p = 1/|dPhi_p/dh| (near-field ray density)
+ *   W_TRT = A_TRT(h) S'_TRT(h) (1 - t g_c(Phi-phi_c)/g_c(0)) (1 - t g_c(Phi+phi_c)/g_c(0))
+ *           + 2 t k_G A_TRT(h_c) dh [g_c(Phi - phi_c) + g_c(Phi + phi_c)]       (S''_TRT: removal + glint,
+ *           MODEL_NOTES §7 reading (b); g_c unit Gaussian of width w_c)
+ * A_p: exact Fresnel at cos theta_d cos gamma_i, absorption 2 cos gamma_t'/cos theta_t per chord,
+ * eta' and theta_t at theta_d (Appendix 1).  D: wrapped Gaussian with the std of a logistic of scale
+ * s(beta_n) (azim_sigma).  The 1/2 cos/cos^2 factor integrates to ~1 over theta_i (as for marschner),
+ * so the h-average of integral value dwi is AFS_R + AFS_TT + AFS_TRT (Zinke's averaged coefficients).
+ * h: the hit's own offset (exit azimuth Phi(p, h), pbrt's convention for gamma_o).
+ * Not energy conserving pointwise in h (S' > 1 near h = 0 for TT): the furnace reports the h-average.
+ *
+ * Sampling: lobe by luminance of W_p(h) at theta_d = theta_o (floored at 2 %), theta_h ~ N(alpha_p,
+ * beta_p), phi = Phi(p, h) + sigma_w n (wrapped): pdf exact. */
+#ifndef HT_FIBER_ZINKE_H
+#define HT_FIBER_ZINKE_H
+
+#include "marschner.h"
+
+/* W_p(h) and Phi(p, h) at theta_d. */
+HT_FN void ht_zinke_w(const HtMaterial* m, real h, real sin_d, real cos_d, real3* w, real* phis) {
+    real eta = m->eta;
+    real inv_ep = ht_inv_eta_prime(eta, sin_d, cos_d);
+    real gi = ht_asin(h), gt = ht_asin(h * inv_ep);
+    for (int p = 0; p < 3; ++p) {
+        phis[p] = ht_phi_path(p, gi, gt);
+        w[p] = ht_marschner_ap(m, p, h, eta, sin_d, cos_d) * ht_inv_dphi_dh(p, h, inv_ep);
+    }
+    real phi_c, dh, t, hc;
+    ht_marschner_caustic(m, inv_ep, &phi_c, &dh, &t, &hc);
+    real wc = m->caustic_wc;
+    real d1 = ht_wrap_pi(phis[2] - phi_c), d2 = ht_wrap_pi(phis[2] + phi_c);
+    real r1 = exp(-R(0.5) * d1 * d1 / (wc * wc)), r2 = exp(-R(0.5) * d2 * d2 / (wc * wc));
+    real3 glint = ht_marschner_ap(m, 2, hc, eta, sin_d, cos_d) *
+                  (R(2) * t * m->caustic_kg * dh * (ht_gaussian(d1, wc) + ht_gaussian(d2, wc)));
+    w[2] = w[2] * ((R(1) - t * r1) * (R(1) - t * r2)) + glint;
+}
+
+HT_FN void ht_zinke_probs(const HtMaterial* m, real h, real sin_o, real cos_o, real* pr) {
+    real3 w[3];
+    real phis[3];
+    ht_zinke_w(m, h, sin_o, cos_o, w, phis);
+    real s = R(0);
+    for (int p = 0; p < 3; ++p) { pr[p] = ht_max(ht_luminance(w[p]), R(0)); s += pr[p]; }
+    s = ht_max(s, R(1e-12));
+    real t = R(0);
+    for (int p = 0; p < 3; ++p) { pr[p] = ht_max(pr[p] / s, R(0.02)); t += pr[p]; }
+    for (int p = 0; p < 3; ++p) pr[p] /= t;
+}
+
+HT_FN void ht_zinke_eval(const HtMaterial* m, real3 wo, real3 wi, real h, real3* lobes, real3* value, real* pdf) {
+    HtMarschnerAngles a;
+    ht_marschner_angles(wo, wi, &a);
+    real3 w[3];
+    real phis[3];
+    ht_zinke_w(m, h, a.sin_d, a.cos_d, w, phis);
+    real pr[3];
+    ht_zinke_probs(m, h, a.sin_o, a.cos_o, pr);
+    real geo = R(0.5) * a.cos_i / ht_max(a.cos_d * a.cos_d, R(1e-6));
+    real ab[3] = {m->alpha_r, m->alpha_tt, m->alpha_trt};
+    real bb[3] = {m->beta_r, m->beta_tt, m->beta_trt};
+    real pd = R(0);
+    real3 sum = ht_splat(R(0));
+    for (int p = 0; p < 3; ++p) {
+        real g = ht_gaussian(a.theta_h - ab[p], bb[p]);
+        real d = ht_wrapped_gaussian(a.phi - phis[p], m->azim_sigma);
+        lobes[p] = ht_sanitize3(w[p] * (geo * g * d));
+        sum += lobes[p];
+        pd += pr[p] * R(0.5) * g * d;
+    }
+    lobes[3] = ht_splat(R(0));
+    *value = sum;
+    *pdf = ht_sanitize(pd / ht_max(a.cos_i, R(1e-7)));
+}
+
+HT_FN int ht_zinke_sample(const HtMaterial* m, real3 wo, real h, real u0, real u1, real u2, real u3,
+                          real3* wi, real3* weight, real* pdf) {
+    real sin_o, cos_o;
+    ht_theta(wo, &sin_o, &cos_o);
+    real pr[3];
+    ht_zinke_probs(m, h, sin_o, cos_o, pr);
+    int p = u0 < pr[0] ? 0 : (u0 < pr[0] + pr[1] ? 1 : 2);
+    real ab[3] = {m->alpha_r, m->alpha_tt, m->alpha_trt};
+    real bb[3] = {m->beta_r, m->beta_tt, m->beta_trt};
+    real n1, n2;
+    ht_normal_pair(u1, u2, &n1, &n2);
+    real theta_o = ht_asin(sin_o);
+    real theta_i = R(2) * (ab[p] + bb[p] * n1) - theta_o;
+    if (!(fabs(theta_i) < HT_HALF_PI)) return 0;
+    real sin_i, cos_i, sin_d, cos_d;
+    ht_sincos(theta_i, &sin_i, &cos_i);
+    ht_sincos(R(0.5) * (theta_o - theta_i), &sin_d, &cos_d);
+    cos_d = fabs(cos_d);
+    real inv_ep = ht_inv_eta_prime(m->eta, sin_d, cos_d);
+    real phi_p = ht_phi_path(p, ht_asin(h), ht_asin(h * inv_ep));
+    real3 w = ht_dir_from(wo, sin_i, cos_i, ht_wrap_pi(phi_p + m->azim_sigma * n2));
+    real3 lobes[4];
+    real3 value;
+    real pd;
+    ht_zinke_eval(m, wo, w, h, lobes, &value, &pd);
+    *wi = w;
+    *pdf = pd;
+    if (!(pd > R(0))) return 0;
+    *weight = ht_sanitize3(value / pd);
+    return 1;
+}
+
+#endif
