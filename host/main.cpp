@@ -28,6 +28,8 @@ const char* kTopHelp =
     "  info SCENE [--json]       strands, points, segments, bounds, materials, BVH statistics\n"
     "  devices [--json]          list OpenCL platforms and devices (indices for --device)\n"
     "  bench [...]               BVH build and ray throughput benchmark (validated hits)\n"
+    "  converge SCENE --reference REF.exr --configs ... --spp 1,2,4,...\n"
+    "                            error against render time per configuration (CSV + log-log plot)\n"
     "  fiber eval|sample|furnace|afs ...   query the fibre scattering models\n"
     "  help [COMMAND]            this text, or a command's options (same as COMMAND --help)\n"
     "  version                   print the version\n"
@@ -46,6 +48,7 @@ Command find_command(const std::string& name) {
     if (name == "render") return cmd_render;
     if (name == "info") return cmd_info;
     if (name == "devices") return cmd_devices;
+    if (name == "converge") return cmd_converge;
     if (name == "bench") return bench_main;
     if (name == "fiber") return fiber_main;
     return nullptr;
