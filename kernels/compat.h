@@ -84,8 +84,8 @@ HT_FN real3 cross(real3 a, real3 b) {
 }
 HT_FN real length(real3 a) { return std::sqrt(dot(a, a)); }
 HT_FN real3 normalize(real3 a) { return a * (R(1) / length(a)); }
-HT_FN real fmin(real a, real b) { return std::fmin(a, b); }
-HT_FN real fmax(real a, real b) { return std::fmax(a, b); }
+/* <cmath> already declares ::fmin/::fmax(double, double); a static redefinition would clash. */
+using std::fmin; using std::fmax;
 HT_FN real clamp(real x, real lo, real hi) { return x < lo ? lo : (x > hi ? hi : x); }
 HT_FN real mix(real a, real b, real t) { return a + (b - a) * t; }
 HT_FN real native_exp(real x) { return std::exp(x); }
