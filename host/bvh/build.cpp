@@ -1,0 +1,425 @@
+// Binned-SAH BVH over capsule segments, built with a few std::threads and flattened depth-first
+// into HtBvhNode ("SoA in node": each node holds both children's boxes).
+#include "bvh/bvh.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <thread>
+
+namespace ht {
+namespace {
+
+struct Box {
+    float lo[3] = {INFINITY, INFINITY, INFINITY};
+    float hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+
+    void grow(const Box& b) {
+        for (int k = 0; k < 3; ++k) {
+            lo[k] = std::min(lo[k], b.lo[k]);
+            hi[k] = std::max(hi[k], b.hi[k]);
+        }
+    }
+    void grow_point(const float* p, float r) {
+        for (int k = 0; k < 3; ++k) {
+            lo[k] = std::min(lo[k], p[k] - r);
+            hi[k] = std::max(hi[k], p[k] + r);
+        }
+    }
+    bool empty() const { return !(lo[0] <= hi[0]); }
+    // Half the surface area: SAH only needs ratios.
+    double half_area() const {
+        if (empty()) return 0.0;
+        const double dx = hi[0] - lo[0], dy = hi[1] - lo[1], dz = hi[2] - lo[2];
+        return dx * dy + dy * dz + dz * dx;
+    }
+    float center(int k) const { return 0.5f * (lo[k] + hi[k]); }
+};
+
+// One BVH reference: a (piece of a) segment's box and the index of the segment in global order.
+struct Ref {
+    Box box;
+    uint32_t seg;
+};
+
+// Intermediate node while building: both child slots as the final layout has them, children
+// referring to intermediate node indices.
+struct BNode {
+    Box box[2];
+    uint32_t child[2] = {0, 0};
+    uint32_t count[2] = {0, 0};
+};
+
+struct Slot {
+    Box box;
+    uint32_t child = 0, count = 0;  // count > 0: leaf [child, child + count) of the refs
+};
+
+struct Bins {
+    static constexpr int kMax = 64;
+    Box box[3][kMax];
+    uint32_t n[3][kMax] = {};
+    void merge(const Bins& o, int bins) {
+        for (int a = 0; a < 3; ++a)
+            for (int i = 0; i < bins; ++i) {
+                box[a][i].grow(o.box[a][i]);
+                n[a][i] += o.n[a][i];
+            }
+    }
+};
+
+class Builder {
+public:
+    Builder(std::vector<Ref>& refs, const BvhOptions& opt)
+        : refs_(refs), opt_(opt), bins_(std::clamp(opt.bins, 4, Bins::kMax)) {
+        unsigned t = opt.threads ? opt.threads : std::max(1u, std::thread::hardware_concurrency());
+        tokens_ = (int)t - 1;
+        // A binary tree over n references has at most n - 1 inner nodes (+1 for a leaf root).
+        nodes_.resize(std::max<size_t>(refs.size(), 1));
+    }
+
+    // Returns the intermediate root node index.
+    uint32_t run() {
+        if (refs_.empty()) return alloc();  // both slots empty
+        Box bounds, cbounds;
+        bounds_of(0, (uint32_t)refs_.size(), bounds, cbounds);
+        Slot top = build(0, (uint32_t)refs_.size(), bounds, cbounds, 1);
+        if (top.count == 0) return top.child;
+        uint32_t root = alloc();  // the whole scene is one leaf: root with one used slot
+        nodes_[root].box[0] = top.box;
+        nodes_[root].child[0] = top.child;
+        nodes_[root].count[0] = top.count;
+        return root;
+    }
+
+    std::vector<BNode> nodes_;
+
+private:
+    uint32_t alloc() { return used_.fetch_add(1); }
+
+    void bounds_of(uint32_t b, uint32_t e, Box& bounds, Box& cbounds) const {
+        for (uint32_t i = b; i < e; ++i) {
+            bounds.grow(refs_[i].box);
+            float c[3] = {refs_[i].box.center(0), refs_[i].box.center(1), refs_[i].box.center(2)};
+            cbounds.grow_point(c, 0.0f);
+        }
+    }
+
+    void bin_range(uint32_t b, uint32_t e, const Box& cb, const float* scale, Bins& out) const {
+        for (uint32_t i = b; i < e; ++i) {
+            const Box& bx = refs_[i].box;
+            for (int a = 0; a < 3; ++a) {
+                int k = (int)((bx.center(a) - cb.lo[a]) * scale[a]);
+                k = std::clamp(k, 0, bins_ - 1);
+                out.box[a][k].grow(bx);
+                out.n[a][k]++;
+            }
+        }
+    }
+
+    bool take_token() {
+        int t = tokens_.load();
+        while (t > 0)
+            if (tokens_.compare_exchange_weak(t, t - 1)) return true;
+        return false;
+    }
+    void give_token() { tokens_.fetch_add(1); }
+
+    Slot leaf(uint32_t b, uint32_t e, const Box& bounds) {
+        Slot s;
+        s.box = bounds;
+        s.child = b;
+        s.count = e - b;
+        return s;
+    }
+
+    Slot build(uint32_t b, uint32_t e, const Box& bounds, const Box& cbounds, int depth) {
+        const uint32_t n = e - b;
+        const double leaf_cost = opt_.c_isect * (double)n;
+        if (n == 1 || depth >= kMaxBvhDepth) return leaf(b, e, bounds);
+
+        // ---- binning (two threads for the big top-level ranges)
+        float scale[3];
+        for (int a = 0; a < 3; ++a) {
+            const float ext = cbounds.hi[a] - cbounds.lo[a];
+            scale[a] = ext > 0 ? (float)bins_ * (1.0f - 1e-6f) / ext : 0.0f;
+        }
+        Bins bins;
+        if (n >= 65536 && take_token()) {
+            Bins other;
+            const uint32_t mid = b + n / 2;
+            std::thread th([&] { bin_range(mid, e, cbounds, scale, other); });
+            bin_range(b, mid, cbounds, scale, bins);
+            th.join();
+            give_token();
+            bins.merge(other, bins_);
+        } else {
+            bin_range(b, e, cbounds, scale, bins);
+        }
+
+        // ---- best SAH plane over all axes
+        const double inv_area = 1.0 / std::max(bounds.half_area(), 1e-30);
+        double best_cost = INFINITY;
+        int best_axis = -1, best_split = 0;
+        Box best_l, best_r;
+        for (int a = 0; a < 3; ++a) {
+            if (scale[a] == 0.0f) continue;
+            Box right_box[Bins::kMax];
+            uint32_t right_n[Bins::kMax];
+            Box acc;
+            uint32_t cnt = 0;
+            for (int i = bins_ - 1; i > 0; --i) {
+                acc.grow(bins.box[a][i]);
+                cnt += bins.n[a][i];
+                right_box[i] = acc;
+                right_n[i] = cnt;
+            }
+            Box left;
+            uint32_t ln = 0;
+            for (int i = 1; i < bins_; ++i) {
+                left.grow(bins.box[a][i - 1]);
+                ln += bins.n[a][i - 1];
+                if (ln == 0 || right_n[i] == 0) continue;
+                const double cost = opt_.c_trav + opt_.c_isect * inv_area *
+                                                      (left.half_area() * ln +
+                                                       right_box[i].half_area() * right_n[i]);
+                if (cost < best_cost) {
+                    best_cost = cost;
+                    best_axis = a;
+                    best_split = i;
+                    best_l = left;
+                    best_r = right_box[i];
+                }
+            }
+        }
+
+        if (n <= (uint32_t)opt_.max_leaf && leaf_cost <= best_cost) return leaf(b, e, bounds);
+
+        uint32_t mid;
+        if (best_axis >= 0) {
+            const int a = best_axis;
+            const float lo = cbounds.lo[a], sc = scale[a];
+            auto it = std::partition(refs_.begin() + b, refs_.begin() + e, [&](const Ref& r) {
+                int k = std::clamp((int)((r.box.center(a) - lo) * sc), 0, bins_ - 1);
+                return k < best_split;
+            });
+            mid = (uint32_t)(it - refs_.begin());
+        } else {
+            // All centroids coincide (duplicated or split pieces): halve the range.
+            mid = b + n / 2;
+            best_l = Box();
+            best_r = Box();
+        }
+        Box cl, cr;
+        if (best_axis < 0) {
+            bounds_of(b, mid, best_l, cl);
+            bounds_of(mid, e, best_r, cr);
+        } else {
+            cl = Box();
+            cr = Box();
+            // Centroid bounds of the children (one pass each; the boxes came from the bins).
+            for (uint32_t i = b; i < mid; ++i) {
+                float c[3] = {refs_[i].box.center(0), refs_[i].box.center(1), refs_[i].box.center(2)};
+                cl.grow_point(c, 0.0f);
+            }
+            for (uint32_t i = mid; i < e; ++i) {
+                float c[3] = {refs_[i].box.center(0), refs_[i].box.center(1), refs_[i].box.center(2)};
+                cr.grow_point(c, 0.0f);
+            }
+        }
+
+        const uint32_t id = alloc();
+        Slot left, right;
+        if (n >= 4096 && take_token()) {
+            std::thread th([&] { left = build(b, mid, best_l, cl, depth + 1); });
+            right = build(mid, e, best_r, cr, depth + 1);
+            th.join();
+            give_token();
+        } else {
+            left = build(b, mid, best_l, cl, depth + 1);
+            right = build(mid, e, best_r, cr, depth + 1);
+        }
+        BNode& node = nodes_[id];
+        node.box[0] = left.box;
+        node.box[1] = right.box;
+        node.child[0] = left.child;
+        node.child[1] = right.child;
+        node.count[0] = left.count;
+        node.count[1] = right.count;
+        Slot s;
+        s.box = bounds;
+        s.child = id;
+        s.count = 0;
+        return s;
+    }
+
+    std::vector<Ref>& refs_;
+    BvhOptions opt_;
+    int bins_;
+    std::atomic<int> tokens_{0};
+    std::atomic<uint32_t> used_{0};
+};
+
+uint32_t float_bits(float f) {
+    uint32_t u;
+    std::memcpy(&u, &f, 4);
+    return u;
+}
+float bits_float(uint32_t u) {
+    float f;
+    std::memcpy(&f, &u, 4);
+    return f;
+}
+
+struct Flattener {
+    const std::vector<BNode>& in;
+    std::vector<HtBvhNode>& out;
+    const BvhOptions& opt;
+    double root_area = 1;
+    double sah = 0;
+    size_t leaves = 0, max_depth = 0;
+
+    // Returns the output index of intermediate node `id` (depth-first preorder).
+    uint32_t visit(uint32_t id, size_t depth) {
+        const uint32_t me = (uint32_t)out.size();
+        out.emplace_back();
+        max_depth = std::max(max_depth, depth);
+        const BNode& bn = in[id];
+        Box both = bn.box[0];
+        both.grow(bn.box[1]);
+        sah += opt.c_trav * both.half_area() / root_area;
+        uint32_t child[2];
+        for (int s = 0; s < 2; ++s) {
+            if (bn.count[s] > 0) {
+                child[s] = bn.child[s];
+                ++leaves;
+                max_depth = std::max(max_depth, depth + 1);
+                sah += opt.c_isect * bn.count[s] * bn.box[s].half_area() / root_area;
+            } else if (bn.child[s] == 0) {
+                child[s] = 0;  // empty slot (intermediate index 0 is never a child either)
+            } else {
+                child[s] = visit(bn.child[s], depth + 1);
+            }
+        }
+        HtBvhNode& n = out[me];
+        for (int s = 0; s < 2; ++s) {
+            const bool empty = bn.count[s] == 0 && bn.child[s] == 0;
+            for (int k = 0; k < 3; ++k) {
+                n.lo[2 * k + s] = empty ? 0.0f : bn.box[s].lo[k];
+                n.hi[2 * k + s] = empty ? 0.0f : bn.box[s].hi[k];
+            }
+            n.lo[6 + s] = bits_float(child[s]);
+            n.hi[6 + s] = bits_float(bn.count[s]);
+        }
+        return me;
+    }
+};
+
+// Box of the capsule piece between parameters [a, b] of the segment, split while it pays.
+void add_refs(std::vector<Ref>& refs, uint32_t seg, const float* p0, const float* p1, float r,
+              float a, float b, int depth, const BvhOptions& opt) {
+    float pa[3], pb[3];
+    for (int k = 0; k < 3; ++k) {
+        pa[k] = p0[k] + (p1[k] - p0[k]) * a;
+        pb[k] = p0[k] + (p1[k] - p0[k]) * b;
+    }
+    Ref ref;
+    ref.seg = seg;
+    ref.box.grow_point(pa, r);
+    ref.box.grow_point(pb, r);
+    if (opt.split_ratio > 0 && depth < opt.split_depth) {
+        const float m = 0.5f * (a + b);
+        float pm[3];
+        for (int k = 0; k < 3; ++k) pm[k] = p0[k] + (p1[k] - p0[k]) * m;
+        Box h1, h2;
+        h1.grow_point(pa, r);
+        h1.grow_point(pm, r);
+        h2.grow_point(pm, r);
+        h2.grow_point(pb, r);
+        if (h1.half_area() + h2.half_area() < opt.split_ratio * ref.box.half_area()) {
+            add_refs(refs, seg, p0, p1, r, a, m, depth + 1, opt);
+            add_refs(refs, seg, p0, p1, r, m, b, depth + 1, opt);
+            return;
+        }
+    }
+    refs.push_back(ref);
+}
+
+void build_bvh_from(const std::vector<HtSegment>& base, SceneGeometry& geo, const BvhOptions& opt) {
+    std::vector<Ref> refs;
+    refs.reserve(base.size());
+    for (uint32_t i = 0; i < base.size(); ++i) {
+        const HtPoint& a = geo.points[base[i].point];
+        const HtPoint& b = geo.points[base[i].point + 1];
+        const float p0[3] = {a.x, a.y, a.z}, p1[3] = {b.x, b.y, b.z};
+        add_refs(refs, i, p0, p1, 0.5f * (a.r + b.r), 0.0f, 1.0f, 0, opt);
+    }
+
+    Builder builder(refs, opt);
+    const uint32_t root = builder.run();
+
+    geo.nodes.clear();
+    geo.nodes.reserve(std::max<size_t>(refs.size(), 1));
+    Flattener fl{builder.nodes_, geo.nodes, opt};
+    Box rb = builder.nodes_[root].box[0];
+    rb.grow(builder.nodes_[root].box[1]);
+    fl.root_area = std::max(rb.half_area(), 1e-30);
+    fl.visit(root, 0);
+
+    geo.segments.resize(refs.size());
+    for (size_t i = 0; i < refs.size(); ++i) geo.segments[i] = base[refs[i].seg];
+
+    BvhStats& st = geo.stats;
+    st.nodes = geo.nodes.size();
+    st.leaves = fl.leaves;
+    st.max_depth = fl.max_depth;
+    st.references = refs.size();
+    st.sah_cost = refs.empty() ? 0.0 : fl.sah;
+    const double bytes = geo.points.size() * sizeof(HtPoint) +
+                         geo.segments.size() * sizeof(HtSegment) +
+                         geo.nodes.size() * sizeof(HtBvhNode);
+    st.bytes_per_segment = geo.segment_count ? bytes / (double)geo.segment_count : 0.0;
+}
+
+}  // namespace
+
+SceneGeometry build_geometry(const Strands& strands, const BvhOptions& opt) {
+    const auto t0 = std::chrono::steady_clock::now();
+    SceneGeometry geo;
+    geo.points.resize(strands.points.size());
+    for (size_t i = 0; i < strands.points.size(); ++i) {
+        const float r = i < strands.radius.size() ? strands.radius[i] : 0.0f;
+        geo.points[i] = HtPoint{strands.points[i][0], strands.points[i][1], strands.points[i][2], r};
+    }
+    std::vector<HtSegment> base;
+    const size_t ns = strands.strand_count();
+    for (size_t s = 0; s < ns; ++s) {
+        const uint32_t b = strands.first_point[s], e = strands.first_point[s + 1];
+        for (uint32_t p = b; p + 1 < e; ++p) {
+            HtSegment seg;
+            seg.point = p;
+            seg.segment = (uint32_t)base.size();  // Embree primID: strands back to back
+            seg.strand = (uint32_t)s;
+            seg.flags = p == b ? HT_SEG_FIRST : 0u;
+            base.push_back(seg);
+        }
+    }
+    geo.segment_count = base.size();
+    build_bvh_from(base, geo, opt);
+    geo.stats.build_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return geo;
+}
+
+void rebuild_bvh(SceneGeometry& geo, const BvhOptions& opt) {
+    const auto t0 = std::chrono::steady_clock::now();
+    std::vector<HtSegment> base(geo.segment_count);
+    for (const HtSegment& s : geo.segments) base[s.segment] = s;
+    build_bvh_from(base, geo, opt);
+    geo.stats.build_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace ht

@@ -1,0 +1,63 @@
+// Hair geometry for the kernels: strand points, capsule segments in BVH leaf order and the
+// flattened binary BVH (kernels/types.h HtBvhNode, "SoA in node").
+#pragma once
+
+#include "scene/scene.h"
+
+#include "kernels/types.h"
+
+#include <cstddef>
+#include <vector>
+
+namespace ht {
+
+static_assert(sizeof(HtPoint) == 16, "HtPoint layout must match the kernels");
+static_assert(sizeof(HtSegment) == 16, "HtSegment layout must match the kernels");
+static_assert(sizeof(HtBvhNode) == 64, "HtBvhNode layout must match the kernels");
+static_assert(sizeof(HtRay) == 32, "HtRay layout must match the kernels");
+static_assert(sizeof(HtHit) == 32, "HtHit layout must match the kernels");
+
+// The traversal's private stack holds HT_STACK_SIZE (64) entries and pushes at most one per
+// level, so the builder turns any node deeper than this into a leaf.
+constexpr int kMaxBvhDepth = 60;
+
+struct BvhOptions {
+    int bins = 16;          // SAH bins per axis (clamped to [4, 64])
+    int max_leaf = 4;       // segments per leaf (a leaf may exceed it only at kMaxBvhDepth)
+    float c_trav = 1.0f;    // SAH cost of visiting an inner node ...
+    float c_isect = 1.5f;   // ... relative to one capsule test
+    // Early split clipping of long diagonal segments: a segment's box is replaced by the boxes
+    // of its halves (recursively, up to split_depth levels) while the halves' summed surface
+    // area is below split_ratio x the parent box's.  Each piece is a separate BVH reference to
+    // the same segment (a segment may then appear in several leaves).  0 disables.
+    float split_ratio = 0.0f;
+    int split_depth = 2;
+    unsigned threads = 0;   // build threads; 0 = std::thread::hardware_concurrency()
+};
+
+struct BvhStats {
+    size_t nodes = 0;       // HtBvhNode count (inner nodes)
+    size_t leaves = 0;
+    size_t max_depth = 0;
+    size_t references = 0;  // leaf entries (= segments unless split_ratio > 0)
+    double sah_cost = 0;    // C_trav per inner node + C_isect per reference, area-weighted
+    double bytes_per_segment = 0;  // (points + leaf segments + nodes) bytes / segments
+    double build_ms = 0;
+};
+
+struct SceneGeometry {
+    std::vector<HtPoint> points;      // all strand points, strands back to back
+    std::vector<HtSegment> segments;  // leaf order; .segment = global id (Embree primID)
+    std::vector<HtBvhNode> nodes;     // node 0 = root; never empty
+    BvhStats stats;
+    size_t segment_count = 0;         // distinct segments of the scene
+};
+
+// Builds points, segments and the BVH for all strands.  Strands with fewer than 2 points have
+// no segments.  An empty scene yields a single root with two empty slots.
+SceneGeometry build_geometry(const Strands& strands, const BvhOptions& opt = {});
+
+// Rebuilds only the BVH (and the leaf order) of an existing geometry with other options.
+void rebuild_bvh(SceneGeometry& geo, const BvhOptions& opt);
+
+}  // namespace ht

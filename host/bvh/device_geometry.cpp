@@ -1,0 +1,115 @@
+#include "bvh/device_geometry.h"
+
+#include <cmath>
+#include <cstdio>
+
+namespace ht {
+
+namespace {
+cl::Buffer make_buffer(ClContext& cl, const char* what, const void* data, size_t bytes) {
+    const unsigned long long max_alloc = cl.info().max_alloc;
+    if (max_alloc && bytes > max_alloc) {
+        char msg[256];
+        std::snprintf(msg, sizeof msg,
+                      "the scene's %s array needs %.1f MiB but the device %s allocates at most "
+                      "%.1f MiB per buffer; use a smaller scene or another device",
+                      what, bytes / 1048576.0, cl.info().name.c_str(), max_alloc / 1048576.0);
+        throw DeviceError(msg);
+    }
+    // A zero-sized buffer is invalid in OpenCL; an empty array still gets one element.
+    const size_t n = bytes ? bytes : 16;
+    try {
+        if (!bytes) return cl::Buffer(cl.context(), CL_MEM_READ_ONLY, n);
+        return cl::Buffer(cl.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, n,
+                          const_cast<void*>(data));
+    } catch (const cl::Error& e) {
+        throw DeviceError(std::string("cannot allocate the ") + what + " buffer (" +
+                          std::to_string(bytes) + " bytes) on " + cl.info().name + ": " +
+                          cl_error_name(e.err()));
+    }
+}
+}  // namespace
+
+DeviceGeometry upload_geometry(ClContext& cl, const SceneGeometry& geo) {
+    DeviceGeometry d;
+    const size_t nb = geo.nodes.size() * sizeof(HtBvhNode);
+    const size_t sb = geo.segments.size() * sizeof(HtSegment);
+    const size_t pb = geo.points.size() * sizeof(HtPoint);
+    d.nodes = make_buffer(cl, "BVH node", geo.nodes.data(), nb);
+    d.segments = make_buffer(cl, "segment", geo.segments.data(), sb);
+    d.points = make_buffer(cl, "point", geo.points.data(), pb);
+    d.bytes = nb + sb + pb;
+    return d;
+}
+
+DeviceTracer::DeviceTracer(ClContext& cl, const DeviceGeometry& geo, const std::string& options)
+    : cl_(cl), geo_(geo) {
+    program_ = cl.build("stages/intersect.cl", options);
+    build_ms_ = cl.last_build_ms();
+    build_cached_ = cl.last_build_cached();
+    closest_ = cl::Kernel(program_, "intersect_closest");
+    shadow_ = cl::Kernel(program_, "intersect_shadow");
+}
+
+void DeviceTracer::set_rays(const std::vector<HtRay>& rays) {
+    count_ = rays.size();
+    if (count_ > capacity_) {
+        capacity_ = count_;
+        rays_ = cl::Buffer(cl_.context(), CL_MEM_READ_ONLY, capacity_ * sizeof(HtRay));
+        hits_ = cl::Buffer(cl_.context(), CL_MEM_WRITE_ONLY, capacity_ * sizeof(HtHit));
+        occluded_ = cl::Buffer(cl_.context(), CL_MEM_WRITE_ONLY, capacity_ * sizeof(uint32_t));
+    }
+    if (!count_) return;
+    // The kernels clamp tmax too; replacing inf here keeps it out of the device entirely
+    // (-cl-fast-relaxed-math assumes finite values).
+    std::vector<HtRay> clean(rays);
+    for (HtRay& r : clean)
+        if (!(r.tmax <= 3.0e38f)) r.tmax = 3.0e38f;
+    cl_.queue().enqueueWriteBuffer(rays_, CL_TRUE, 0, count_ * sizeof(HtRay), clean.data());
+}
+
+void DeviceTracer::enqueue(cl::Kernel& k, cl::Buffer& out) {
+    if (!count_) return;
+    k.setArg(0, geo_.nodes);
+    k.setArg(1, geo_.segments);
+    k.setArg(2, geo_.points);
+    k.setArg(3, rays_);
+    k.setArg(4, out);
+    k.setArg(5, (cl_uint)count_);
+    cl_.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up(count_, kLocalSize)),
+                                     cl::NDRange(kLocalSize));
+}
+
+void DeviceTracer::enqueue_closest() { enqueue(closest_, hits_); }
+void DeviceTracer::enqueue_shadow() { enqueue(shadow_, occluded_); }
+void DeviceTracer::finish() { cl_.queue().finish(); }
+
+void DeviceTracer::read_hits(std::vector<HtHit>& hits) {
+    hits.resize(count_);
+    if (count_)
+        cl_.queue().enqueueReadBuffer(hits_, CL_TRUE, 0, count_ * sizeof(HtHit), hits.data());
+}
+
+void DeviceTracer::read_occluded(std::vector<uint32_t>& occ) {
+    occ.resize(count_);
+    if (count_)
+        cl_.queue().enqueueReadBuffer(occluded_, CL_TRUE, 0, count_ * sizeof(uint32_t), occ.data());
+}
+
+std::vector<HtHit> DeviceTracer::trace_closest(const std::vector<HtRay>& rays) {
+    set_rays(rays);
+    enqueue_closest();
+    std::vector<HtHit> hits;
+    read_hits(hits);
+    return hits;
+}
+
+std::vector<uint32_t> DeviceTracer::trace_shadow(const std::vector<HtRay>& rays) {
+    set_rays(rays);
+    enqueue_shadow();
+    std::vector<uint32_t> occ;
+    read_occluded(occ);
+    return occ;
+}
+
+}  // namespace ht

@@ -1,0 +1,150 @@
+/* Ray vs one hair segment ("round segment"): a finite cylinder between two strand points plus
+ * spheres at the joints, following Embree's ROUND_LINEAR_CURVE semantics
+ * (anchors/embree/README.md "What Embree's round linear curve is"):
+ *
+ *   - the end sphere (at point + 1) always belongs to the segment;
+ *   - the begin sphere only on a strand's first segment (HT_SEG_FIRST); every other begin joint
+ *     is the previous segment's end sphere, so each joint is tested exactly once;
+ *   - entry and exit surfaces are both reported (no back-face culling), so a ray starting inside
+ *     a fibre (overlapping fibres) hits the exit side;
+ *   - a ray parallel to the segment axis misses the whole segment, spheres included (Embree's
+ *     cone test rejects parallel rays; we match it so hit/miss agrees ray by ray).
+ *
+ * Radius: one radius per segment, the mean of its two point radii (cylinder and both spheres).
+ * Per-point radii differ by a few percent at most in real hair, and a constant-radius capsule is
+ * convex, which keeps the root selection below simple and exact.  A joint between segments with
+ * different means gets the ending segment's radius.
+ *
+ * Precision (float in the kernels): everything is solved relative to the segment midpoint m and
+ * to q = the point of the ray closest to m, so the quadratics see coordinates of the size of the
+ * segment, not of the scene or of the ray origin's distance (far cameras, t ~ 1e4 L).  The
+ * discriminants use the cross-product (Lagrange identity) form r^2 A - |q x d . w|^2, which has
+ * no cancellation for thin fibres (r = 1e-5 L).
+ *
+ * Self-intersection: a ray whose origin lies on a segment's surface (|dist(o, axis) - r| <
+ * HT_SURFACE_TOL * r) ignores that segment entirely.  Rays spawned from a hit point are either
+ * leaving the fibre (the exit root sits at t ~ 0 +- rounding) or travelling through it (TT); a
+ * hair BCSDF already accounts for transport through the whole cross-section, so hitting the far
+ * side of the same fibre would double count.  The tolerance is relative to r because the spawn
+ * point's rounding error (~6e-8 * |p|) is what it must absorb: 5% of r covers |p|/r up to ~4e5.
+ */
+#ifndef HT_GEOMETRY_CAPSULE_H
+#define HT_GEOMETRY_CAPSULE_H
+
+#include "../types.h"
+
+#ifndef HT_SURFACE_TOL
+#define HT_SURFACE_TOL R(0.05)
+#endif
+/* |d_perp|^2 <= HT_PARALLEL_EPS * |d|^2 counts as parallel (angle below ~1e-6 rad). */
+#define HT_PARALLEL_EPS R(1e-12)
+
+HT_FN real3 ht_point_pos(HtPoint p) { return make_real3(p.x, p.y, p.z); }
+
+/* Closest intersection of the ray o + t d, t in (tmin, tmax), with the segment p0-p1 of radius
+ * r.  Returns the hit distance, or tmax when there is none (so the caller's "t < best" test is
+ * the only branch it needs).  d need not be unit length; t is in units of |d|. */
+HT_FN real ht_capsule_intersect(real3 o, real3 d, real3 p0, real3 p1, real r, uint first,
+                                real tmin, real tmax) {
+    const real3 a = p1 - p0;
+    const real L2 = dot(a, a);
+    const real L = sqrt(L2);
+    const real invL = ht_select(L > R(0), R(1) / L, R(0));
+    /* Degenerate segment (repeated point): any axis works, the cylinder has zero length. */
+    const real3 w = ht_select(L > R(0), a * invL, make_real3(R(1), R(0), R(0)));
+    const real hl = R(0.5) * L;
+    const real3 m = (p0 + p1) * R(0.5);
+
+    const real3 oc = o - m;
+    const real dd = dot(d, d);
+    const real t0 = -dot(oc, d) / dd;
+    const real3 q = oc + d * t0; /* ray point closest to the midpoint */
+
+    /* Bounding sphere of the capsule around m: most candidates from a leaf end here. */
+    const real br = hl + r;
+    if (dot(q, q) > br * br) return tmax;
+
+    const real dw = dot(d, w);
+    const real3 dp = d - w * dw;
+    const real A = dot(dp, dp);
+    if (A <= HT_PARALLEL_EPS * dd) return tmax;
+
+    /* Origin on this segment's surface: see the header comment. */
+    const real so = ht_clamp(dot(oc, w), -hl, hl);
+    const real3 ro = oc - w * so;
+    const real ro2 = dot(ro, ro);
+    const real rin = (R(1) - HT_SURFACE_TOL) * r, rout = (R(1) + HT_SURFACE_TOL) * r;
+    if (ro2 > rin * rin && ro2 < rout * rout) return tmax;
+
+    real best = tmax;
+    const real qw = dot(q, w);
+    const real r2 = r * r;
+
+    /* Cylinder: |q_perp + dt d_perp|^2 = r^2; accept roots whose axial coordinate is inside. */
+    const real cw = dot(cross(q, d), w);
+    const real disc = A * r2 - cw * cw;
+    if (disc >= R(0)) {
+        const real sq = sqrt(disc);
+        const real B = dot(q, dp);
+        const real invA = R(1) / A;
+        const real dt1 = (-B - sq) * invA;
+        const real dt2 = (-B + sq) * invA;
+        const real t1 = t0 + dt1, t2 = t0 + dt2;
+        const real s1 = qw + dt1 * dw, s2 = qw + dt2 * dw;
+        if (t1 > tmin && t1 < best && fabs(s1) <= hl) best = t1;
+        if (t2 > tmin && t2 < best && fabs(s2) <= hl) best = t2;
+    }
+
+    /* End sphere (always owned): only its part beyond the end cap (s >= hl) is outer surface. */
+    {
+        const real3 rel = q - w * hl;
+        const real b = dot(rel, d);
+        const real3 c = cross(rel, d);
+        const real sd = dd * r2 - dot(c, c);
+        if (sd >= R(0)) {
+            const real sq = sqrt(sd);
+            const real dt1 = (-b - sq) / dd, dt2 = (-b + sq) / dd;
+            const real t1 = t0 + dt1, t2 = t0 + dt2;
+            if (t1 > tmin && t1 < best && qw + dt1 * dw >= hl) best = t1;
+            if (t2 > tmin && t2 < best && qw + dt2 * dw >= hl) best = t2;
+        }
+    }
+    /* Begin sphere: only on a strand's first segment. */
+    if (first) {
+        const real3 rel = q + w * hl;
+        const real b = dot(rel, d);
+        const real3 c = cross(rel, d);
+        const real sd = dd * r2 - dot(c, c);
+        if (sd >= R(0)) {
+            const real sq = sqrt(sd);
+            const real dt1 = (-b - sq) / dd, dt2 = (-b + sq) / dd;
+            const real t1 = t0 + dt1, t2 = t0 + dt2;
+            if (t1 > tmin && t1 < best && qw + dt1 * dw <= -hl) best = t1;
+            if (t2 > tmin && t2 < best && qw + dt2 * dw <= -hl) best = t2;
+        }
+    }
+    return best;
+}
+
+/* Hit point relative to the segment, for a t returned by ht_capsule_intersect: the offset from
+ * the closest axis point (p_hit - p_axis), the unit tangent and u along the segment in [0,1].
+ * Computed from q (closest ray point to the midpoint) so far origins keep the offset exact to
+ * float precision relative to r. */
+HT_FN real3 ht_capsule_hit_offset(real3 o, real3 d, real3 p0, real3 p1, real t, real3* tangent,
+                                  real* u) {
+    const real3 a = p1 - p0;
+    const real L = sqrt(dot(a, a));
+    const real3 w = ht_select(L > R(0), a * (R(1) / ht_max(L, R(1e-30))), make_real3(R(1), R(0), R(0)));
+    const real hl = R(0.5) * L;
+    const real3 m = (p0 + p1) * R(0.5);
+    const real3 oc = o - m;
+    const real t0 = -dot(oc, d) / dot(d, d);
+    const real3 q = oc + d * t0;
+    const real3 p = q + d * (t - t0); /* hit point relative to m */
+    const real s = ht_clamp(dot(p, w), -hl, hl);
+    *tangent = w;
+    *u = ht_select(L > R(0), ht_clamp((s + hl) / ht_max(L, R(1e-30)), R(0), R(1)), R(0));
+    return p - w * s;
+}
+
+#endif /* HT_GEOMETRY_CAPSULE_H */

@@ -1,0 +1,11 @@
+/* Stage: occlusion (any hit in (tmin, tmax)) of a ray array against the hair BVH.
+ * occluded[i] = 1 if rays[i] is blocked, else 0.  Self-contained like intersect_closest.cl. */
+#include "../geometry/bvh_traverse.h"
+
+__kernel void intersect_shadow(__global const HtBvhNode* nodes, __global const HtSegment* segs,
+                               __global const HtPoint* points, __global const HtRay* rays,
+                               __global uint* occluded, uint count) {
+    const uint i = (uint)get_global_id(0);
+    if (i >= count) return;
+    occluded[i] = ht_trace_any(nodes, segs, points, rays[i]);
+}
