@@ -1,0 +1,128 @@
+#!/usr/bin/env python3
+"""Writes the shipped glTF scenes in scenes/ (run from anywhere: python3 tools/make_scenes.py).
+
+The hair in these scenes is procedural (hairtrace's builtin:strand / builtin:ball, pulled in by
+the scene extras key "hairtrace_builtin"), so the files hold only camera, lights and material and
+stay small and readable.  Camera and light nodes are placed with a look-at rotation computed
+here, since glTF stores node orientations as quaternions.
+"""
+import json
+import math
+import os
+
+
+def normalize(v):
+    n = math.sqrt(sum(c * c for c in v))
+    return [c / n for c in v]
+
+
+def cross(a, b):
+    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+
+def look_at_rotation(eye, target, up=(0.0, 1.0, 0.0)):
+    """Quaternion (x, y, z, w) turning a node so its -Z axis points from eye to target."""
+    forward = normalize([t - e for t, e in zip(target, eye)])
+    z = [-c for c in forward]
+    x = normalize(cross(up, z))
+    y = cross(z, x)
+    m = [[x[0], y[0], z[0]], [x[1], y[1], z[1]], [x[2], y[2], z[2]]]  # columns x, y, z
+    trace = m[0][0] + m[1][1] + m[2][2]
+    if trace > 0:
+        s = 2.0 * math.sqrt(trace + 1.0)
+        q = [(m[2][1] - m[1][2]) / s, (m[0][2] - m[2][0]) / s, (m[1][0] - m[0][1]) / s, 0.25 * s]
+    elif m[0][0] > m[1][1] and m[0][0] > m[2][2]:
+        s = 2.0 * math.sqrt(1.0 + m[0][0] - m[1][1] - m[2][2])
+        q = [0.25 * s, (m[0][1] + m[1][0]) / s, (m[0][2] + m[2][0]) / s, (m[2][1] - m[1][2]) / s]
+    elif m[1][1] > m[2][2]:
+        s = 2.0 * math.sqrt(1.0 + m[1][1] - m[0][0] - m[2][2])
+        q = [(m[0][1] + m[1][0]) / s, 0.25 * s, (m[1][2] + m[2][1]) / s, (m[0][2] - m[2][0]) / s]
+    else:
+        s = 2.0 * math.sqrt(1.0 + m[2][2] - m[0][0] - m[1][1])
+        q = [(m[0][2] + m[2][0]) / s, (m[1][2] + m[2][1]) / s, 0.25 * s, (m[1][0] - m[0][1]) / s]
+    return [round(c, 6) for c in q]
+
+
+def distance2(a, b):
+    return sum((x - y) ** 2 for x, y in zip(a, b))
+
+
+# Warm blond: little eumelanin, so absorption is low and rises towards blue (per unit radius).
+WARM_BLOND = {
+    "name": "warm_blond",
+    "extras": {
+        "model": "marschner",
+        "sigma_a": [0.07, 0.12, 0.26],
+        "eta": 1.55,
+        "alpha_r_deg": -7.5,
+        "beta_r_deg": 7.5,
+        "eccentricity": 0.9,
+    },
+}
+
+
+def scene(builtin, eye, target, yfov_deg, aspect, lights, comment):
+    """lights: list of (gltf light dict without intensity, position, aim, irradiance at aim)."""
+    nodes = [{"name": "camera", "camera": 0, "translation": eye,
+              "rotation": look_at_rotation(eye, target)}]
+    gltf_lights = []
+    for i, (light, position, aim, irradiance) in enumerate(lights):
+        light = dict(light)
+        # Point-like lights fall off with distance^2: state the irradiance wanted at the aim point.
+        light["intensity"] = round(irradiance * distance2(position, aim), 1)
+        gltf_lights.append(light)
+        nodes.append({"name": light["name"], "translation": position,
+                      "rotation": look_at_rotation(position, aim),
+                      "extensions": {"KHR_lights_punctual": {"light": i}}})
+    return {
+        "asset": {"version": "2.0", "generator": "hairtrace tools/make_scenes.py",
+                  "extras": {"comment": comment}},
+        "extensionsUsed": ["KHR_lights_punctual"],
+        "extensions": {"KHR_lights_punctual": {"lights": gltf_lights}},
+        "scene": 0,
+        "scenes": [{"name": builtin, "nodes": list(range(len(nodes))),
+                    "extras": {"hairtrace_builtin": builtin, "hairtrace_material": "warm_blond"}}],
+        "nodes": nodes,
+        "cameras": [{"type": "perspective",
+                     "perspective": {"yfov": round(math.radians(yfov_deg), 6),
+                                     "aspectRatio": aspect, "znear": 0.1}}],
+        "materials": [WARM_BLOND],
+    }
+
+
+# Fig. 5 lighting: a key spot from behind and to the side (light through the fibres makes blond
+# hair glow: the TT and TRT lobes) and a weak fill from the front-left for the surface (R) look.
+BACK_KEY = {"name": "back_key", "type": "spot", "color": [1.0, 0.96, 0.9],
+            "spot": {"innerConeAngle": round(math.radians(18), 6),
+                     "outerConeAngle": round(math.radians(26), 6)}}
+FRONT_FILL = {"name": "front_fill", "type": "point", "color": [0.9, 0.95, 1.0]}
+
+SCENES = {
+    "default.gltf": scene(
+        "strand", eye=[0.0, 0.0, 200.0], target=[0.0, 0.0, 0.0], yfov_deg=30.0, aspect=0.75,
+        lights=[(BACK_KEY, [80.0, 90.0, -120.0], [0.0, 0.0, 0.0], 2.0),
+                (FRONT_FILL, [-100.0, 40.0, 150.0], [0.0, 0.0, 0.0], 0.3)],
+        comment="The paper's Fig. 5 blond strand (builtin:strand), back/side lit."),
+    "strand_closeup.gltf": scene(
+        "strand", eye=[0.0, 20.0, 45.0], target=[0.0, 20.0, 0.0], yfov_deg=30.0, aspect=1.5,
+        lights=[(BACK_KEY, [50.0, 60.0, -70.0], [0.0, 20.0, 0.0], 2.0),
+                (FRONT_FILL, [-60.0, 40.0, 80.0], [0.0, 20.0, 0.0], 0.3)],
+        comment="Close-up of the upper part of builtin:strand: individual fibres resolved."),
+    "ball.gltf": scene(
+        "ball", eye=[65.6, 84.4, 187.5], target=[0.0, 0.0, 0.0], yfov_deg=30.0, aspect=1.0,
+        lights=[(BACK_KEY, [120.0, 110.0, -140.0], [0.0, 0.0, 0.0], 2.0),
+                (FRONT_FILL, [-130.0, 50.0, 150.0], [0.0, 0.0, 0.0], 0.3)],
+        comment="Curly hair ball (builtin:ball), back/side lit."),
+}
+
+
+def main():
+    out_dir = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scenes")
+    for name, doc in SCENES.items():
+        with open(os.path.join(out_dir, name), "w") as f:
+            json.dump(doc, f, indent=2)
+            f.write("\n")
+
+
+if __name__ == "__main__":
+    main()
