@@ -107,7 +107,7 @@ void ensure_camera_and_light(Scene& s) {
         s.camera = cam;
         s.has_camera = true;
     }
-    if (s.lights.empty()) {
+    if (s.lights.empty() && !s.environment.enabled()) {
         // Key light above, right and in front of the scene; its intensity makes the irradiance
         // at the centre 1 (intensity / distance^2), so images are exposed alike at any scale.
         Light l;

@@ -21,7 +21,6 @@
 #define HT_RR_START_BOUNCE 3u
 #endif
 
-HT_FN float3 ht_load3(const float* v) { return (float3)(v[0], v[1], v[2]); }
 
 HT_FN int ht_finite3(float3 v) { return ht_isfinite(v.x) && ht_isfinite(v.y) && ht_isfinite(v.z); }
 

@@ -1,11 +1,11 @@
 // Environment importance sampling, run in double on the host through the kernels' own header.
-#include "kernels/environment.h"
-#include "render/environment.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
+
+#include "kernels/environment.h"
+#include "render/environment.h"
 
 using namespace ht;
 
