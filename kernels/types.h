@@ -119,6 +119,15 @@ typedef struct {
 #define HT_MODEL_CHIANG 3u
 #define HT_MODEL_COUNT 4u
 
+/* --fiber-field: which of the two Marschner-family models shades a marschner/zinke material */
+#define HT_FIELD_MATERIAL 0u /* the material's own model */
+#define HT_FIELD_NEAR 1u     /* zinke (near field, evaluated at the hit's h) */
+#define HT_FIELD_FAR 2u      /* marschner (far field, integrated over h) */
+#define HT_FIELD_AUTO 3u     /* by ray footprint, see shade.cl */
+/* auto picks the near field when the fibre's diameter is at least this fraction of the camera
+ * pixel's footprint at the hit */
+#define HT_FIELD_AUTO_COVERAGE 0.5f
+
 /* Hair material as the kernels see it: parameters already validated and converted on the host
  * (melanin/colour -> sigma_a, degrees -> radians) and derived quantities precomputed, all by
  * make_kernel_material (host/fiber/material.h).  Fields not used by a model are ignored by it.

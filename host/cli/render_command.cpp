@@ -7,6 +7,7 @@
 #include "render/error_metrics.h"
 #include "render/features.h"
 #include "render/renderer.h"
+#include "kernels/types.h"
 
 #include <atomic>
 #include <chrono>
@@ -36,7 +37,7 @@ uint64_t render_key(const Scene& scene, const RenderSettings& rs, const std::str
     std::string k = scene.source + "|" + std::to_string(scene.strands.point_count()) + "|" +
                     std::to_string(scene.strands.strand_count()) + "|" + kernel_options + "|" +
                     std::to_string(rs.width) + "x" + std::to_string(rs.height) + "|" + std::to_string(rs.seed) + "|" +
-                    std::to_string(rs.max_depth) + "|" + scene.environment.map_path + "|" +
+                    std::to_string(rs.max_depth) + "|" + std::to_string(rs.fiber_field) + "|" + scene.environment.map_path + "|" +
                     std::to_string(scene.environment.color[0]) + "," + std::to_string(scene.environment.color[1]) +
                     "," + std::to_string(scene.environment.color[2]) + "x" + std::to_string(scene.environment.intensity);
     for (auto& m : scene.materials) k += "|" + m.model;
@@ -56,6 +57,7 @@ int cmd_render(const std::vector<std::string>& args) {
         .option("--seed", "S", "random seed; the image depends only on seed, spp and scene", "1")
         .option("--max-depth", "D", "path length in fibre bounces (1 = direct light only)", "1")
         .option("--model", "M", "override every material's fibre model: kajiya|marschner|zinke|chiang")
+        .option("--fiber-field", "near|far|auto|material", "for marschner/zinke materials: near field (zinke) everywhere, far field (marschner) everywhere, or auto: near where a fibre covers at least half a camera pixel's footprint and for hair-to-hair light, far elsewhere", "material")
         .option("--background", "R,G,B", "uniform environment radiance (importance sampled like any light); replaces the scene's")
         .option("--environment", "FILE", "lat-long HDR environment map (.exr/.hdr, +y up); replaces the scene's")
         .option("--environment-intensity", "K", "multiplier for the environment", "1")
@@ -93,6 +95,14 @@ int cmd_render(const std::vector<std::string>& args) {
     rs.spp = p.get_int("--spp", 1, 1 << 24);
     rs.seed = uint32_t(p.get_int("--seed", 0, 2147483647));
     rs.max_depth = p.get_int("--max-depth", 1, 1000);
+    {
+        std::string f = p.get("--fiber-field");
+        if (f == "material") rs.fiber_field = HT_FIELD_MATERIAL;
+        else if (f == "near") rs.fiber_field = HT_FIELD_NEAR;
+        else if (f == "far") rs.fiber_field = HT_FIELD_FAR;
+        else if (f == "auto") rs.fiber_field = HT_FIELD_AUTO;
+        else throw UsageError("--fiber-field must be near, far, auto or material, got '" + f + "'");
+    }
     const double time_limit = p.get_double("--time-limit", 0, 1e9);
     const double checkpoint_every = p.get_double("--checkpoint-every", 0.01, 1e9);
     const float exposure = float(p.get_double("--exposure", 0, 1e9));
@@ -130,8 +140,9 @@ int cmd_render(const std::vector<std::string>& args) {
                      cl.info().platform.c_str(), scene.source.c_str(), scene.strands.strand_count(),
                      scene.strands.segment_count());
     if (p.has("--verbose")) {
-        for (auto& line : describe_features(scene_features(scene))) std::fprintf(stderr, "feature %s\n", line.c_str());
-        std::fprintf(stderr, "kernel options: %s\n", kernel_build_options(scene).c_str());
+        for (auto& line : describe_features(scene_features(scene, rs.fiber_field)))
+            std::fprintf(stderr, "feature %s\n", line.c_str());
+        std::fprintf(stderr, "kernel options: %s\n", kernel_build_options(scene, rs.fiber_field).c_str());
     }
 
     Renderer renderer(cl, scene, rs);

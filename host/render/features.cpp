@@ -15,7 +15,7 @@ int model_index(const std::string& name) {
 }
 }  // namespace
 
-KernelFeatures scene_features(const Scene& scene) {
+KernelFeatures scene_features(const Scene& scene, uint32_t fiber_field) {
     KernelFeatures f;
     for (const Light& l : scene.lights) {
         switch (l.type) {
@@ -30,11 +30,15 @@ KernelFeatures scene_features(const Scene& scene) {
         int i = model_index(m.model);
         if (i >= 0) f.model[i] = true;
     }
+    if (fiber_field != HT_FIELD_MATERIAL && (f.model[HT_MODEL_MARSCHNER] || f.model[HT_MODEL_ZINKE])) {
+        f.model[HT_MODEL_MARSCHNER] = fiber_field != HT_FIELD_NEAR;
+        f.model[HT_MODEL_ZINKE] = fiber_field != HT_FIELD_FAR;
+    }
     return f;
 }
 
-std::string kernel_build_options(const Scene& scene) {
-    KernelFeatures f = scene_features(scene);
+std::string kernel_build_options(const Scene& scene, uint32_t fiber_field) {
+    KernelFeatures f = scene_features(scene, fiber_field);
     std::string o = base_kernel_options();
     auto def = [&](const char* name, bool on) { o += std::string(" -D") + name + "=" + (on ? "1" : "0"); };
     def("HT_FEATURE_LIGHT_POINT", f.light_point);

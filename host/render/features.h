@@ -4,6 +4,7 @@
 
 #include "scene/scene.h"
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -14,10 +15,11 @@ struct KernelFeatures {
     bool model[4] = {false, false, false, false};  // indexed by HT_MODEL_*
 };
 
-KernelFeatures scene_features(const Scene& scene);
+// fiber_field (HT_FIELD_*): anything but "the material's model" may swap marschner and zinke.
+KernelFeatures scene_features(const Scene& scene, uint32_t fiber_field = 0);
 
 // "-cl-std=CL1.2 ... -DHT_FEATURE_..=1": the options the render program is built with.
-std::string kernel_build_options(const Scene& scene);
+std::string kernel_build_options(const Scene& scene, uint32_t fiber_field = 0);
 
 // One line per chosen feature, for --verbose.
 std::vector<std::string> describe_features(const KernelFeatures& f);

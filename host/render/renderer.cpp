@@ -45,6 +45,7 @@ struct Renderer::Impl {
     EnvironmentTables environment;
     cl::Buffer env_texels, env_marginal, env_conditional;
     HtCamera camera{};
+    float pixel_angle = 0;  // radians per pixel at the image centre (ray footprint for --fiber-field auto)
     std::string options;
     cl::Program program;
     cl::Kernel k_generate, k_closest, k_shade, k_shadow, k_resolve, k_accumulate;
@@ -65,12 +66,13 @@ struct Renderer::Impl {
         light_count = uint32_t(kl.size());
         lights = device_array(cl.context(), kl);
         camera = make_kernel_camera(scene.camera, s.width, s.height);
+        pixel_angle = float(2.0 * std::tan(0.5 * scene.camera.yfov_deg * 3.14159265358979323846 / 180.0) / s.height);
         environment = build_environment(scene.environment);
         env_texels = device_array(cl.context(), environment.texels);
         env_marginal = device_array(cl.context(), environment.marginal);
         env_conditional = device_array(cl.context(), environment.conditional);
 
-        options = kernel_build_options(scene);
+        options = kernel_build_options(scene, s.fiber_field);
         program = cl.build("stages/wavefront.cl", options);
         stats.build_ms = cl.last_build_ms();
         stats.build_cached = cl.last_build_cached();
@@ -154,6 +156,8 @@ struct Renderer::Impl {
         k_shade.setArg(a++, sample);
         k_shade.setArg(a++, bounce);
         k_shade.setArg(a++, uint32_t(settings.max_depth));
+        k_shade.setArg(a++, settings.fiber_field);
+        k_shade.setArg(a++, pixel_angle);
         launch(k_shade, count);
         uint32_t out[HT_COUNTER_COUNT];
         cl.queue().enqueueReadBuffer(counters, CL_TRUE, 0, sizeof out, out);

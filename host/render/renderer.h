@@ -16,6 +16,7 @@ struct RenderSettings {
     int spp = 16;
     uint32_t seed = 1;
     int max_depth = 1;        // 1 = direct light only
+    uint32_t fiber_field = 0; // HT_FIELD_MATERIAL | NEAR | FAR | AUTO
     int first_sample = 0;     // render samples [first_sample, first_sample + spp)
     size_t max_paths_per_pass = 1u << 20;  // bounds device memory for big images
 };

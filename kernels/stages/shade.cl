@@ -51,7 +51,7 @@ __kernel void shade(__global const HtSegment* segs, __global const HtPoint* poin
                     __global HtRay* shadow_rays, __global HtShadowContrib* shadow_contrib,
                     __global HtRay* next_rays, __global uint* next_path,
                     volatile __global uint* counters, uint seed, uint sample, uint bounce,
-                    uint max_depth) {
+                    uint max_depth, uint field_mode, float pixel_angle) {
     __local uint lcount, lbase;
     uint k = get_global_id(0);
     int active = k < count;
@@ -85,6 +85,17 @@ __kernel void shade(__global const HtSegment* segs, __global const HtPoint* poin
         } else {
             HtSegment seg = segs[hit.segment];
             HtMaterial mat = materials[strand_material[seg.strand]];
+            if (field_mode != HT_FIELD_MATERIAL &&
+                (mat.model == HT_MODEL_MARSCHNER || mat.model == HT_MODEL_ZINKE)) {
+                /* auto: the near-field model where a fibre covers a good part of the pixel
+                 * footprint (close-ups) and for hair-to-hair light (neighbours are close); the
+                 * far-field model where many fibres share a camera pixel */
+                int near_field = field_mode == HT_FIELD_NEAR ||
+                                 (field_mode == HT_FIELD_AUTO &&
+                                  (!(st.flags & HT_PATH_FROM_CAMERA) ||
+                                   2.0f * hit.radius >= HT_FIELD_AUTO_COVERAGE * hit.t * pixel_angle));
+                mat.model = near_field ? HT_MODEL_ZINKE : HT_MODEL_MARSCHNER;
+            }
             HtPoint a = points[seg.point], b = points[seg.point + 1u];
             float3 pa = (float3)(a.x, a.y, a.z), pb = (float3)(b.x, b.y, b.z);
             float3 axis_point = pa + (pb - pa) * hit.u;
