@@ -1,13 +1,24 @@
 #include "scene/binary_file.h"
 
 #include <cerrno>
+#include <filesystem>
 #include <limits>
 
 #include "scene/scene_error.h"
 
 namespace ht {
 
+void require_regular_file(const std::string& path) {
+    std::error_code ec;
+    const auto status = std::filesystem::status(path, ec);
+    if (ec || !std::filesystem::exists(status))
+        scene_fail(path, "cannot open: ", ec ? ec.message() : std::string("no such file"));
+    if (std::filesystem::is_directory(status)) scene_fail(path, "is a directory, not a scene file");
+    if (!std::filesystem::is_regular_file(status)) scene_fail(path, "is not a regular file");
+}
+
 BinaryFile::BinaryFile(const std::string& path) : path_(path) {
+    require_regular_file(path);
     errno = 0;
     in_.open(path, std::ios::binary);
     if (!in_) scene_fail(path, "cannot open: ", errno ? std::strerror(errno) : "unknown error");

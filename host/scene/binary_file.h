@@ -14,6 +14,10 @@ namespace ht {
 #error "the scene loaders read little-endian files by memcpy and need a little-endian host"
 #endif
 
+// Throws SceneError "<path>: ..." unless path names an existing regular file (a directory opens
+// fine with ifstream and only fails later with a misleading message).
+void require_regular_file(const std::string& path);
+
 class BinaryFile {
 public:
     // Opens path for reading; throws SceneError "<path>: cannot open: <reason>".

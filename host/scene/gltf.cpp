@@ -33,6 +33,7 @@
 #include <map>
 #include <set>
 
+#include "scene/binary_file.h"
 #include "scene/gltf_accessor.h"
 #include "scene/gltf_material.h"
 #include "scene/hygiene.h"
@@ -518,6 +519,7 @@ Scene load_gltf(const std::string& path, const LoadOptions& opt) {
     std::string ext = path.size() >= 4 ? path.substr(path.size() - 4) : "";
     for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     const bool binary = ext == ".glb";
+    require_regular_file(path);
     try {
         if (binary) {
             load_glb(loader, model, path, err, warn);

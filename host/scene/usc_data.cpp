@@ -6,8 +6,8 @@
 // A strand with 1 (or 0) vertices is how the database marks a scalp root without hair: skipped
 // and counted in a warning.  The format stores no radius: LoadOptions::default_radius when > 0,
 // otherwise 1/1000 of the largest extent of the points' bounding box, the same fibre-to-scene
-// ratio as the built-in scenes (the USC models are ~0.5 units across, so ~0.0005; a real hair
-// at ~40 um on a head of ~0.5 m would be 1/10000, which needs far more samples per pixel).
+// ratio as the built-in scenes.  Real hair is thinner than that relative to a hairstyle (a ~40 um
+// radius on a ~0.5 m hairstyle is 1/10000), but such fibres need far more samples per pixel.
 #include <algorithm>
 #include <cmath>
 #include <limits>
