@@ -21,21 +21,25 @@
  * discriminants use the cross-product (Lagrange identity) form r^2 A - |q x d . w|^2, which has
  * no cancellation for thin fibres (r = 1e-5 L).
  *
- * Self-intersection: a ray whose origin lies on a segment's surface (|dist(o, axis) - r| <
- * HT_SURFACE_TOL * r) ignores that segment entirely.  Rays spawned from a hit point are either
- * leaving the fibre (the exit root sits at t ~ 0 +- rounding) or travelling through it (TT); a
- * hair BCSDF already accounts for transport through the whole cross-section, so hitting the far
- * side of the same fibre would double count.  The tolerance is relative to r because the spawn
- * point's rounding error (~6e-8 * |p|) is what it must absorb: 5% of r covers |p|/r up to ~4e5.
+ * Self-intersection: a ray whose origin lies on a segment's surface (|dist(o, axis) - r| < band)
+ * ignores that segment entirely.  Rays spawned from a hit point are either leaving the fibre
+ * (the exit root sits at t ~ 0 +- rounding) or travelling through it (TT); a hair BCSDF already
+ * accounts for transport through the whole cross-section, so hitting the far side of the same
+ * fibre would double count.  band = max(1e-3 r, 64 float ulps of the origin's largest
+ * coordinate): the spawn point p = o + t d carries a rounding error of a few ulps of |p| (and of
+ * the primary t), which is what the band must absorb.  It is kept that narrow because rays that
+ * really start inside a fibre (overlapping fibres, the anchor's incoherent/shadow sets) must
+ * still see its exit, as Embree does; only origins within the band of a surface lose it.
+ * Fibres thinner than ~64 ulps of their coordinates (r/|p| < 8e-6) are below float resolution:
+ * there the band exceeds r and a ray starting on or inside such a fibre never hits it.
  */
 #ifndef HT_GEOMETRY_CAPSULE_H
 #define HT_GEOMETRY_CAPSULE_H
 
 #include "../types.h"
 
-#ifndef HT_SURFACE_TOL
-#define HT_SURFACE_TOL R(0.05)
-#endif
+#define HT_SURFACE_TOL_REL R(1e-3)
+#define HT_SURFACE_TOL_ULPS R(64)
 /* |d_perp|^2 <= HT_PARALLEL_EPS * |d|^2 counts as parallel (angle below ~1e-6 rad). */
 #define HT_PARALLEL_EPS R(1e-12)
 
@@ -73,7 +77,9 @@ HT_FN real ht_capsule_intersect(real3 o, real3 d, real3 p0, real3 p1, real r, ui
     const real so = ht_clamp(dot(oc, w), -hl, hl);
     const real3 ro = oc - w * so;
     const real ro2 = dot(ro, ro);
-    const real rin = (R(1) - HT_SURFACE_TOL) * r, rout = (R(1) + HT_SURFACE_TOL) * r;
+    const real omax = ht_max(ht_max(fabs(o.x), fabs(o.y)), fabs(o.z));
+    const real band = ht_max(HT_SURFACE_TOL_REL * r, HT_SURFACE_TOL_ULPS * HT_REAL_EPS * omax);
+    const real rin = ht_max(r - band, R(0)), rout = r + band;
     if (ro2 > rin * rin && ro2 < rout * rout) return tmax;
 
     real best = tmax;

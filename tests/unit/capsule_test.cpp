@@ -63,6 +63,12 @@ TEST(Capsule, OriginOnSurfaceIgnoresSegment) {
     EXPECT_EQ(hit(v3(1, 0, 0.5 + 1e-7), v3(0, 0, -1), p0, p1, 0.5, true), kFar);
     // The same ray from 10 % outside the radius does hit (through-going).
     EXPECT_NEAR(hit(v3(1, 0, 0.55), v3(0, 0, -1), p0, p1, 0.5, true), 0.05, 1e-12);
+    // 1 % of r inside is "really inside" (overlapping fibres): the exit is reported, as Embree.
+    EXPECT_NEAR(hit(v3(1, 0, 0.495), v3(0, 0, 1), p0, p1, 0.5, true), 0.005, 1e-12);
+    // Far from the world origin the band grows with the float resolution of the coordinates.
+    const real3 q0 = v3(1000, 0, 0), q1 = v3(1002, 0, 0);
+    EXPECT_EQ(hit(v3(1001, 0, 0.5 - 2e-4), v3(0, 0.6, 0.8), q0, q1, 0.5, true), kFar);
+    EXPECT_NEAR(hit(v3(1001, 0, 0.49), v3(0, 0, 1), q0, q1, 0.5, true), 0.01, 1e-9);
 }
 
 TEST(Capsule, TminTmax) {

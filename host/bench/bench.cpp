@@ -1,0 +1,419 @@
+#include "bench/bench.h"
+
+#include "bench/rays_file.h"
+#include "bvh/bvh.h"
+#include "bvh/device_geometry.h"
+#include "cl/device.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <random>
+#include <stdexcept>
+
+// Kernel headers last: compat.h defines the macro R().
+#include "kernels/geometry/capsule.h"
+
+namespace ht {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+struct SceneArg {
+    std::string name;
+    std::vector<std::string> rays;
+};
+
+struct RaySet {
+    std::string name;       // primary / incoherent / shadow
+    bool shadow = false;
+    std::vector<HtRay> rays;
+    const RaysFile* reference = nullptr;  // Embree's answers, if loaded from a file
+};
+
+// ---------------------------------------------------------------- generated rays (no files)
+
+struct Bounds3 {
+    double lo[3] = {1e30, 1e30, 1e30}, hi[3] = {-1e30, -1e30, -1e30};
+};
+Bounds3 bounds_of(const SceneGeometry& g) {
+    Bounds3 b;
+    for (const HtPoint& p : g.points) {
+        const double c[3] = {p.x, p.y, p.z};
+        for (int k = 0; k < 3; ++k) {
+            b.lo[k] = std::min(b.lo[k], c[k] - p.r);
+            b.hi[k] = std::max(b.hi[k], c[k] + p.r);
+        }
+    }
+    return b;
+}
+
+// Pinhole camera from +z looking at the bounds' centre, 30 deg vertical FOV, distance fitting
+// the bounding sphere with 5 % margin; 4x4 pixel blocks in ray order (as the anchor).
+std::vector<HtRay> camera_rays(const SceneGeometry& g, int res) {
+    const Bounds3 b = bounds_of(g);
+    double c[3], rad = 0;
+    for (int k = 0; k < 3; ++k) {
+        c[k] = 0.5 * (b.lo[k] + b.hi[k]);
+        rad += 0.25 * (b.hi[k] - b.lo[k]) * (b.hi[k] - b.lo[k]);
+    }
+    rad = std::sqrt(std::max(rad, 1e-12));
+    const double tan_half = std::tan(15.0 * M_PI / 180.0);
+    const double dist = 1.05 * rad / std::sin(15.0 * M_PI / 180.0);
+    std::vector<HtRay> rays((size_t)res * res);
+    for (size_t i = 0; i < rays.size(); ++i) {
+        const size_t blk = i / 16, j = i % 16;
+        const size_t px = (blk % (res / 4)) * 4 + j % 4, py = (blk / (res / 4)) * 4 + j / 4;
+        const double sx = ((px + 0.5) / res * 2 - 1) * tan_half;
+        const double sy = (1 - (py + 0.5) / res * 2) * tan_half;
+        const double l = std::sqrt(sx * sx + sy * sy + 1);
+        rays[i] = HtRay{(float)c[0], (float)c[1], (float)(c[2] + dist), 0.0f, (float)(sx / l),
+                        (float)(sy / l), (float)(-1 / l), INFINITY};
+    }
+    return rays;
+}
+
+// Secondary rays from primary hits (the anchor's construction): origin = hit point offset by
+// 0.5 r along the normal towards the primary ray's side plus a jitter in a ball of 0.25 r;
+// incoherent: direction uniform on the sphere; shadow: towards a point light.
+void secondary_rays(const SceneGeometry& g, const std::vector<HtRay>& prim,
+                    const std::vector<HtHit>& hits, std::vector<HtRay>& incoherent,
+                    std::vector<HtRay>& shadow) {
+    std::vector<size_t> hit_idx;
+    for (size_t i = 0; i < hits.size(); ++i)
+        if (hits[i].segment != HT_NO_HIT) hit_idx.push_back(i);
+    incoherent.clear();
+    shadow.clear();
+    if (hit_idx.empty()) return;
+    const Bounds3 b = bounds_of(g);
+    double ext = 0, light[3];
+    for (int k = 0; k < 3; ++k) ext = std::max(ext, b.hi[k] - b.lo[k]);
+    const double lf[3] = {0.6, 0.9, 0.7};
+    for (int k = 0; k < 3; ++k) light[k] = 0.5 * (b.lo[k] + b.hi[k]) + lf[k] * ext;
+    std::mt19937 rng(0x1C0FFEE);
+    std::normal_distribution<double> gn;
+    std::uniform_real_distribution<double> un(0, 1);
+    auto ball = [&](double r) {
+        real3 v;
+        do v = make_real3(un(rng) * 2 - 1, un(rng) * 2 - 1, un(rng) * 2 - 1);
+        while (dot(v, v) > 1);
+        return v * r;
+    };
+    for (size_t n = 0; n < prim.size(); ++n) {
+        const size_t i = hit_idx[n % hit_idx.size()];
+        const HtRay& p = prim[i];
+        const HtSegment& s = g.segments[hits[i].segment];
+        const real3 o = make_real3(p.ox, p.oy, p.oz), d = make_real3(p.dx, p.dy, p.dz);
+        const real3 a = ht_point_pos(g.points[s.point]), bb = ht_point_pos(g.points[s.point + 1]);
+        real3 tan;
+        real u;
+        real3 nrm = normalize(ht_capsule_hit_offset(o, d, a, bb, hits[i].t, &tan, &u));
+        if (dot(nrm, d) > 0) nrm = -nrm;
+        const double r = hits[i].radius;
+        const real3 org = o + d * (double)hits[i].t + nrm * (0.5 * r);
+        const real3 o1 = org + ball(0.25 * r), o2 = org + ball(0.25 * r);
+        const real3 dir = normalize(make_real3(gn(rng), gn(rng), gn(rng)));
+        incoherent.push_back(HtRay{(float)o1.x, (float)o1.y, (float)o1.z, 0.0f, (float)dir.x,
+                                   (float)dir.y, (float)dir.z, INFINITY});
+        const real3 tl = make_real3(light[0], light[1], light[2]) - o2;
+        const double dl = length(tl);
+        const real3 ld = tl / dl;
+        shadow.push_back(HtRay{(float)o2.x, (float)o2.y, (float)o2.z, 0.0f, (float)ld.x,
+                               (float)ld.y, (float)ld.z, (float)dl});
+    }
+}
+
+// ---------------------------------------------------------------- checks
+
+struct Checksum {
+    size_t hits = 0;
+    double sum_t = 0;
+    unsigned long long sum_id = 0;
+};
+
+Checksum checksum(const SceneGeometry& g, const std::vector<HtHit>& hits) {
+    Checksum c;
+    for (const HtHit& h : hits)
+        if (h.segment != HT_NO_HIT) {
+            ++c.hits;
+            c.sum_t += h.t;
+            c.sum_id += g.segments[h.segment].segment;
+        }
+    return c;
+}
+
+struct Agreement {
+    size_t n = 0, hitmiss = 0, both = 0, prim = 0, t = 0, ours_only = 0, embree_only = 0;
+    bool ok() const { return n > 0 && hitmiss >= n - n / 1000 && t >= both - both / 100; }
+};
+
+Agreement compare(const SceneGeometry& g, const std::vector<HtHit>& hits, const RaysFile& ref) {
+    Agreement a;
+    a.n = hits.size();
+    for (size_t i = 0; i < hits.size(); ++i) {
+        const bool ours = hits[i].segment != HT_NO_HIT, theirs = ref.hits[i].prim != 0xFFFFFFFFu;
+        if (ours != theirs) {
+            (ours ? a.ours_only : a.embree_only)++;
+            continue;
+        }
+        ++a.hitmiss;
+        if (!ours) continue;
+        ++a.both;
+        a.prim += g.segments[hits[i].segment].segment == ref.hits[i].prim;
+        const double te = ref.hits[i].t;
+        a.t += std::fabs(hits[i].t - te) <= 1e-4 * std::max(1.0, te);
+    }
+    return a;
+}
+
+Agreement compare_occ(const std::vector<uint32_t>& occ, const RaysFile& ref) {
+    Agreement a;
+    a.n = occ.size();
+    for (size_t i = 0; i < occ.size(); ++i) {
+        if ((occ[i] != 0) == (ref.occluded[i] != 0)) {
+            ++a.hitmiss;
+            continue;
+        }
+        (occ[i] ? a.ours_only : a.embree_only)++;
+    }
+    a.t = a.both = 0;
+    return a;
+}
+
+std::string pct(size_t a, size_t n) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.4f%%", n ? 100.0 * a / n : 100.0);
+    return b;
+}
+
+std::vector<std::string> sibling_rays(const std::string& hair) {
+    namespace fs = std::filesystem;
+    std::vector<std::string> out;
+    const fs::path p(hair);
+    if (p.extension() != ".hair") return out;
+    for (const char* set : {"primary", "incoherent", "shadow"}) {
+        fs::path r = p.parent_path() / (p.stem().string() + "." + set + ".rays");
+        if (fs::exists(r)) out.push_back(r.string());
+    }
+    return out;
+}
+
+}  // namespace
+
+int bench_main(const std::vector<std::string>& args, const SceneSource& source_in) {
+    SceneSource source = source_in ? source_in : SceneSource([](const std::string& name) {
+        if (name.size() > 5 && name.compare(name.size() - 5, 5, ".hair") == 0)
+            return bench_read_hair_file(name);
+        throw std::runtime_error("scene '" + name +
+                                 "': this build's bench reads only .hair files (pass --hair)");
+    });
+    std::vector<SceneArg> scenes;
+    int reps = 5, device = -1, res = 1024;
+    bool json_out = false;
+    BvhOptions bopt;
+    std::string options = DeviceTracer::default_options();
+    for (size_t i = 0; i < args.size(); ++i) {
+        const std::string& a = args[i];
+        auto value = [&]() -> std::string {
+            if (i + 1 >= args.size()) throw std::runtime_error("bench: " + a + " needs a value");
+            return args[++i];
+        };
+        if (a == "--hair" || a == "--scene") scenes.push_back({value(), {}});
+        else if (a == "--rays") {
+            if (scenes.empty()) throw std::runtime_error("bench: --rays must follow --hair/--scene");
+            scenes.back().rays.push_back(value());
+        } else if (a == "--reps") reps = std::max(1, std::stoi(value()));
+        else if (a == "--json") json_out = true;
+        else if (a == "--device") device = std::stoi(value());
+        else if (a == "--res") res = std::max(4, std::stoi(value()) / 4 * 4);
+        else if (a == "--leaf") bopt.max_leaf = std::max(1, std::stoi(value()));
+        else if (a == "--bins") bopt.bins = std::stoi(value());
+        else if (a == "--cisect") bopt.c_isect = std::stof(value());
+        else if (a == "--split") bopt.split_ratio = std::stof(value());
+        else if (a == "--options") options = value();
+        else throw std::runtime_error("bench: unknown option '" + a + "'");
+    }
+    if (scenes.empty()) scenes = {{"builtin:strand", {}}, {"builtin:ball", {}}};
+
+    nlohmann::json report = nlohmann::json::array();
+    bool all_ok = true;
+    ClContext cl(device);
+    if (!json_out) std::printf("device: %s (%s)\n", cl.info().name.c_str(), cl.info().platform.c_str());
+
+    for (SceneArg& sa : scenes) {
+        nlohmann::json js;
+        js["scene"] = sa.name;
+        const auto t_load = Clock::now();
+        const Strands strands = source(sa.name);
+        js["load_ms"] = ms_since(t_load);
+
+        // ---- BVH build, median of 5
+        std::vector<double> build_ms;
+        SceneGeometry geo;
+        for (int k = 0; k < 5; ++k) {
+            geo = build_geometry(strands, bopt);
+            build_ms.push_back(geo.stats.build_ms);
+        }
+        const BvhStats& st = geo.stats;
+        js["segments"] = geo.segment_count;
+        js["bvh"] = {{"build_ms", median(build_ms)}, {"nodes", st.nodes}, {"leaves", st.leaves},
+                     {"max_depth", st.max_depth}, {"references", st.references},
+                     {"sah_cost", st.sah_cost}, {"bytes_per_segment", st.bytes_per_segment},
+                     {"max_leaf", bopt.max_leaf}, {"c_isect", bopt.c_isect},
+                     {"split_ratio", bopt.split_ratio}};
+        if (!json_out)
+            std::printf("\nscene %s: %zu segments, %zu points\n  BVH build %.1f ms (median of 5), "
+                        "%zu nodes, %zu leaves, depth %zu, %zu refs, SAH %.2f, %.1f bytes/segment\n",
+                        sa.name.c_str(), geo.segment_count, geo.points.size(), median(build_ms),
+                        st.nodes, st.leaves, st.max_depth, st.references, st.sah_cost,
+                        st.bytes_per_segment);
+
+        // ---- device program
+        const DeviceGeometry dgeo = upload_geometry(cl, geo);
+        DeviceTracer tracer(cl, dgeo, options);
+        const double first_ms = tracer.build_ms();
+        const bool first_cached = tracer.build_cached();
+        DeviceTracer tracer2(cl, dgeo, options);  // same source + options: from the cache
+        js["compile"] = {{"first_ms", first_ms}, {"first_cached", first_cached},
+                         {"cached_ms", tracer2.build_ms()}, {"options", options}};
+        if (!json_out)
+            std::printf("  kernel build: %.0f ms (%s), then %.0f ms (%s)\n", first_ms,
+                        first_cached ? "binary cache" : "cold", tracer2.build_ms(),
+                        tracer2.build_cached() ? "binary cache" : "cold");
+
+        // ---- ray sets
+        if (sa.rays.empty()) sa.rays = sibling_rays(sa.name);
+        std::vector<RaysFile> files;
+        std::vector<RaySet> sets;
+        for (const std::string& f : sa.rays) {
+            files.push_back(read_rays_file(f));
+            if (files.back().segments != geo.segment_count)
+                throw std::runtime_error(f + ": made for " + std::to_string(files.back().segments) +
+                                         " segments, scene has " + std::to_string(geo.segment_count));
+        }
+        for (const RaysFile& f : files) {
+            RaySet s;
+            s.name = f.set_name();
+            s.shadow = f.kind == 1;
+            s.rays = f.rays;
+            s.reference = &f;
+            sets.push_back(std::move(s));
+        }
+        if (sets.empty()) {
+            RaySet p{"primary", false, camera_rays(geo, res), nullptr};
+            const std::vector<HtHit> ph = tracer.trace_closest(p.rays);
+            RaySet inc{"incoherent", false, {}, nullptr}, sh{"shadow", true, {}, nullptr};
+            secondary_rays(geo, p.rays, ph, inc.rays, sh.rays);
+            sets.push_back(std::move(p));
+            if (!inc.rays.empty()) {
+                sets.push_back(std::move(inc));
+                sets.push_back(std::move(sh));
+            }
+        }
+
+        nlohmann::json jsets = nlohmann::json::array();
+        for (const RaySet& s : sets) {
+            nlohmann::json jr;
+            jr["set"] = s.name;
+            jr["rays"] = s.rays.size();
+            jr["source"] = s.reference ? s.reference->path : "generated";
+            tracer.set_rays(s.rays);
+            // Warm-up pass = correctness pass (includes PoCL's JIT of the work-group function).
+            const auto t_first = Clock::now();
+            std::vector<HtHit> hits;
+            std::vector<uint32_t> occ;
+            if (s.shadow) {
+                tracer.enqueue_shadow();
+                tracer.finish();
+            } else {
+                tracer.enqueue_closest();
+                tracer.finish();
+            }
+            jr["first_ms"] = ms_since(t_first);
+            if (s.shadow) tracer.read_occluded(occ);
+            else tracer.read_hits(hits);
+
+            std::string check_line;
+            if (s.shadow) {
+                size_t n_occ = 0;
+                for (uint32_t o : occ) n_occ += o != 0;
+                jr["occluded"] = n_occ;
+                check_line = "occluded " + std::to_string(n_occ);
+            } else {
+                const Checksum c = checksum(geo, hits);
+                jr["hits"] = c.hits;
+                jr["sum_t"] = c.sum_t;
+                jr["sum_segment"] = c.sum_id;
+                char b[160];
+                std::snprintf(b, sizeof b, "hits %zu  sum_t %.3f  sum_segment %llu", c.hits, c.sum_t,
+                              c.sum_id);
+                check_line = b;
+            }
+            std::string agree_line;
+            if (s.reference) {
+                const Agreement a = s.shadow ? compare_occ(occ, *s.reference)
+                                             : compare(geo, hits, *s.reference);
+                const bool ok = a.ok();
+                all_ok = all_ok && ok;
+                jr["embree"] = {{"hitmiss_agree", a.hitmiss}, {"ours_only", a.ours_only},
+                                {"embree_only", a.embree_only}, {"both_hit", a.both},
+                                {"primid_agree", a.prim}, {"t_agree", a.t}, {"ok", ok}};
+                char b[400];
+                if (s.shadow)
+                    std::snprintf(b, sizeof b,
+                                  "    vs Embree: occlusion %zu/%zu (%s; ours-only %zu, Embree-only %zu)%s",
+                                  a.hitmiss, a.n, pct(a.hitmiss, a.n).c_str(), a.ours_only,
+                                  a.embree_only, ok ? "" : "  MISMATCH");
+                else
+                    std::snprintf(b, sizeof b,
+                                  "    vs Embree: hit/miss %zu/%zu (%s; ours-only %zu, Embree-only %zu), "
+                                  "primID %s, |dt|<=1e-4max(1,t) %s of %zu both-hit%s",
+                                  a.hitmiss, a.n, pct(a.hitmiss, a.n).c_str(), a.ours_only,
+                                  a.embree_only, pct(a.prim, a.both).c_str(),
+                                  pct(a.t, a.both).c_str(), a.both, ok ? "" : "  MISMATCH");
+                agree_line = b;
+            }
+
+            // Timed passes: warm-up done above; median of reps.
+            std::vector<double> times;
+            for (int k = 0; k < reps; ++k) {
+                const auto t0 = Clock::now();
+                if (s.shadow) tracer.enqueue_shadow();
+                else tracer.enqueue_closest();
+                tracer.finish();
+                times.push_back(ms_since(t0));
+            }
+            const double med = median(times);
+            const double mrays = med > 0 ? s.rays.size() / (med * 1e3) : 0.0;
+            jr["median_ms"] = med;
+            jr["mrays_per_s"] = mrays;
+            jr["pass_ms"] = times;
+            jsets.push_back(jr);
+            if (!json_out) {
+                std::printf("  %-10s %zu rays (%s): %s\n", s.name.c_str(), s.rays.size(),
+                            s.reference ? "anchor .rays" : "generated", check_line.c_str());
+                if (!agree_line.empty()) std::printf("%s\n", agree_line.c_str());
+                std::printf("    %s: %.2f Mrays/s (median of %d, %.1f ms; first pass %.1f ms)\n",
+                            s.shadow ? "shadow " : "closest", mrays, reps, med,
+                            jr["first_ms"].get<double>());
+            }
+        }
+        js["sets"] = jsets;
+        report.push_back(js);
+    }
+    if (json_out) std::printf("%s\n", report.dump(2).c_str());
+    return all_ok ? 0 : 1;
+}
+
+}  // namespace ht
