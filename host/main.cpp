@@ -49,7 +49,10 @@ Command find_command(const std::string& name) {
     if (name == "info") return cmd_info;
     if (name == "devices") return cmd_devices;
     if (name == "converge") return cmd_converge;
-    if (name == "bench") return bench_main;
+    if (name == "bench")
+        return [](const std::vector<std::string>& a) {
+            return bench_main(a, [](const std::string& scene) { return load_scene(scene).strands; });
+        };
     if (name == "fiber") return fiber_main;
     return nullptr;
 }
