@@ -1,6 +1,7 @@
 // Shared helpers of the fibre tests (header only: the test globs take *.cpp).
 #pragma once
 
+#include "fiber/afs_quadrature.h"
 #include "fiber/furnace.h"
 #include "fiber/material.h"
 #include "kernels/fiber/bcsdf.h"
