@@ -42,16 +42,6 @@ HT_FN real ht_i0e(real x) {
                   u * (-0.02057706f + u * (0.02635537f + u * (-0.01647633f + u * 0.00392377f)))))))) *
                   rsqrt(fmax(x, 3.75f));
     return x <= 3.75f ? small : large;
-/* Two independent standard normal deviates from two uniforms (Box-Muller). */
-HT_FN void ht_normal_pair(real u1, real u2, real* n1, real* n2) {
-    u1 = ht_max(u1, R(1e-12));
-    real s, c;
-    ht_sincos(HT_TWO_PI * u2, &s, &c);
-    real r = sqrt(-R(2) * ht_log(u1));
-    *n1 = r * c;
-    *n2 = r * s;
-}
-
 #endif
 }
 
@@ -71,16 +61,6 @@ HT_FN real ht_mp(real cos_i, real sin_i, real cos_o, real sin_o, real v) {
     real l1p = log1p(-e2);
 #else
     real l1p = ht_log(R(1) - e2);
-/* Two independent standard normal deviates from two uniforms (Box-Muller). */
-HT_FN void ht_normal_pair(real u1, real u2, real* n1, real* n2) {
-    u1 = ht_max(u1, R(1e-12));
-    real s, c;
-    ht_sincos(HT_TWO_PI * u2, &s, &c);
-    real r = sqrt(-R(2) * ht_log(u1));
-    *n1 = r * c;
-    *n2 = r * s;
-}
-
 #endif
     real lm = ht_log(ht_i0e(a)) + cm1 * inv_v - ht_log(v) - l1p;
     return exp(ht_min(lm, R(80)));

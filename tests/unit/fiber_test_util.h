@@ -1,6 +1,8 @@
 // Shared helpers of the fibre tests (header only: the test globs take *.cpp).
 #pragma once
 
+#include "fiber/afs_quadrature.h"
+#include "fiber/furnace.h"
 #include "fiber/material.h"
 #include "kernels/fiber/bcsdf.h"
 
@@ -32,75 +34,68 @@ inline real3 dir(double theta, double phi) {
     return make_real3(std::sin(theta), std::cos(theta) * std::cos(phi), std::cos(theta) * std::sin(phi));
 }
 
-// Gauss-Legendre nodes/weights on [-1, 1] (Newton on P_n, double precision).
-inline void gauss_legendre(int n, std::vector<double>& x, std::vector<double>& w) {
-    x.resize(n);
-    w.resize(n);
-    for (int i = 0; i < n; ++i) {
-        double z = std::cos(HT_PI * (i + 0.75) / (n + 0.5)), pp = 0;
-        for (int it = 0; it < 100; ++it) {
-            double p1 = 1, p2 = 0;
-            for (int j = 1; j <= n; ++j) {
-                double p3 = p2;
-                p2 = p1;
-                p1 = ((2.0 * j - 1) * z * p2 - (j - 1.0) * p3) / j;
-            }
-            pp = n * (z * p1 - p2) / (z * z - 1);
-            double z1 = z;
-            z = z1 - p1 / pp;
-            if (std::fabs(z - z1) < 1e-15) break;
-        }
-        x[i] = z;
-        w[i] = 2 / ((1 - z * z) * pp * pp);
-    }
-}
-
-// Narrowest longitudinal / azimuthal feature of a material (radians), to size quadratures.
-inline void feature_widths(const HtMaterial& m, double& wth, double& wph) {
-    switch (m.model) {
-    case HT_MODEL_CHIANG: wth = std::sqrt(m.v[1]); wph = m.s * 2.0; break;
-    case HT_MODEL_MARSCHNER: wth = 2.0 * m.beta_tt; wph = std::min(0.05, (double)m.caustic_wc); break;
-    case HT_MODEL_ZINKE: wth = 2.0 * m.beta_tt; wph = std::min((double)m.azim_sigma, (double)m.caustic_wc); break;
-    default: wth = 1.0 / std::sqrt((double)m.ks_exponent); wph = 1.0; break;
-    }
-    wth = std::max(wth, 1e-3);
-    wph = std::max(wph, 1e-3);
-}
-
-// Deterministic quadrature of integral value dwi over the sphere for one (wo, h), channel c:
-// composite 4-point Gauss-Legendre in theta_i (panel width <= width/2) x midpoint rule in phi_i
-// (periodic, spacing <= width/4).  Relative error < 1e-5 for the smooth lobes (checked by doubling).
 inline double albedo_at(const HtMaterial& m, real3 wo, double h, int c = 0, double refine = 1.0) {
-    double wth, wph;
-    feature_widths(m, wth, wph);
-    int panels = std::min(4000, std::max(16, (int)std::ceil(HT_PI / (wth * 0.5) * refine)));
-    int nph = std::min(20000, std::max(64, (int)std::ceil(2 * HT_PI / (wph * 0.25) * refine)));
-    static std::vector<double> gx, gw;
-    if (gx.empty()) gauss_legendre(4, gx, gw);
-    double sum = 0, dth = HT_PI / panels, dph = 2 * HT_PI / nph;
-    for (int i = 0; i < panels; ++i)
-        for (int g = 0; g < 4; ++g) {
-            double th = -HT_PI / 2 + dth * (i + 0.5 + 0.5 * gx[g]);
-            double wt = 0.5 * dth * gw[g] * std::cos(th);
-            double row = 0;
-            for (int j = 0; j < nph; ++j) {
-                real3 v;
-                real pdf;
-                ht_bcsdf_eval(&m, wo, dir(th, -HT_PI + dph * (j + 0.5)), h, &v, &pdf);
-                row += c == 0 ? v.x : (c == 1 ? v.y : v.z);
-            }
-            sum += wt * row * dph;
-        }
-    return sum;
+    return ht::furnace_albedo_at(m, wo.x, wo.y, wo.z, h, c, refine);
+}
+inline double albedo(const HtMaterial& m, double theta_o_deg, int nh, int c = 0) {
+    return ht::furnace_albedo(m, theta_o_deg, nh, c);
 }
 
-// Directional albedo at theta_o, averaged over h with nh-point Gauss-Legendre (h in [-1, 1]).
-inline double albedo(const HtMaterial& m, double theta_o_deg, int nh, int c = 0) {
-    std::vector<double> x, w;
-    gauss_legendre(nh, x, w);
-    double s = 0;
-    for (int i = 0; i < nh; ++i) s += 0.5 * w[i] * albedo_at(m, wo_at(theta_o_deg), x[i], c);
-    return s;
+// xorshift64* uniform in [0, 1)
+inline double rnd(uint64_t& s) {
+    s ^= s >> 12;
+    s ^= s << 25;
+    s ^= s >> 27;
+    return (double)((s * 2685821657736338717ull) >> 11) * (1.0 / 9007199254740992.0);
+}
+inline real3 rand_dir(uint64_t& s) {
+    double z = 2 * rnd(s) - 1, p = 2 * HT_PI * rnd(s), r = std::sqrt(std::max(0.0, 1 - z * z));
+    return make_real3(z, r * std::cos(p), r * std::sin(p));
+}
+
+// pbrt-v4 HairBxDF::f * |cos theta_i| written out independently (direct Bessel M_p, std::atan2).
+inline double pbrt_value(const HtMaterial& m, real3 wo, real3 wi, double h, int c) {
+    auto mp = [](double ci, double co, double si, double so, double v) {
+        double a = ci * co / v, b = si * so / v;
+        return std::exp(-b) * std::cyl_bessel_i(0.0, a) / (2 * v * std::sinh(1 / v));
+    };
+    auto fr = [](double ci, double eta) {
+        double st = std::sqrt(std::max(0.0, 1 - ci * ci)) / eta, ct = std::sqrt(std::max(0.0, 1 - st * st));
+        double rs = (ci - eta * ct) / (ci + eta * ct), rp = (eta * ci - ct) / (eta * ci + ct);
+        return 0.5 * (rs * rs + rp * rp);
+    };
+    double eta = m.eta, sa = m.sigma_a[c];
+    double so = wo.x, co = std::sqrt(1 - so * so), phio = std::atan2(wo.z, wo.y);
+    double si = wi.x, ci = std::sqrt(1 - si * si), phii = std::atan2(wi.z, wi.y);
+    double stt = so / eta, ctt = std::sqrt(1 - stt * stt);
+    double etap = std::sqrt(eta * eta - so * so) / co;
+    double sgt = h / etap, cgt = std::sqrt(1 - sgt * sgt), gt = std::asin(sgt), go = std::asin(h);
+    double T = std::exp(-sa * (2 * cgt / ctt));
+    double f = fr(co * std::sqrt(1 - h * h), eta);
+    double ap[4];
+    ap[0] = f;
+    ap[1] = (1 - f) * (1 - f) * T;
+    ap[2] = ap[1] * T * f;
+    ap[3] = ap[2] * f * T / (1 - T * f);
+    double phi = phii - phio, sum = 0;
+    double al[3] = {m.alpha, 2 * m.alpha, 4 * m.alpha};
+    double s = m.s;
+    for (int p = 0; p < 3; ++p) {
+        double spo, cpo;
+        if (p == 0) { spo = so * std::cos(al[1]) - co * std::sin(al[1]); cpo = co * std::cos(al[1]) + so * std::sin(al[1]); }
+        else if (p == 1) { spo = so * std::cos(al[0]) + co * std::sin(al[0]); cpo = co * std::cos(al[0]) - so * std::sin(al[0]); }
+        else { spo = so * std::cos(al[2]) + co * std::sin(al[2]); cpo = co * std::cos(al[2]) - so * std::sin(al[2]); }
+        cpo = std::fabs(cpo);
+        double dphi = phi - (2 * p * gt - 2 * go + p * HT_PI);
+        while (dphi > HT_PI) dphi -= 2 * HT_PI;
+        while (dphi < -HT_PI) dphi += 2 * HT_PI;
+        auto logistic = [&](double x) { x = std::fabs(x); return std::exp(-x / s) / (s * (1 + std::exp(-x / s)) * (1 + std::exp(-x / s))); };
+        auto cdf = [&](double x) { return 1 / (1 + std::exp(-x / s)); };
+        double np = logistic(dphi) / (cdf(HT_PI) - cdf(-HT_PI));
+        sum += mp(ci, cpo, si, spo, m.v[p]) * ap[p] * np;
+    }
+    sum += mp(ci, co, si, so, m.v[3]) * ap[3] / (2 * HT_PI);
+    return sum;  // = f * |cos theta_i|
 }
 
 }  // namespace fibertest

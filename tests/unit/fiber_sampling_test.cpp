@@ -1,0 +1,139 @@
+// Sampling of every model: weight == value/pdf, the returned pdf is the density eval reports, the
+// sampled directions follow the pdf (chi-square), and the sampled estimator of the albedo agrees
+// with the deterministic quadrature (uniform/deterministic estimator).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "fiber_test_util.h"
+
+using namespace ht;
+
+namespace {
+
+HtMaterial material(const char* model) {
+    HairMaterialDesc d;
+    d.model = model;
+    d.has_sigma_a = true;
+    d.sigma_a = {0.2f, 0.5f, 1.0f};
+    return make_kernel_material(d);
+}
+
+struct Case {
+    const char* model;
+    double theta_deg, h;
+};
+const Case kCases[] = {{"kajiya", 20, 0.3},    {"chiang", 0, -0.4},    {"chiang", 60, 0.9},
+                       {"marschner", 10, 0.0}, {"marschner", 55, 0.0}, {"zinke", 0, 0.2},
+                       {"zinke", 45, -0.8}};
+
+}  // namespace
+
+TEST(FiberSampling, WeightIsValueOverPdfAndPdfMatchesEval) {
+    // Relative 1e-9: the sampled direction is re-evaluated exactly as eval does (double).
+    for (const char* model : {"kajiya", "marschner", "zinke", "chiang"}) {
+        HtMaterial m = material(model);
+        uint64_t st = 3;
+        int ok_count = 0;
+        for (int i = 0; i < 3000; ++i) {
+            real3 wo = fibertest::rand_dir(st), wi, w;
+            double h = 2 * fibertest::rnd(st) - 1;
+            double u[4];
+            for (double& x : u) x = fibertest::rnd(st);
+            real pdf;
+            if (!ht_bcsdf_sample(&m, wo, h, u[0], u[1], u[2], u[3], &wi, &w, &pdf)) continue;
+            ++ok_count;
+            ASSERT_NEAR(length(wi), 1.0, 1e-9);
+            real3 v;
+            real p2;
+            ht_bcsdf_eval(&m, wo, wi, h, &v, &p2);
+            ASSERT_NEAR(p2, pdf, 1e-9 * pdf) << model;
+            ASSERT_NEAR(w.x, v.x / pdf, 1e-9 * (w.x + 1e-300)) << model;
+            ASSERT_NEAR(w.z, v.z / pdf, 1e-9 * (w.z + 1e-300)) << model;
+        }
+        EXPECT_GT(ok_count, 2500) << model;
+    }
+}
+
+TEST(FiberSampling, ChiSquareOfSampledDirections) {
+    // Bins: 12 in sin(theta_i) x 16 in phi_i - phi_o.  Expected counts = N x (pdf integrated over the bin
+    // by a 24 x 24 midpoint rule); bins with expectation < 5 are pooled.  Threshold: chi-square quantile
+    // at p = 1e-4 (Wilson-Hilferty), i.e. a correct sampler fails once in 10^4 runs (seeds are fixed).
+    const int NZ = 12, NP = 16, SUB = 24, N = 100000;
+    for (const Case& c : kCases) {
+        HtMaterial m = material(c.model);
+        real3 wo = fibertest::wo_at(c.theta_deg);
+        std::vector<double> obs(NZ * NP, 0.0), expct(NZ * NP, 0.0);
+        uint64_t st = 99;
+        for (int i = 0; i < N; ++i) {
+            double u[4];
+            for (double& x : u) x = fibertest::rnd(st);
+            real3 wi, w;
+            real pdf;
+            if (!ht_bcsdf_sample(&m, wo, c.h, u[0], u[1], u[2], u[3], &wi, &w, &pdf)) continue;
+            double z = std::min(std::max(wi.x, -1.0), 1.0);
+            double phi = std::atan2(wi.z, wi.y) - HT_PI / 2;  // phi_o = pi/2
+            phi = phi - 2 * HT_PI * std::floor((phi + HT_PI) / (2 * HT_PI));
+            int iz = std::min(NZ - 1, (int)((z + 1) / 2 * NZ)), ip = std::min(NP - 1, (int)((phi + HT_PI) / (2 * HT_PI) * NP));
+            obs[iz * NP + ip] += 1;
+        }
+        for (int iz = 0; iz < NZ; ++iz)
+            for (int ip = 0; ip < NP; ++ip) {
+                double s = 0, dz = 2.0 / NZ / SUB, dp = 2 * HT_PI / NP / SUB;
+                for (int a = 0; a < SUB; ++a)
+                    for (int b = 0; b < SUB; ++b) {
+                        double z = -1 + iz * 2.0 / NZ + (a + 0.5) * dz;
+                        double phi = -HT_PI + ip * 2 * HT_PI / NP + (b + 0.5) * dp + HT_PI / 2;
+                        double r = std::sqrt(std::max(0.0, 1 - z * z));
+                        real3 v;
+                        real pdf;
+                        ht_bcsdf_eval(&m, wo, make_real3(z, r * std::cos(phi), r * std::sin(phi)), c.h, &v, &pdf);
+                        s += pdf * dz * dp;
+                    }
+                expct[iz * NP + ip] = s * N;
+            }
+        double chi2 = 0, pool_o = 0, pool_e = 0;
+        int dof = 0;
+        for (size_t k = 0; k < obs.size(); ++k) {
+            if (expct[k] < 5) {
+                pool_o += obs[k];
+                pool_e += expct[k];
+                continue;
+            }
+            chi2 += (obs[k] - expct[k]) * (obs[k] - expct[k]) / expct[k];
+            ++dof;
+        }
+        if (pool_e >= 5) {
+            chi2 += (pool_o - pool_e) * (pool_o - pool_e) / pool_e;
+            ++dof;
+        }
+        double k = dof - 1, zq = 3.719;
+        double crit = k * std::pow(1 - 2 / (9 * k) + zq * std::sqrt(2 / (9 * k)), 3);
+        EXPECT_LT(chi2, crit) << c.model << " theta " << c.theta_deg << " h " << c.h << " dof " << dof;
+    }
+}
+
+TEST(FiberSampling, SampledEstimatorMatchesQuadrature) {
+    // Mean sample weight vs the deterministic quadrature of integral value dwi: |diff| < 5 standard errors
+    // + 2e-4 (quadrature error bound, MODEL_NOTES-style doubling check in fiber_furnace_test).
+    for (const Case& c : kCases) {
+        HtMaterial m = material(c.model);
+        real3 wo = fibertest::wo_at(c.theta_deg);
+        double q = fibertest::albedo_at(m, wo, c.h);
+        uint64_t st = 5;
+        double s = 0, s2 = 0;
+        const int N = 60000;
+        for (int i = 0; i < N; ++i) {
+            double u[4];
+            for (double& x : u) x = fibertest::rnd(st);
+            real3 wi, w;
+            real pdf;
+            if (!ht_bcsdf_sample(&m, wo, c.h, u[0], u[1], u[2], u[3], &wi, &w, &pdf)) continue;
+            s += w.x;
+            s2 += w.x * w.x;
+        }
+        double mean = s / N, se = std::sqrt(std::max(0.0, s2 / N - mean * mean) / N);
+        EXPECT_NEAR(mean, q, 5 * se + 2e-4) << c.model << " theta " << c.theta_deg << " h " << c.h;
+    }
+}
