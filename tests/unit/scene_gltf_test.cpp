@@ -312,3 +312,42 @@ TEST(SceneGltf, ShippedScenesLoad) {
 
 }  // namespace
 }  // namespace ht
+
+namespace ht {
+namespace {
+
+// A fixture written independently of GltfBuilder (tests/data, made with Python's struct): an
+// interleaved x,y,z,radius vertex buffer (byteStride 16), uint8 LINES indices, a TRS node.
+TEST(SceneGltf, InterleavedFixtureFile) {
+    const Scene s = load_scene(HT_SOURCE_DIR "/tests/data/interleaved_lines.gltf");
+    ASSERT_EQ(s.strands.strand_count(), 2u);
+    EXPECT_EQ(s.strands.first_point, (std::vector<uint32_t>{0, 3, 5}));
+    expect_vec_near(s.strands.points[2], {0, 11, 0});   // (0,2,0) * 0.5 + (0,10,0)
+    expect_vec_near(s.strands.points[3], {1.5f, 10, 0});
+    EXPECT_NEAR(s.strands.radius[2], 0.025f, 1e-6f);    // 0.05 * 0.5
+    EXPECT_NEAR(s.strands.radius[4], 0.1f, 1e-6f);
+    ASSERT_EQ(s.materials.size(), 1u);
+    EXPECT_EQ(s.materials[0].model, "chiang");
+    EXPECT_TRUE(s.materials[0].has_melanin);
+    EXPECT_FLOAT_EQ(s.materials[0].pheomelanin, 0.8f);
+    EXPECT_FLOAT_EQ(s.materials[0].beta_m, 0.25f);
+}
+
+TEST(SceneGltf, ExternalBufferFile) {
+    test::GltfBuilder g;
+    const int mesh = g.add_mesh(kLineStrip, g.add_vec3({{0, 0, 0}, {0, 1, 0}}), g.add_scalar({1, 1}));
+    g.add_node({{"mesh", mesh}});
+    test::TempDir dir;
+    test::write_file(dir.file("hair.bin"), g.bin);
+    nlohmann::json doc = g.doc;
+    doc["buffers"] = {{{"byteLength", g.bin.size()}, {"uri", "hair.bin"}}};
+    const std::string path = dir.file("ext.gltf");
+    test::write_text(path, doc.dump());
+    EXPECT_EQ(load_scene(path).strands.point_count(), 2u);
+
+    std::filesystem::remove(dir.file("hair.bin"));
+    test::expect_one_line_naming(scene_error_of([&] { load_scene(path); }), path);
+}
+
+}  // namespace
+}  // namespace ht

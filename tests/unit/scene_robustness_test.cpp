@@ -48,12 +48,12 @@ TEST(SceneRobustness, CorruptedHairFiles) {
     test::HairSpec spec;
     spec.strands = test::three_strands();
     spec.flags = 31;
-    corrupt_and_load(test::make_hair_bytes(spec), dir.file("c.hair"), 0, 400, 1);
+    corrupt_and_load(test::make_hair_bytes(spec), dir.file("c.hair"), 0, 200, 1);
 }
 
 TEST(SceneRobustness, CorruptedUscFiles) {
     test::TempDir dir;
-    corrupt_and_load(test::make_usc_bytes(test::three_strands()), dir.file("c.data"), 0, 400, 2);
+    corrupt_and_load(test::make_usc_bytes(test::three_strands()), dir.file("c.data"), 0, 200, 2);
 }
 
 TEST(SceneRobustness, CorruptedGlbFiles) {
@@ -64,7 +64,7 @@ TEST(SceneRobustness, CorruptedGlbFiles) {
     g.add_node({{"mesh", g.add_mesh(1, pos, rad, idx)}, {"translation", {1, 2, 3}}});
     test::TempDir dir;
     // Keep the 20-byte container header: corrupting it only tests the header check again.
-    corrupt_and_load(g.glb_bytes(), dir.file("c.glb"), 20, 300, 3);
+    corrupt_and_load(g.glb_bytes(), dir.file("c.glb"), 20, 200, 3);
 }
 
 TEST(SceneRobustness, TruncatedGltfTextAtEveryOffset) {
