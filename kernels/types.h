@@ -75,6 +75,9 @@ typedef struct {
     uint path;
 } HtShadowContrib;
 
+/* stage_path value of a slot whose path did not continue */
+#define HT_NO_PATH 0xFFFFFFFFu
+
 /* Queue counters read back by the host after each shade: */
 #define HT_COUNTER_SHADOW 0
 #define HT_COUNTER_NEXT 1

@@ -21,7 +21,8 @@
 namespace ht {
 
 namespace {
-constexpr size_t kLocalSize = 64;  // POCL_FINDINGS: 32-256 equal; a multiple of 8 for GPUs too
+// POCL_FINDINGS: 32-256 are equal for traversal; 64 is also what compact.cl requires.
+constexpr size_t kLocalSize = 64;
 
 cl::NDRange global_for(size_t n) { return cl::NDRange(round_up(std::max<size_t>(n, 1), kLocalSize)); }
 
@@ -49,12 +50,14 @@ struct Renderer::Impl {
     std::string options;
     cl::Program program;
     cl::Kernel k_generate, k_closest, k_shade, k_shadow, k_resolve, k_accumulate;
+    cl::Kernel k_compact_count, k_compact_scan, k_compact_scatter;
     RenderStats stats;
     cl::Buffer film_buf;
 
     // per-pass buffers, sized for max paths per pass
     size_t capacity = 0;
     cl::Buffer rays[2], ray_path[2], hits, paths, shadow_rays, shadow_contrib, occluded, counters;
+    cl::Buffer stage_rays, stage_path, group_sums;  // uncompacted extension rays, per-group counts
 
     Impl(ClContext& c, const Scene& scene, const RenderSettings& s) : cl(c), settings(s) {
         geometry = build_geometry(scene.strands);
@@ -83,6 +86,9 @@ struct Renderer::Impl {
         k_shadow = cl::Kernel(program, "intersect_shadow");
         k_resolve = cl::Kernel(program, "resolve_shadows");
         k_accumulate = cl::Kernel(program, "accumulate");
+        k_compact_count = cl::Kernel(program, "compact_count");
+        k_compact_scan = cl::Kernel(program, "compact_scan");
+        k_compact_scatter = cl::Kernel(program, "compact_scatter");
 
         size_t pixels = size_t(s.width) * size_t(s.height);
         allocate(std::min(pixels, std::max<size_t>(s.max_paths_per_pass, 1)));
@@ -102,6 +108,9 @@ struct Renderer::Impl {
         shadow_contrib = cl::Buffer(ctx, CL_MEM_READ_WRITE, cap * sizeof(HtShadowContrib));
         occluded = cl::Buffer(ctx, CL_MEM_READ_WRITE, cap * sizeof(uint32_t));
         counters = cl::Buffer(ctx, CL_MEM_READ_WRITE, HT_COUNTER_COUNT * sizeof(uint32_t));
+        stage_rays = cl::Buffer(ctx, CL_MEM_READ_WRITE, cap * sizeof(HtRay));
+        stage_path = cl::Buffer(ctx, CL_MEM_READ_WRITE, cap * sizeof(uint32_t));
+        group_sums = cl::Buffer(ctx, CL_MEM_READ_WRITE, (cap / kLocalSize + 1) * sizeof(uint32_t));
     }
 
     // ---- stages ---------------------------------------------------------------------------
@@ -127,9 +136,8 @@ struct Renderer::Impl {
         launch(k_closest, count);
     }
 
-    // Returns (shadow count, next count, non-finite count).
-    std::array<uint32_t, 3> shade(int q, uint32_t count, uint32_t sample, uint32_t bounce) {
-        uint32_t zero[HT_COUNTER_COUNT] = {0, 0, 0, 0};
+    void shade(int q, uint32_t count, uint32_t sample, uint32_t bounce) {
+        static const uint32_t zero[HT_COUNTER_COUNT] = {0, 0, 0, 0};
         cl.queue().enqueueWriteBuffer(counters, CL_FALSE, 0, sizeof zero, zero);
         int a = 0;
         k_shade.setArg(a++, device_geometry.segments);
@@ -149,8 +157,8 @@ struct Renderer::Impl {
         k_shade.setArg(a++, paths);
         k_shade.setArg(a++, shadow_rays);
         k_shade.setArg(a++, shadow_contrib);
-        k_shade.setArg(a++, rays[1 - q]);
-        k_shade.setArg(a++, ray_path[1 - q]);
+        k_shade.setArg(a++, stage_rays);
+        k_shade.setArg(a++, stage_path);
         k_shade.setArg(a++, counters);
         k_shade.setArg(a++, settings.seed);
         k_shade.setArg(a++, sample);
@@ -159,6 +167,30 @@ struct Renderer::Impl {
         k_shade.setArg(a++, settings.fiber_field);
         k_shade.setArg(a++, pixel_angle);
         launch(k_shade, count);
+    }
+
+    // Packs the surviving paths' extension rays into queue `out`, in slot order.
+    void compact(int out, uint32_t count) {
+        const uint32_t groups = uint32_t(round_up(count, kLocalSize) / kLocalSize);
+        k_compact_count.setArg(0, stage_path);
+        k_compact_count.setArg(1, count);
+        k_compact_count.setArg(2, group_sums);
+        launch(k_compact_count, count);
+        k_compact_scan.setArg(0, group_sums);
+        k_compact_scan.setArg(1, groups);
+        k_compact_scan.setArg(2, counters);
+        cl.queue().enqueueNDRangeKernel(k_compact_scan, cl::NullRange, cl::NDRange(1), cl::NDRange(1));
+        k_compact_scatter.setArg(0, stage_rays);
+        k_compact_scatter.setArg(1, stage_path);
+        k_compact_scatter.setArg(2, count);
+        k_compact_scatter.setArg(3, group_sums);
+        k_compact_scatter.setArg(4, rays[out]);
+        k_compact_scatter.setArg(5, ray_path[out]);
+        launch(k_compact_scatter, count);
+    }
+
+    // (shadow rays, next queue size, non-finite values caught) of the last bounce
+    std::array<uint32_t, 3> read_counters() {
         uint32_t out[HT_COUNTER_COUNT];
         cl.queue().enqueueReadBuffer(counters, CL_TRUE, 0, sizeof out, out);
         return {out[HT_COUNTER_SHADOW], out[HT_COUNTER_NEXT], out[HT_COUNTER_NAN]};
@@ -244,12 +276,12 @@ void Renderer::render_sample(uint32_t sample) {
             uint32_t n = count;
             for (uint32_t bounce = 0; n > 0 && bounce < uint32_t(s.max_depth); ++bounce) {
                 r.intersect_closest(q, n);
-                auto [shadows, next, nonfinite] = r.shade(q, n, sample, bounce);
+                r.shade(q, n, sample, bounce);
+                r.intersect_shadow(n);
+                r.resolve_shadows(n);
+                if (bounce + 1 < uint32_t(s.max_depth)) r.compact(1 - q, n);  // else no path continues
+                auto [shadows, next, nonfinite] = r.read_counters();
                 r.stats.nonfinite_caught += nonfinite;
-                if (shadows > 0) {
-                    r.intersect_shadow(shadows);
-                    r.resolve_shadows(shadows);
-                }
                 r.stats.shadow_rays += shadows;
                 r.stats.extension_rays += next;
                 q = 1 - q;

@@ -7,5 +7,7 @@ __kernel void intersect_shadow(__global const HtBvhNode* nodes, __global const H
                                __global uint* occluded, uint count) {
     const uint i = (uint)get_global_id(0);
     if (i >= count) return;
-    occluded[i] = ht_trace_any(nodes, segs, points, rays[i]);
+    HtRay r = rays[i];
+    /* an empty slot (tmax < tmin) counts as occluded: nothing to add */
+    occluded[i] = r.tmax > r.tmin ? ht_trace_any(nodes, segs, points, r) : 1u;
 }

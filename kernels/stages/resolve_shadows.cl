@@ -1,7 +1,7 @@
 /* Stage 5: shadow results -> path radiance.
- * Shadow ray j belongs to path shadow_contrib[j].path; if it reached the light unoccluded its
- * contribution is added.  A path queues at most one shadow ray per bounce, so no two work-items
- * touch the same path. */
+ * Shadow slot j belongs to path shadow_contrib[j].path; if its ray reached the light unoccluded
+ * the contribution is added (empty slots carry tmax < 0 and were reported occluded).  A path has
+ * at most one shadow slot per bounce, so no two work-items touch the same path. */
 #include "../types.h"
 
 __kernel void resolve_shadows(__global const HtShadowContrib* shadow_contrib,

@@ -7,8 +7,10 @@
  *                fibre's scattering function evaluated for it, and a shadow ray queued carrying
  *                the unoccluded contribution; then, below max_depth, the fibre model is sampled
  *                for the extension ray (Russian roulette from HT_RR_START_BOUNCE bounces on).
- * Every path ends each call in exactly one of: terminated, continued (next queue).
- * Requires a local work size; all work-items reach the queue barriers. */
+ * Outputs stay in the slot of the shaded ray: shadow_rays[k] (tmax < 0: none) with
+ * shadow_contrib[k], and the extension ray in stage_rays[k] with stage_path[k] = path (or
+ * HT_NO_PATH); compact.cl then packs the extension queue in a thread-independent order.
+ * Every path ends each call in exactly one of: terminated, continued (stage slot filled). */
 #include "../types.h"
 #include "../rng.h"
 #include "../lights.h"
@@ -49,7 +51,7 @@ __kernel void shade(__global const HtSegment* segs, __global const HtPoint* poin
                     __global const HtRay* rays, __global const HtHit* hits,
                     __global const uint* ray_path, uint count, __global HtPathState* paths,
                     __global HtRay* shadow_rays, __global HtShadowContrib* shadow_contrib,
-                    __global HtRay* next_rays, __global uint* next_path,
+                    __global HtRay* stage_rays, __global uint* stage_path,
                     volatile __global uint* counters, uint seed, uint sample, uint bounce,
                     uint max_depth, uint field_mode, float pixel_angle) {
     __local uint lcount, lbase;
@@ -128,8 +130,8 @@ __kernel void shade(__global const HtSegment* segs, __global const HtPoint* poin
                     ls.li_over_pdf = ok ? le / pdf_env : (float3)(0.0f);
                 }
                 if (ok) {
-                    float3 value;
-                    float pdf_bsdf;
+                    float3 value = (float3)(0.0f);
+                    float pdf_bsdf = 0.0f;
                     ht_bcsdf_eval(&mat, wo_l, ht_to_fiber_local(ls.wi, fx, fy, fz), h, &value, &pdf_bsdf);
                     /* lights that BCSDF sampling can also reach (the environment) share the
                      * estimate by MIS; delta lights cannot be hit and keep weight 1 */
@@ -151,8 +153,8 @@ __kernel void shade(__global const HtSegment* segs, __global const HtPoint* poin
 
             /* extension ray */
             if (bounce + 1u < max_depth) {
-                float3 wi_l, weight;
-                float pdf;
+                float3 wi_l = (float3)(0.0f), weight = (float3)(0.0f);
+                float pdf = 0.0f;
                 float u0 = ht_uniform(seed, st.pixel, sample, ht_dim(bounce, HT_DIM_BSDF_0));
                 float u1 = ht_uniform(seed, st.pixel, sample, ht_dim(bounce, HT_DIM_BSDF_0 + 1u));
                 float u2 = ht_uniform(seed, st.pixel, sample, ht_dim(bounce, HT_DIM_BSDF_0 + 2u));
@@ -185,17 +187,22 @@ __kernel void shade(__global const HtSegment* segs, __global const HtPoint* poin
         paths[p] = st;
     }
 
-    uint s_slot = ht_queue_append(want_shadow, &lcount, &lbase, &counters[HT_COUNTER_SHADOW]);
-    if (want_shadow) {
-        shadow_rays[s_slot] = shadow_ray;
+    /* statistics only: the shadow queue is not compacted, its count is reported */
+    ht_queue_append(want_shadow, &lcount, &lbase, &counters[HT_COUNTER_SHADOW]);
+    if (active) {
+        if (!want_shadow) {
+            shadow_ray.ox = shadow_ray.oy = shadow_ray.oz = 0.0f;
+            shadow_ray.dx = shadow_ray.dy = 0.0f;
+            shadow_ray.dz = 1.0f;
+            shadow_ray.tmin = 0.0f;
+            shadow_ray.tmax = -1.0f;
+        }
+        shadow_rays[k] = shadow_ray;
         HtShadowContrib sc;
         sc.contrib[0] = shadow_value.x; sc.contrib[1] = shadow_value.y; sc.contrib[2] = shadow_value.z;
         sc.path = p;
-        shadow_contrib[s_slot] = sc;
-    }
-    uint n_slot = ht_queue_append(want_next, &lcount, &lbase, &counters[HT_COUNTER_NEXT]);
-    if (want_next) {
-        next_rays[n_slot] = next_ray;
-        next_path[n_slot] = p;
+        shadow_contrib[k] = sc;
+        if (want_next) stage_rays[k] = next_ray;
+        stage_path[k] = want_next ? p : HT_NO_PATH;
     }
 }

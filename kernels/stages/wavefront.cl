@@ -5,4 +5,5 @@
 #include "shade.cl"
 #include "intersect_shadow.cl"
 #include "resolve_shadows.cl"
+#include "compact.cl"
 #include "accumulate.cl"
