@@ -61,7 +61,7 @@ int cmd_render(const std::vector<std::string>& args) {
         .option("--background", "R,G,B", "uniform environment radiance (importance sampled like any light); replaces the scene's")
         .option("--environment", "FILE", "lat-long HDR environment map (.exr/.hdr, +y up); replaces the scene's")
         .option("--environment-intensity", "K", "multiplier for the environment", "1")
-        .option("--exposure", "E", "multiplier applied before tone mapping 8-bit outputs", "1")
+        .option("--exposure", "E|auto", "multiplier applied before tone mapping 8-bit outputs; auto maps the 99.5th percentile of lit pixels to 0.9 (linear outputs are never scaled)", "1")
         .option("--checkpoint", "FILE", "write the progressive state to FILE (atomically) every --checkpoint-every seconds, at the end and on SIGINT/SIGTERM")
         .option("--checkpoint-every", "SECONDS", "checkpoint interval", "60")
         .option("--resume", "FILE", "continue a render from a checkpoint (same scene, options and seed)")
@@ -70,6 +70,7 @@ int cmd_render(const std::vector<std::string>& args) {
         .option("--kernel-dir", "DIR", "load kernel sources from DIR instead of the embedded copies");
     add_scene_options(p);
     p.flag("--verbose", "print the kernel features chosen for the scene and the build options")
+        .flag("--profile", "time every stage kernel separately and print the split (slows the render a little)")
         .flag("--quiet", "no progress output on stderr")
         .flag("--help", "this help");
     p.parse(args);
@@ -105,8 +106,10 @@ int cmd_render(const std::vector<std::string>& args) {
     }
     const double time_limit = p.get_double("--time-limit", 0, 1e9);
     const double checkpoint_every = p.get_double("--checkpoint-every", 0.01, 1e9);
-    const float exposure = float(p.get_double("--exposure", 0, 1e9));
+    const bool auto_expose = p.get("--exposure") == "auto";
+    const float fixed_exposure = auto_expose ? 1.0f : float(p.get_double("--exposure", 0, 1e9));
     const bool quiet = p.has("--quiet");
+    rs.profile_stages = p.has("--profile");
     const std::string checkpoint_path = p.get("--checkpoint");
     if (p.has("--kernel-dir")) set_kernel_dir(p.get("--kernel-dir"));
 
@@ -204,6 +207,8 @@ int cmd_render(const std::vector<std::string>& args) {
         std::fprintf(stderr, "done: %d spp in %.2f s; %llu camera + %llu extension + %llu shadow rays; kernel build %.0f ms%s\n",
                      done, since(t0), (unsigned long long)st.camera_rays, (unsigned long long)st.extension_rays,
                      (unsigned long long)st.shadow_rays, st.build_ms, st.build_cached ? " (cached)" : "");
+        for (auto& [name, sec] : st.stage_seconds)
+            std::fprintf(stderr, "stage %-22s %8.3f s\n", name.c_str(), sec);
         if (stopped_by_limit) std::fprintf(stderr, "stopped by --time-limit after %d of %d spp\n", done, rs.spp);
         if (g_stop_signal)
             std::fprintf(stderr, "interrupted after %d of %d spp%s\n", done, rs.spp,
@@ -221,6 +226,8 @@ int cmd_render(const std::vector<std::string>& args) {
     meta.text["hairtrace:device"] = cl.info().name + " / " + cl.info().platform + " " + cl.info().driver;
     meta.text["hairtrace:version"] = HT_VERSION;
     meta.text["hairtrace:scene"] = scene.source;
+    const float exposure = auto_expose ? auto_exposure(film) : fixed_exposure;
+    if (auto_expose) meta.floats["hairtrace:exposure"] = exposure;
     for (auto& o : outputs) {
         write_image(o, film, meta, exposure);
         if (!quiet) std::fprintf(stderr, "wrote %s\n", o.c_str());

@@ -42,6 +42,20 @@ std::vector<float> film_to_rgb(const Film& film) {
     return rgb;
 }
 
+float auto_exposure(const Film& film) {
+    std::vector<float> lum;
+    size_t n = size_t(film.width) * size_t(film.height);
+    lum.reserve(n);
+    for (size_t i = 0; i < n; ++i) {
+        float l = 0.2126f * film.mean(i, 0) + 0.7152f * film.mean(i, 1) + 0.0722f * film.mean(i, 2);
+        if (std::isfinite(l) && l > 0) lum.push_back(l);
+    }
+    if (lum.empty()) return 1.0f;
+    size_t k = std::min(lum.size() - 1, size_t(0.995 * double(lum.size())));
+    std::nth_element(lum.begin(), lum.begin() + k, lum.end());
+    return lum[k] > 0 ? 0.9f / lum[k] : 1.0f;
+}
+
 void write_image(const std::string& path, const Film& film, const ImageMetadata& meta, float exposure) {
     std::string ext = lower_ext(path);
     if (ext.empty()) throw ImageError(path + ": no file extension to choose an image format from");

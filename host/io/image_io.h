@@ -34,4 +34,9 @@ std::vector<float> read_rgb_image(const std::string& path, int& width, int& heig
 
 bool is_float_format(const std::string& path);
 
+// An exposure that maps the 99.5th percentile of the non-black pixels' luminance to 0.9: a
+// sensible default for looking at an image whose absolute scale is arbitrary.  Returns 1 for an
+// all-black film.
+float auto_exposure(const Film& film);
+
 }  // namespace ht

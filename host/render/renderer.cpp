@@ -179,7 +179,7 @@ struct Renderer::Impl {
         k_compact_scan.setArg(0, group_sums);
         k_compact_scan.setArg(1, groups);
         k_compact_scan.setArg(2, counters);
-        cl.queue().enqueueNDRangeKernel(k_compact_scan, cl::NullRange, cl::NDRange(1), cl::NDRange(1));
+        launch(k_compact_scan, cl::NDRange(1), cl::NDRange(1));
         k_compact_scatter.setArg(0, stage_rays);
         k_compact_scatter.setArg(1, stage_path);
         k_compact_scatter.setArg(2, count);
@@ -221,8 +221,22 @@ struct Renderer::Impl {
         launch(k_accumulate, count);
     }
 
-    void launch(cl::Kernel& k, size_t n) {
-        cl.queue().enqueueNDRangeKernel(k, cl::NullRange, global_for(n), cl::NDRange(kLocalSize));
+    void launch(cl::Kernel& k, size_t n) { launch(k, global_for(n), cl::NDRange(kLocalSize)); }
+
+    void launch(cl::Kernel& k, const cl::NDRange& global, const cl::NDRange& local) {
+        if (!settings.profile_stages) {
+            cl.queue().enqueueNDRangeKernel(k, cl::NullRange, global, local);
+            return;
+        }
+        cl.queue().finish();
+        auto t0 = std::chrono::steady_clock::now();
+        cl.queue().enqueueNDRangeKernel(k, cl::NullRange, global, local);
+        cl.queue().finish();
+        double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        std::string name = k.getInfo<CL_KERNEL_FUNCTION_NAME>();
+        for (auto& [n, sec] : stats.stage_seconds)
+            if (n == name) { sec += dt; return; }
+        stats.stage_seconds.push_back({name, dt});
     }
 };
 

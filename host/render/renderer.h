@@ -19,6 +19,7 @@ struct RenderSettings {
     uint32_t fiber_field = 0; // HT_FIELD_MATERIAL | NEAR | FAR | AUTO
     int first_sample = 0;     // render samples [first_sample, first_sample + spp)
     size_t max_paths_per_pass = 1u << 20;  // bounds device memory for big images
+    bool profile_stages = false;           // time each stage kernel (drains the queue after each)
 };
 
 // Linear radiance film: per pixel (sum r, sum g, sum b, sample count).
@@ -39,6 +40,9 @@ struct RenderStats {
     uint64_t nonfinite_caught = 0;  // NaN/Inf values zeroed by the kernels
     int samples = 0;
     std::string kernel_options;
+    // With RenderSettings::profile_stages: seconds per stage kernel (the queue is drained after
+    // every launch, which costs some overlap, so only the proportions are meaningful).
+    std::vector<std::pair<std::string, double>> stage_seconds;
 };
 
 // Called after each finished sample pass with (samples done, samples total); returning false
