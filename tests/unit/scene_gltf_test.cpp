@@ -351,3 +351,24 @@ TEST(SceneGltf, ExternalBufferFile) {
 
 }  // namespace
 }  // namespace ht
+
+namespace ht {
+namespace {
+
+TEST(SceneGltf, WithoutScenesEveryParentlessNodeIsARoot) {
+    test::GltfBuilder g;
+    const int mesh = g.add_mesh(kLineStrip, g.add_vec3({{0, 0, 0}, {0, 1, 0}}), g.add_scalar({1, 1}));
+    const int child = g.add_node({{"mesh", mesh}, {"translation", {0, 0, 1}}}, false);
+    g.add_node({{"mesh", mesh}, {"children", {child}}}, false);
+    g.doc.erase("scenes");
+    g.doc.erase("scene");
+    test::TempDir dir;
+    const Scene s = load_scene(write_gltf(dir, g));
+    // Node 1 is the only root; node 0 is reached once, through it (depth first, parent first).
+    ASSERT_EQ(s.strands.strand_count(), 2u);
+    expect_vec_near(s.strands.points[0], {0, 0, 0});
+    expect_vec_near(s.strands.points[2], {0, 0, 1});
+}
+
+}  // namespace
+}  // namespace ht
