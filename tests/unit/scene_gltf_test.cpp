@@ -295,8 +295,14 @@ TEST(SceneGltf, BuiltinReferenceWithGltfMaterialCameraAndLight) {
     EXPECT_EQ(s.lights.size(), 1u);  // none in the file: the builtin's key light
 
     g.doc["scenes"][0]["extras"]["hairtrace_material"] = "missing";
-    const std::string msg = scene_error_of([&] { load_scene(write_gltf(dir, g)); });
+    std::string msg = scene_error_of([&] { load_scene(write_gltf(dir, g)); });
     EXPECT_TRUE(contains(msg, "no material named \"missing\"")) << msg;
+
+    g.doc["scenes"][0]["extras"]["hairtrace_builtin"] = "wig";
+    const std::string path = write_gltf(dir, g);
+    msg = scene_error_of([&] { load_scene(path); });
+    test::expect_one_line_naming(msg, path);
+    EXPECT_TRUE(contains(msg, "unknown builtin scene 'wig'")) << msg;
 }
 
 TEST(SceneGltf, ShippedScenesLoad) {
