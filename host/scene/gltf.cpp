@@ -408,7 +408,12 @@ private:
         const tinygltf::Value* spec = scene_extras_value("hairtrace_builtin");
         if (!spec) return;
         if (!spec->IsString()) scene_fail(file_, "extras.hairtrace_builtin must be a string");
-        Scene builtin = make_builtin(spec->Get<std::string>(), opt_);
+        Scene builtin;
+        try {
+            builtin = make_builtin(spec->Get<std::string>(), opt_);
+        } catch (const SceneError& e) {
+            scene_fail(file_, "extras.hairtrace_builtin: ", e.what());
+        }
         uint32_t material;
         if (const tinygltf::Value* m = scene_extras_value("hairtrace_material")) {
             material = material_index(find_material(*m));

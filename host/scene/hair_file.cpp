@@ -52,7 +52,8 @@ struct HairHeader {
 static_assert(sizeof(HairHeader) == kHeaderBytes, ".hair header is 128 bytes");
 static_assert(sizeof(Vec3f) == 12, "Vec3f must be three packed floats (read by memcpy)");
 
-// One array of the file: where it starts and how long it is (0 when its bit is clear).
+// One array of the file as the header states it: element count and byte length (0 bytes when
+// its flag bit is clear).
 struct ArrayExtent {
     const char* name;
     uint64_t count;  // elements stated by the header

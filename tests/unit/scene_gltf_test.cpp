@@ -295,8 +295,14 @@ TEST(SceneGltf, BuiltinReferenceWithGltfMaterialCameraAndLight) {
     EXPECT_EQ(s.lights.size(), 1u);  // none in the file: the builtin's key light
 
     g.doc["scenes"][0]["extras"]["hairtrace_material"] = "missing";
-    const std::string msg = scene_error_of([&] { load_scene(write_gltf(dir, g)); });
+    std::string msg = scene_error_of([&] { load_scene(write_gltf(dir, g)); });
     EXPECT_TRUE(contains(msg, "no material named \"missing\"")) << msg;
+
+    g.doc["scenes"][0]["extras"]["hairtrace_builtin"] = "wig";
+    const std::string path = write_gltf(dir, g);
+    msg = scene_error_of([&] { load_scene(path); });
+    test::expect_one_line_naming(msg, path);
+    EXPECT_TRUE(contains(msg, "unknown builtin scene 'wig'")) << msg;
 }
 
 TEST(SceneGltf, ShippedScenesLoad) {
@@ -347,6 +353,27 @@ TEST(SceneGltf, ExternalBufferFile) {
 
     std::filesystem::remove(dir.file("hair.bin"));
     test::expect_one_line_naming(scene_error_of([&] { load_scene(path); }), path);
+}
+
+}  // namespace
+}  // namespace ht
+
+namespace ht {
+namespace {
+
+TEST(SceneGltf, WithoutScenesEveryParentlessNodeIsARoot) {
+    test::GltfBuilder g;
+    const int mesh = g.add_mesh(kLineStrip, g.add_vec3({{0, 0, 0}, {0, 1, 0}}), g.add_scalar({1, 1}));
+    const int child = g.add_node({{"mesh", mesh}, {"translation", {0, 0, 1}}}, false);
+    g.add_node({{"mesh", mesh}, {"children", {child}}}, false);
+    g.doc.erase("scenes");
+    g.doc.erase("scene");
+    test::TempDir dir;
+    const Scene s = load_scene(write_gltf(dir, g));
+    // Node 1 is the only root; node 0 is reached once, through it (depth first, parent first).
+    ASSERT_EQ(s.strands.strand_count(), 2u);
+    expect_vec_near(s.strands.points[0], {0, 0, 0});
+    expect_vec_near(s.strands.points[2], {0, 0, 1});
 }
 
 }  // namespace
