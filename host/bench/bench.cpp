@@ -246,6 +246,8 @@ int bench_main(const std::vector<std::string>& args, const SceneSource& source_i
         else if (a == "--json") json_out = true;
         else if (a == "--device") device = std::stoi(value());
         else if (a == "--res") res = std::max(4, std::stoi(value()) / 4 * 4);
+        else if (a == "--compact") bopt = BvhOptions::compact();
+        else if (a == "--split-depth") bopt.split_depth = std::stoi(value());
         else if (a == "--leaf") bopt.max_leaf = std::max(1, std::stoi(value()));
         else if (a == "--bins") bopt.bins = std::stoi(value());
         else if (a == "--cisect") bopt.c_isect = std::stof(value());
@@ -280,7 +282,7 @@ int bench_main(const std::vector<std::string>& args, const SceneSource& source_i
                      {"max_depth", st.max_depth}, {"references", st.references},
                      {"sah_cost", st.sah_cost}, {"bytes_per_segment", st.bytes_per_segment},
                      {"max_leaf", bopt.max_leaf}, {"c_isect", bopt.c_isect},
-                     {"split_ratio", bopt.split_ratio}};
+                     {"split_ratio", bopt.split_ratio}, {"split_depth", bopt.split_depth}};
         if (!json_out)
             std::printf("\nscene %s: %zu segments, %zu points\n  BVH build %.1f ms (median of 5), "
                         "%zu nodes, %zu leaves, depth %zu, %zu refs, SAH %.2f, %.1f bytes/segment\n",
