@@ -11,7 +11,9 @@
 
 /* ---------------------------------------------------------------- geometry */
 
-/* A strand point: position and radius (Embree's RTC_FORMAT_FLOAT4 vertex). */
+/* A strand point: position and radius (Embree's RTC_FORMAT_FLOAT4 vertex).  In the geometry the
+ * kernels trace (host/bvh/bvh.h SceneGeometry::points) points are stored per leaf entry, and a
+ * strand's first segment has its begin point's r negated (= HT_SEG_FIRST): use fabs(r). */
 typedef struct {
     float x, y, z, r;
 } HtPoint;
