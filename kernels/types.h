@@ -11,9 +11,7 @@
 
 /* ---------------------------------------------------------------- geometry */
 
-/* A strand point: position and radius (Embree's RTC_FORMAT_FLOAT4 vertex).  In the geometry the
- * kernels trace (host/bvh/bvh.h SceneGeometry::points) points are stored per leaf entry, and a
- * strand's first segment has its begin point's r negated (= HT_SEG_FIRST): use fabs(r). */
+/* A strand point: position and radius (Embree's RTC_FORMAT_FLOAT4 vertex). */
 typedef struct {
     float x, y, z, r;
 } HtPoint;

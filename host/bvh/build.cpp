@@ -347,14 +347,12 @@ void add_refs(std::vector<Ref>& refs, uint32_t seg, const float* p0, const float
     refs.push_back(ref);
 }
 
-// base: segments in global order, .point indexing src (strand points, radius > 0).
-void build_bvh_from(const std::vector<HtSegment>& base, const std::vector<HtPoint>& src,
-                    SceneGeometry& geo, const BvhOptions& opt) {
+void build_bvh_from(const std::vector<HtSegment>& base, SceneGeometry& geo, const BvhOptions& opt) {
     std::vector<Ref> refs;
     refs.reserve(base.size());
     for (uint32_t i = 0; i < base.size(); ++i) {
-        const HtPoint& a = src[base[i].point];
-        const HtPoint& b = src[base[i].point + 1];
+        const HtPoint& a = geo.points[base[i].point];
+        const HtPoint& b = geo.points[base[i].point + 1];
         const float p0[3] = {a.x, a.y, a.z}, p1[3] = {b.x, b.y, b.z};
         add_refs(refs, i, p0, p1, 0.5f * (a.r + b.r), 0.0f, 1.0f, 0, opt);
     }
@@ -370,19 +368,8 @@ void build_bvh_from(const std::vector<HtSegment>& base, const std::vector<HtPoin
     fl.root_area = std::max(rb.half_area(), 1e-30);
     fl.visit(root, 0);
 
-    // Leaf order, endpoints copied next to each other (see SceneGeometry::points): traversal
-    // reads points[2k], points[2k + 1] for leaf entry k without first loading segments[k].
     geo.segments.resize(refs.size());
-    geo.points.resize(2 * refs.size());
-    for (size_t i = 0; i < refs.size(); ++i) {
-        HtSegment seg = base[refs[i].seg];
-        HtPoint a = src[seg.point], b = src[seg.point + 1];
-        if (seg.flags & HT_SEG_FIRST) a.r = -a.r;
-        seg.point = (uint32_t)(2 * i);
-        geo.segments[i] = seg;
-        geo.points[2 * i] = a;
-        geo.points[2 * i + 1] = b;
-    }
+    for (size_t i = 0; i < refs.size(); ++i) geo.segments[i] = base[refs[i].seg];
 
     BvhStats& st = geo.stats;
     st.nodes = geo.nodes.size();
@@ -401,11 +388,10 @@ void build_bvh_from(const std::vector<HtSegment>& base, const std::vector<HtPoin
 SceneGeometry build_geometry(const Strands& strands, const BvhOptions& opt) {
     const auto t0 = std::chrono::steady_clock::now();
     SceneGeometry geo;
-    std::vector<HtPoint> src(strands.points.size());
+    geo.points.resize(strands.points.size());
     for (size_t i = 0; i < strands.points.size(); ++i) {
-        // Radii must be positive (the sign carries HT_SEG_FIRST in the output).
-        const float r = i < strands.radius.size() ? std::fabs(strands.radius[i]) : 0.0f;
-        src[i] = HtPoint{strands.points[i][0], strands.points[i][1], strands.points[i][2], r};
+        const float r = i < strands.radius.size() ? strands.radius[i] : 0.0f;
+        geo.points[i] = HtPoint{strands.points[i][0], strands.points[i][1], strands.points[i][2], r};
     }
     std::vector<HtSegment> base;
     const size_t ns = strands.strand_count();
@@ -421,7 +407,7 @@ SceneGeometry build_geometry(const Strands& strands, const BvhOptions& opt) {
         }
     }
     geo.segment_count = base.size();
-    build_bvh_from(base, src, geo, opt);
+    build_bvh_from(base, geo, opt);
     geo.stats.build_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return geo;
@@ -429,18 +415,9 @@ SceneGeometry build_geometry(const Strands& strands, const BvhOptions& opt) {
 
 void rebuild_bvh(SceneGeometry& geo, const BvhOptions& opt) {
     const auto t0 = std::chrono::steady_clock::now();
-    // Recover the segments in global order with their endpoints as a 2-per-segment source.
     std::vector<HtSegment> base(geo.segment_count);
-    std::vector<HtPoint> src(2 * geo.segment_count);
-    for (const HtSegment& s : geo.segments) {
-        HtSegment b = s;
-        b.point = 2 * s.segment;
-        base[s.segment] = b;
-        src[2 * s.segment] = geo.points[s.point];
-        src[2 * s.segment].r = std::fabs(src[2 * s.segment].r);
-        src[2 * s.segment + 1] = geo.points[s.point + 1];
-    }
-    build_bvh_from(base, src, geo, opt);
+    for (const HtSegment& s : geo.segments) base[s.segment] = s;
+    build_bvh_from(base, geo, opt);
     geo.stats.build_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }

@@ -56,13 +56,7 @@ struct BvhStats {
 };
 
 struct SceneGeometry {
-    // Segment endpoints in leaf order, two per leaf entry: segments[k] uses points[2k] and
-    // points[2k + 1] (= segments[k].point and .point + 1).  Copying the endpoints next to the
-    // leaf order removes the dependent segments[k] load from the traversal's inner loop (the
-    // two cache misses per capsule test were ~3/4 of its time).  The begin point's radius is
-    // stored negated on a strand's first segment (HT_SEG_FIRST, also in segments[k].flags) so
-    // the capsule test needs nothing but the two points; use fabs(r) for the radius.
-    std::vector<HtPoint> points;
+    std::vector<HtPoint> points;      // all strand points, strands back to back
     std::vector<HtSegment> segments;  // leaf order; .segment = global id (Embree primID)
     std::vector<HtBvhNode> nodes;     // node 0 = root; never empty
     BvhStats stats;

@@ -35,24 +35,21 @@ HT_FN real ht_safe_inv(real x) {
     return R(1) / ht_select(fabs(x) < HT_DIR_EPS, ht_select(x < R(0), -HT_DIR_EPS, HT_DIR_EPS), x);
 }
 
-/* Segment radius from its two points; the begin point's r carries HT_SEG_FIRST in its sign. */
-HT_FN real ht_hit_radius(HtPoint a, HtPoint b) { return R(0.5) * (fabs((real)a.r) + fabs((real)b.r)); }
-HT_FN uint ht_point_first(HtPoint a) { return a.r < 0.0f ? 1u : 0u; }
+HT_FN real ht_hit_radius(HtPoint a, HtPoint b) { return R(0.5) * ((real)a.r + (real)b.r); }
 
 /* Intersects the leaf [first, first + count) against the ray; updates *tbest / *best.
- * segs is unused here (kept so every geometry function takes the same three arrays).
  * Returns 1 if something was hit (any-hit callers stop then). */
 HT_FN int ht_intersect_leaf(HT_CONST_GLOBAL HtSegment* segs, HT_CONST_GLOBAL HtPoint* points,
                             uint first, uint count, real3 o, real3 d, real tmin, real* tbest,
                             uint* best) {
     int found = 0;
     for (uint k = first; k < first + count; ++k) {
-        /* Leaf entry k's endpoints are points[2k], points[2k+1] (host/bvh/bvh.h): no load of
-         * segs[k] in the hot loop. */
-        const HtPoint a = points[2u * k];
-        const HtPoint b = points[2u * k + 1u];
+        const HtSegment s = segs[k];
+        const HtPoint a = points[s.point];
+        const HtPoint b = points[s.point + 1];
         const real t = ht_capsule_intersect(o, d, ht_point_pos(a), ht_point_pos(b),
-                                            ht_hit_radius(a, b), ht_point_first(a), tmin, *tbest);
+                                            ht_hit_radius(a, b), s.flags & HT_SEG_FIRST, tmin,
+                                            *tbest);
         if (t < *tbest) {
             *tbest = t;
             *best = k;
