@@ -20,7 +20,8 @@ using SceneSource = std::function<Strands(const std::string&)>;
 //                                     any, <dir>/<stem>.{primary,incoherent,shadow}.rays next
 //                                     to a .hair file are used if present, else rays are
 //                                     generated (camera framing the scene)
-//   [--reps N] (5)  [--json]  [--device N]  [--leaf N] [--bins N] [--cisect X] [--split R]
+//   [--reps N] (5)  [--json]  [--device N]  [--res N] (generated primary rays, 1024)
+//   BVH: [--compact] [--leaf N] [--bins N] [--cisect X] [--split R] [--split-depth N]
 //   [--options "CL build options"]
 // Returns the process exit code (0 ok, 1 bad arguments / mismatch with Embree, 3 device).
 int bench_main(const std::vector<std::string>& args, const SceneSource& source = {});

@@ -52,21 +52,23 @@ HT_FN real ht_capsule_intersect(real3 o, real3 d, real3 p0, real3 p1, real r, ui
                                 real tmin, real tmax) {
     const real3 a = p1 - p0;
     const real L2 = dot(a, a);
+    const real3 m = (p0 + p1) * R(0.5);
+    const real3 oc = o - m;
+    const real dd = dot(d, d);
+    const real t0 = -dot(oc, d) / dd;
+    const real3 q = oc + d * t0; /* ray point closest to the midpoint */
+    const real r2 = r * r;
+
+    /* Bounding sphere of the capsule around m, radius L/2 + r, tested without the square root:
+     * |q|^2 > L^2/4 + r^2 + L r  <=>  e > 0 and e^2 > L^2 r^2.  Most leaf candidates end here. */
+    const real e = dot(q, q) - R(0.25) * L2 - r2;
+    if (e > R(0) && e * e > L2 * r2) return tmax;
+
     const real L = sqrt(L2);
     const real invL = ht_select(L > R(0), R(1) / L, R(0));
     /* Degenerate segment (repeated point): any axis works, the cylinder has zero length. */
     const real3 w = ht_select(L > R(0), a * invL, make_real3(R(1), R(0), R(0)));
     const real hl = R(0.5) * L;
-    const real3 m = (p0 + p1) * R(0.5);
-
-    const real3 oc = o - m;
-    const real dd = dot(d, d);
-    const real t0 = -dot(oc, d) / dd;
-    const real3 q = oc + d * t0; /* ray point closest to the midpoint */
-
-    /* Bounding sphere of the capsule around m: most candidates from a leaf end here. */
-    const real br = hl + r;
-    if (dot(q, q) > br * br) return tmax;
 
     const real dw = dot(d, w);
     const real3 dp = d - w * dw;
@@ -84,7 +86,6 @@ HT_FN real ht_capsule_intersect(real3 o, real3 d, real3 p0, real3 p1, real r, ui
 
     real best = tmax;
     const real qw = dot(q, w);
-    const real r2 = r * r;
 
     /* Cylinder: |q_perp + dt d_perp|^2 = r^2; accept roots whose axial coordinate is inside. */
     const real cw = dot(cross(q, d), w);

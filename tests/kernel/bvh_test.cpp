@@ -452,3 +452,39 @@ TEST(BvhKernel, SpuriousSelfHitRateAnchorScale) { self_hit_rate(1.0, 0.1, 50.0, 
 TEST(BvhKernel, SpuriousSelfHitRateThin) { self_hit_rate(1.0, 1e-5, 1.0, 2e-3); }
 
 }  // namespace
+
+namespace {
+
+TEST(BvhKernel, RaysParallelToASegment) {
+    // A straight 3-segment strand along +x (r = 0.1) and a bent one: rays exactly along the
+    // axis miss the straight strand's segments including their joint spheres (Embree's rule),
+    // on the host and on the device, closest and shadow alike.  A ray parallel to the axis but
+    // offset beyond the radius misses too; one inside the radius hits nothing either (parallel
+    // to the cylinder, and the spheres belong to parallel segments).  A tilted ray hits.
+    Strands s;
+    s.points = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}};
+    s.radius = {0.1f, 0.1f, 0.1f, 0.1f};
+    s.first_point = {0, 4};
+    s.material = {0};
+    const SceneGeometry g = ht::build_geometry(s);
+    const std::vector<HtRay> rays = {
+        {-5, 0, 0, 0, 1, 0, 0, INFINITY},      // along the axis
+        {-5, 0.05f, 0, 0, 1, 0, 0, INFINITY},  // parallel, inside the radius
+        {-5, 0.3f, 0, 0, 1, 0, 0, INFINITY},   // parallel, outside
+        {-5, 0, 0, 0, 1, 0.01f, 0, INFINITY},  // tilted: hits the first segment's begin sphere
+    };
+    Device dev(g);
+    const auto hits = dev.tracer->trace_closest(rays);
+    const auto occ = dev.tracer->trace_shadow(rays);
+    for (size_t i = 0; i < 3; ++i) {
+        EXPECT_EQ(host_closest(g, rays[i]).segment, HT_NO_HIT) << i;
+        EXPECT_EQ(hits[i].segment, HT_NO_HIT) << i;
+        EXPECT_EQ(occ[i], 0u) << i;
+    }
+    EXPECT_NE(hits[3].segment, HT_NO_HIT);
+    EXPECT_EQ(g.segments[hits[3].segment].segment, 0u);
+    EXPECT_NEAR(hits[3].t, 4.9129f, 1e-3f);  // sphere entry at x = -0.087, y = 0.049
+    EXPECT_EQ(occ[3], 1u);
+}
+
+}  // namespace
