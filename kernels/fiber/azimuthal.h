@@ -14,8 +14,7 @@ HT_FN real ht_phi_path(int p, real gamma_i, real gamma_t) {
 
 /* 1/|dPhi/dh| in the cancellation-free forms of MODEL_NOTES §3 (inv_ep = 1/eta').
  * Clamped to 1e4 so that the TRT caustic (where it is infinite) stays finite. */
-HT_FN real ht_inv_dphi_dh(int p, real h, real inv_ep) {
-    real c = ht_safe_sqrt(R(1) - h * h);
+HT_FN real ht_inv_dphi_dh_c(int p, real h, real c, real inv_ep) {
     real ep2 = R(1) / ht_max(inv_ep * inv_ep, R(1e-30));
     real q = ht_safe_sqrt(ep2 - h * h);
     real r;
@@ -28,6 +27,10 @@ HT_FN real ht_inv_dphi_dh(int p, real h, real inv_ep) {
         r = c * q * (R(2) * c + q) / (R(2) * ht_max(fabs(R(4) - ep2 - R(3) * h * h), R(1e-12)));
     }
     return ht_min(r, R(1e4));
+}
+/* c = sqrt(1 - h^2) = cos gamma; pass it when known from gamma (no cancellation as |h| -> 1). */
+HT_FN real ht_inv_dphi_dh(int p, real h, real inv_ep) {
+    return ht_inv_dphi_dh_c(p, h, ht_safe_sqrt(R(1) - h * h), inv_ep);
 }
 
 /* ---------------------------------------------------------------- logistic (Chiang 2016) */
@@ -113,9 +116,10 @@ HT_FN real ht_phi_root(int p, real target, real inv_ep, real a, real b) {
     return x;
 }
 
-/* Up to 3 roots h of Phi(p, h) = phi (mod 2 pi); returns the count.  Monotone pieces:
+/* Up to 3 roots h of Phi(p, h) = phi (mod 2 pi), with cs = cos(gamma) = sqrt(1 - h^2) computed from the
+ * root angle (accurate where |h| -> 1); returns the count.  Monotone pieces:
  * R and TT: one piece [-pi/2, pi/2]; TRT with eta' < 2: split at the caustics +-gamma_c. */
-HT_FN int ht_phi_roots(int p, real phi, real inv_ep, real* hs) {
+HT_FN int ht_phi_roots(int p, real phi, real inv_ep, real* hs, real* cs) {
     real ga[3], gb[3];
     int pieces = 1;
     ga[0] = -HT_HALF_PI; gb[0] = HT_HALF_PI;
@@ -141,6 +145,7 @@ HT_FN int ht_phi_roots(int p, real phi, real inv_ep, real* hs) {
         real g = ht_phi_root(p, t, inv_ep, ga[i], gb[i]);
         real sg, cg;
         ht_sincos(g, &sg, &cg);
+        cs[n] = fabs(cg);
         hs[n++] = ht_clamp(sg, R(-1), R(1));
     }
     return n;

@@ -35,15 +35,18 @@ HT_FN void ht_marschner_angles(real3 wo, real3 wi, HtMarschnerAngles* a) {
     a->phi = ht_relative_phi(wo, wi);
 }
 
-/* A_p(h) at theta_d for index eta (p = 0, 1, 2). */
-HT_FN real3 ht_marschner_ap(const HtMaterial* m, int p, real h, real eta, real sin_d, real cos_d) {
-    real f = ht_fresnel_dielectric(cos_d * ht_safe_sqrt(R(1) - h * h), eta);
+/* A_p(h) at theta_d for index eta (p = 0, 1, 2), c = sqrt(1 - h^2). */
+HT_FN real3 ht_marschner_ap_c(const HtMaterial* m, int p, real h, real c, real eta, real sin_d, real cos_d) {
+    real f = ht_fresnel_dielectric(cos_d * c, eta);
     if (p == 0) return ht_splat(f);
     real ht_ = h * ht_inv_eta_prime(eta, sin_d, cos_d);
     real cgt = ht_safe_sqrt(R(1) - ht_ * ht_);
     real3 T = ht_chord_transmittance(ht_load3(m->sigma_a), cgt, ht_cos_theta_t(eta, sin_d));
     real3 a = T * ((R(1) - f) * (R(1) - f));
     return p == 1 ? a : a * T * f;
+}
+HT_FN real3 ht_marschner_ap(const HtMaterial* m, int p, real h, real eta, real sin_d, real cos_d) {
+    return ht_marschner_ap_c(m, p, h, ht_safe_sqrt(R(1) - h * h), eta, sin_d, cos_d);
 }
 
 /* Caustic parameters of TRT at 1/eta' = inv_ep: centre phi_c, glint interval dh, fade t, h_c. */
@@ -72,13 +75,13 @@ HT_FN void ht_marschner_caustic(const HtMaterial* m, real inv_ep, real* phi_c, r
 HT_FN void ht_marschner_np_raw(const HtMaterial* m, int p, real phi, real eta, real sin_d, real cos_d,
                                real3* np, real* density) {
     real inv_ep = ht_inv_eta_prime(eta, sin_d, cos_d);
-    real hs[3];
-    int n = ht_phi_roots(p, phi, inv_ep, hs);
+    real hs[3], cs[3];
+    int n = ht_phi_roots(p, phi, inv_ep, hs, cs);
     real3 acc = ht_splat(R(0));
     real dens = R(0);
     for (int k = 0; k < n; ++k) {
-        real s = R(0.5) * ht_inv_dphi_dh(p, hs[k], inv_ep);
-        acc += ht_marschner_ap(m, p, hs[k], eta, sin_d, cos_d) * s;
+        real s = R(0.5) * ht_inv_dphi_dh_c(p, hs[k], cs[k], inv_ep);
+        acc += ht_marschner_ap_c(m, p, hs[k], cs[k], eta, sin_d, cos_d) * s;
         dens += s;
     }
     *np = acc;

@@ -13,7 +13,8 @@ TEST(FiberMarschner, RootsSolvePhiExactly) {
         for (int p = 0; p < 3; ++p)
             for (double phi = -3.1; phi < 3.15; phi += 0.05) {
                 double hs[3];
-                int n = ht_phi_roots(p, phi, inv_ep, hs);
+                double cs[3];
+                int n = ht_phi_roots(p, phi, inv_ep, hs, cs);
                 for (int k = 0; k < n; ++k) {
                     double g = std::asin(hs[k]);
                     double d = ht_wrap_pi(ht_phi_gamma(p, g, inv_ep) - phi);
@@ -24,8 +25,9 @@ TEST(FiberMarschner, RootsSolvePhiExactly) {
                 }
             }
     double hs[3];
-    EXPECT_EQ(ht_phi_roots(2, 0.2, 1 / 1.55, hs), 3);
-    EXPECT_EQ(ht_phi_roots(2, 0.5, 1 / 1.55, hs), 0);  // beyond the caustic phi_c = 0.3249 and 4c - pi
+    double cs[3];
+    EXPECT_EQ(ht_phi_roots(2, 0.2, 1 / 1.55, hs, cs), 3);
+    EXPECT_EQ(ht_phi_roots(2, 0.5, 1 / 1.55, hs, cs), 0);  // beyond the caustic phi_c = 0.3249 and 4c - pi
 }
 
 TEST(FiberMarschner, CausticConstantsMatchNotes) {
