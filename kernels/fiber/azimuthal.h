@@ -94,6 +94,13 @@ HT_FN real ht_dphi_dgamma(int p, real gamma, real inv_ep) {
     return R(2) * (real)p * cg * inv_ep / d - R(2);
 }
 
+/* Newton step size at which the root is accepted: ~4 ulp of the working precision. */
+#ifdef HT_HOST
+#define HT_ROOT_TOL R(1e-14)
+#else
+#define HT_ROOT_TOL R(5e-7)
+#endif
+
 /* Root of Phi(p, gamma) = target on the monotone bracket [a, b] (Phi(a) - target and Phi(b) - target
  * of opposite sign or zero), by Newton steps safeguarded with bisection; returns gamma.
  * 40 iterations: bisection alone reaches pi/2^40 ~ 1.4e-12; Newton converges in < 8 in practice. */
@@ -110,7 +117,7 @@ HT_FN real ht_phi_root(int p, real target, real inv_ep, real a, real b) {
         real d = ht_dphi_dgamma(p, x, inv_ep);
         real xn = fabs(d) > R(1e-12) ? x - fx / d : R(0.5) * (a + b);
         if (!(xn > a && xn < b)) xn = R(0.5) * (a + b);
-        if (fabs(xn - x) < R(1e-13) * (R(1) + fabs(x))) { x = xn; break; }
+        if (fabs(xn - x) < HT_ROOT_TOL * (R(1) + fabs(x))) { x = xn; break; }
         x = xn;
     }
     return x;
