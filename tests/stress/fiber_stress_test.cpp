@@ -154,6 +154,27 @@ TEST(FiberStress, EdgeCasesHostDouble) {
                             }
                         }
                 }
+    // garbage inputs: NaN / Inf / zero / non-unit directions and h
+    const double nan = std::nan(""), inf = HUGE_VAL;
+    real3 junk[] = {make_real3(nan, 0, 1), make_real3(0, inf, 0), make_real3(0, 0, 0), make_real3(3, 4, 0),
+                    make_real3(-inf, nan, inf)};
+    for (int model = 0; model < 4; ++model) {
+        HairMaterialDesc d;
+        d.model = kModels[model];
+        HtMaterial m = make_kernel_material(d);
+        for (const real3& a : junk)
+            for (const real3& b : junk)
+                for (double h : {nan, inf, -inf, 5.0, 0.3}) {
+                    real3 v, w, wi;
+                    real pdf;
+                    ht_bcsdf_eval(&m, a, b, h, &v, &pdf);
+                    ++count;
+                    if (!finite_nonneg(v) || !std::isfinite(pdf) || pdf < 0) ++bad;
+                    ht_bcsdf_sample(&m, a, h, 0.3, nan, 0.5, inf, &wi, &w, &pdf);
+                    ++count;
+                    if (!finite_nonneg(w) || !std::isfinite(pdf) || pdf < 0 || !std::isfinite(length(wi))) ++bad;
+                }
+    }
     std::printf("host double edge cases: %ld queries, %ld bad\n", count, bad);
     EXPECT_EQ(bad, 0);
 }
@@ -181,7 +202,11 @@ TEST(FiberStress, RandomAndEdgeQueriesOpenClFloat) {
         q.wi[0] = (float)wi.x; q.wi[1] = (float)wi.y; q.wi[2] = (float)wi.z;
         double hv[] = {-1.0, 1.0, 0.0, 2 * rnd(s) - 1};
         q.h = (float)(edge ? hv[i % 4] : 2 * rnd(s) - 1);
-        q.u0 = (float)rnd(s); q.u1 = (float)(edge ? 0.0 : rnd(s)); q.u2 = (float)rnd(s); q.u3 = (float)(edge ? 0.99999994 : rnd(s));
+        if (i % 101 == 100) { q.wo[1] = NAN; q.h = NAN; }       // garbage inputs
+        if (i % 103 == 102) { q.wi[0] = INFINITY; q.u2 = NAN; }
+        if (i % 107 == 106) { q.wo[0] = q.wo[1] = q.wo[2] = 0.0f; }
+        q.u0 = (float)rnd(s); q.u1 = (float)(edge ? 0.0 : rnd(s)); q.u3 = (float)(edge ? 0.99999994 : rnd(s));
+        if (!(i % 103 == 102)) q.u2 = (float)rnd(s);
         mats.push_back(m);
         qs.push_back(q);
     }
