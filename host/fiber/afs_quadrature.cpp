@@ -141,7 +141,7 @@ void write_afs_png(const std::string& path, const std::vector<AfsRow>& rows, dou
     for (size_t i = 1; i < rows.size(); ++i) {
         const AfsValues &a = rows[i - 1].v, &b = rows[i].v;
         double va[5] = {a.R, a.TT, a.TRT, a.TRT_glint, a.density}, vb[5] = {b.R, b.TT, b.TRT, b.TRT_glint, b.density};
-        for (int k = 0; k < 5; ++k)
+        for (int k : {3, 0, 1, 2, 4})  // TRT over TRT+glint where they coincide
             cv.line(X(rows[i - 1].theta_deg), Y(va[k]), X(rows[i].theta_deg), Y(vb[k]), cols[k], 3);
     }
     auto out = OIIO::ImageOutput::create(path);

@@ -16,7 +16,8 @@ constexpr double kDeg = kPi / 180.0;
     throw SceneError("material '" + d.name + "': " + what);
 }
 void check(const HairMaterialDesc& d, const char* param, double x, double lo, double hi) {
-    if (!(x >= lo && x <= hi)) {
+    // Desc fields are float: compare against the float-rounded bounds so that e.g. 0.01f passes [0.01, 1].
+    if (!(x >= (double)(float)lo && x <= (double)(float)hi)) {
         std::ostringstream s;
         s << param << " = " << x << " is outside the allowed range [" << lo << ", " << hi << "]";
         fail(d, s.str());

@@ -14,8 +14,7 @@ HT_FN real ht_phi_path(int p, real gamma_i, real gamma_t) {
 
 /* 1/|dPhi/dh| in the cancellation-free forms of MODEL_NOTES §3 (inv_ep = 1/eta').
  * Clamped to 1e4 so that the TRT caustic (where it is infinite) stays finite. */
-HT_FN real ht_inv_dphi_dh(int p, real h, real inv_ep) {
-    real c = ht_safe_sqrt(R(1) - h * h);
+HT_FN real ht_inv_dphi_dh_c(int p, real h, real c, real inv_ep) {
     real ep2 = R(1) / ht_max(inv_ep * inv_ep, R(1e-30));
     real q = ht_safe_sqrt(ep2 - h * h);
     real r;
@@ -28,6 +27,10 @@ HT_FN real ht_inv_dphi_dh(int p, real h, real inv_ep) {
         r = c * q * (R(2) * c + q) / (R(2) * ht_max(fabs(R(4) - ep2 - R(3) * h * h), R(1e-12)));
     }
     return ht_min(r, R(1e4));
+}
+/* c = sqrt(1 - h^2) = cos gamma; pass it when known from gamma (no cancellation as |h| -> 1). */
+HT_FN real ht_inv_dphi_dh(int p, real h, real inv_ep) {
+    return ht_inv_dphi_dh_c(p, h, ht_safe_sqrt(R(1) - h * h), inv_ep);
 }
 
 /* ---------------------------------------------------------------- logistic (Chiang 2016) */
@@ -91,15 +94,63 @@ HT_FN real ht_dphi_dgamma(int p, real gamma, real inv_ep) {
     return R(2) * (real)p * cg * inv_ep / d - R(2);
 }
 
+/* Newton step size at which the root is accepted: ~4 ulp of the working precision. */
+#ifdef HT_HOST
+#define HT_ROOT_TOL R(1e-14)
+#else
+#define HT_ROOT_TOL R(5e-7)
+#endif
+
+/* Real roots of Marschner's cubic approximation (MODEL_NOTES §3)
+ *   Phi^(p, gamma) = (6 p c/pi - 2) gamma - (8 p c/pi^3) gamma^3 + p pi = target,  c = asin(1/eta'),
+ * written as gamma^3 + P gamma + Q = 0 (trigonometric form for three roots, Cardano for one).
+ * Returns the count (0..3).  Used only as Newton starting points. */
+HT_FN int ht_phi_cubic_roots(int p, real target, real inv_ep, real* g) {
+    if (p == 0) { g[0] = -R(0.5) * target; return 1; }
+    real c = ht_asin(inv_ep);
+    real A = -R(8) * (real)p * c / (HT_PI * HT_PI * HT_PI);
+    real B = R(6) * (real)p * c / HT_PI - R(2);
+    real D = (real)p * HT_PI - target;
+    real P = B / A, Q = D / A;
+    real disc = Q * Q * R(0.25) + P * P * P / R(27);
+    if (disc < R(0) && P < R(0)) {
+        real r = sqrt(-P / R(3));
+        real x = ht_clamp(-Q * R(0.5) / (r * r * r), R(-1), R(1)); /* cos(3 phi) */
+        real th = ht_atan2(ht_safe_sqrt(R(1) - x * x), x) / R(3);
+        for (int k = 0; k < 3; ++k) {
+            real s, co;
+            ht_sincos(th - HT_TWO_PI * (real)k / R(3), &s, &co);
+            g[k] = R(2) * r * co;
+        }
+        return 3;
+    }
+    real sq = sqrt(ht_max(disc, R(0)));
+    real a = -Q * R(0.5) + sq, b = -Q * R(0.5) - sq;
+    real ca = a >= R(0) ? ht_pow(a, R(1) / R(3)) : -ht_pow(-a, R(1) / R(3));
+    real cb = b >= R(0) ? ht_pow(b, R(1) / R(3)) : -ht_pow(-b, R(1) / R(3));
+    g[0] = ca + cb;
+    return 1;
+}
+
 /* Root of Phi(p, gamma) = target on the monotone bracket [a, b] (Phi(a) - target and Phi(b) - target
- * of opposite sign or zero), by Newton steps safeguarded with bisection; returns gamma.
- * 40 iterations: bisection alone reaches pi/2^40 ~ 1.4e-12; Newton converges in < 8 in practice. */
+ * of opposite sign or zero): starts at a root of Marschner's cubic approximation that lies inside the
+ * bracket (else the secant of the bracket ends), then Newton steps safeguarded with bisection on the
+ * exact Phi.  Bisection alone would reach pi/2^40 ~ 1.4e-12 within the 40-iteration cap; Newton
+ * converges in 2-5 steps in practice. */
 HT_FN real ht_phi_root(int p, real target, real inv_ep, real a, real b) {
     real fa = ht_phi_gamma(p, a, inv_ep) - target;
-    real x = R(0.5) * (a + b);
-    /* secant start from the bracket ends */
     real fb = ht_phi_gamma(p, b, inv_ep) - target;
+    real x = R(0.5) * (a + b);
     if (fabs(fb - fa) > R(1e-30)) x = ht_clamp(a - fa * (b - a) / (fb - fa), a, b);
+    real gc[3];
+    int nc = ht_phi_cubic_roots(p, target, inv_ep, gc);
+    real best = HT_REAL_MAX;
+    for (int k = 0; k < nc; ++k) {
+        if (gc[k] >= a && gc[k] <= b) {
+            real d = fabs(ht_phi_gamma(p, gc[k], inv_ep) - target);
+            if (d < best) { best = d; x = gc[k]; }
+        }
+    }
     for (int it = 0; it < 40; ++it) {
         real fx = ht_phi_gamma(p, x, inv_ep) - target;
         if (fx == R(0)) break;
@@ -107,15 +158,16 @@ HT_FN real ht_phi_root(int p, real target, real inv_ep, real a, real b) {
         real d = ht_dphi_dgamma(p, x, inv_ep);
         real xn = fabs(d) > R(1e-12) ? x - fx / d : R(0.5) * (a + b);
         if (!(xn > a && xn < b)) xn = R(0.5) * (a + b);
-        if (fabs(xn - x) < R(1e-13) * (R(1) + fabs(x))) { x = xn; break; }
+        if (fabs(xn - x) < HT_ROOT_TOL * (R(1) + fabs(x))) { x = xn; break; }
         x = xn;
     }
     return x;
 }
 
-/* Up to 3 roots h of Phi(p, h) = phi (mod 2 pi); returns the count.  Monotone pieces:
+/* Up to 3 roots h of Phi(p, h) = phi (mod 2 pi), with cs = cos(gamma) = sqrt(1 - h^2) computed from the
+ * root angle (accurate where |h| -> 1); returns the count.  Monotone pieces:
  * R and TT: one piece [-pi/2, pi/2]; TRT with eta' < 2: split at the caustics +-gamma_c. */
-HT_FN int ht_phi_roots(int p, real phi, real inv_ep, real* hs) {
+HT_FN int ht_phi_roots(int p, real phi, real inv_ep, real* hs, real* cs) {
     real ga[3], gb[3];
     int pieces = 1;
     ga[0] = -HT_HALF_PI; gb[0] = HT_HALF_PI;
@@ -141,6 +193,7 @@ HT_FN int ht_phi_roots(int p, real phi, real inv_ep, real* hs) {
         real g = ht_phi_root(p, t, inv_ep, ga[i], gb[i]);
         real sg, cg;
         ht_sincos(g, &sg, &cg);
+        cs[n] = fabs(cg);
         hs[n++] = ht_clamp(sg, R(-1), R(1));
     }
     return n;

@@ -22,13 +22,26 @@
 #include "marschner.h"
 #include "zinke.h"
 
+/* Finite, non-zero direction (x - x == 0 exactly for finite x; NaN otherwise). */
+HT_FN int ht_valid_dir(real3 w) {
+    real s = w.x * w.x + w.y * w.y + w.z * w.z;
+    return (s - s == R(0)) && s > R(1e-30) && (w.x - w.x == R(0)) && (w.y - w.y == R(0)) && (w.z - w.z == R(0));
+}
+HT_FN real ht_sanitize_u(real u) { return (u == u) ? ht_clamp(u, R(0), R(0.99999994)) : R(0); }
+
 /* Whether the model returns a delta/near-delta that next-event estimation cannot hit. */
 HT_FN int ht_bcsdf_is_delta(const HtMaterial* m) { return 0; }
 
 HT_FN void ht_bcsdf_eval_lobes(const HtMaterial* m, real3 wo, real3 wi, real h, real3* lobes, real3* value,
                                real* pdf) {
-    h = ht_clamp(h, R(-1), R(1)); /* also maps NaN h to ... see below */
-    if (!(h == h)) h = R(0);
+    if (!(h == h)) h = R(0); /* NaN */
+    h = ht_clamp(h, R(-1), R(1));
+    if (!ht_valid_dir(wo) || !ht_valid_dir(wi)) {
+        for (int p = 0; p < 4; ++p) lobes[p] = ht_splat(R(0));
+        *value = ht_splat(R(0));
+        *pdf = R(0);
+        return;
+    }
     switch (m->model) {
     case HT_MODEL_KAJIYA: ht_kajiya_eval(m, wo, wi, h, lobes, value, pdf); break;
     case HT_MODEL_MARSCHNER: ht_marschner_eval(m, wo, wi, h, lobes, value, pdf); break;
@@ -52,18 +65,19 @@ HT_FN int ht_bcsdf_sample(const HtMaterial* m, real3 wo, real h, real u0, real u
                           real3* weight, real* pdf) {
     if (!(h == h)) h = R(0);
     h = ht_clamp(h, R(-1), R(1));
-    u0 = ht_clamp(u0, R(0), R(0.99999994));
-    u1 = ht_clamp(u1, R(0), R(0.99999994));
-    u2 = ht_clamp(u2, R(0), R(0.99999994));
-    u3 = ht_clamp(u3, R(0), R(0.99999994));
+    u0 = ht_sanitize_u(u0);
+    u1 = ht_sanitize_u(u1);
+    u2 = ht_sanitize_u(u2);
+    u3 = ht_sanitize_u(u3);
     int ok = 0;
-    switch (m->model) {
+    if (ht_valid_dir(wo)) switch (m->model) {
     case HT_MODEL_KAJIYA: ok = ht_kajiya_sample(m, wo, h, u0, u1, u2, u3, wi, weight, pdf); break;
     case HT_MODEL_MARSCHNER: ok = ht_marschner_sample(m, wo, h, u0, u1, u2, u3, wi, weight, pdf); break;
     case HT_MODEL_ZINKE: ok = ht_zinke_sample(m, wo, h, u0, u1, u2, u3, wi, weight, pdf); break;
     case HT_MODEL_CHIANG: ok = ht_chiang_sample(m, wo, h, u0, u1, u2, u3, wi, weight, pdf); break;
     default: break;
     }
+    if (ok && !ht_valid_dir(*wi)) ok = 0;
     if (!ok) {
         *wi = make_real3(R(1), R(0), R(0));
         *weight = ht_splat(R(0));

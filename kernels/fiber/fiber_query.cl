@@ -19,7 +19,7 @@ __kernel void fiber_eval(__global const HtMaterial* mats, __global const HtFiber
     for (int p = 0; p < 4; ++p) {
         r.lobes[p][0] = lobes[p].x; r.lobes[p][1] = lobes[p].y; r.lobes[p][2] = lobes[p].z; r.lobes[p][3] = 0.0f;
     }
-    r.wi[0] = q.wi[0]; r.wi[1] = q.wi[1]; r.wi[2] = q.wi[2]; r.wi[3] = 0.0f;
+    r.wi[0] = 0.0f; r.wi[1] = 0.0f; r.wi[2] = 0.0f; r.wi[3] = 0.0f; /* eval: unused */
     r.pdf = pdf; r.ok = 1.0f; r.pad0 = 0.0f; r.pad1 = 0.0f;
     out[i] = r;
 }

@@ -68,10 +68,12 @@ HT_FN real ht_mp(real cos_i, real sin_i, real cos_o, real sin_o, real v) {
 
 /* d'Eon 2013 sampling of theta_i around the (tilted) cone of theta_o' in the stable form:
  * cos(vartheta) = 1 + v ln(u1 + (1 - u1) e^{-2/v}),  sin theta_i = -cos(vt) sin theta_o' + sin(vt) cos(2 pi u2) cos theta_o'.
- * Exactly distributed as M_p(., theta_o'; v) cos theta_i (u1 clamped to >= 1e-5 as pbrt does). */
+ * Exactly distributed as M_p(., theta_o'; v) cos theta_i.  u1 = 0 is fine unless e^{-2/v} underflows
+ * (v < 0.0027 double, 0.023 float): u1 is floored at 1e-30 (pbrt floors at 1e-5, which biases the
+ * lowest 1e-5 of the cone-angle distribution). */
 HT_FN void ht_mp_sample(real u1, real u2, real sin_o, real cos_o, real v, real* sin_i, real* cos_i) {
     v = ht_max(v, R(1e-7));
-    u1 = ht_max(u1, R(1e-5));
+    u1 = ht_max(u1, R(1e-30));
     real cvt = R(1) + v * ht_log(u1 + (R(1) - u1) * exp(-R(2) / v));
     cvt = ht_clamp(cvt, R(-1), R(1));
     real svt = ht_safe_sqrt(R(1) - cvt * cvt);

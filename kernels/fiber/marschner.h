@@ -35,15 +35,18 @@ HT_FN void ht_marschner_angles(real3 wo, real3 wi, HtMarschnerAngles* a) {
     a->phi = ht_relative_phi(wo, wi);
 }
 
-/* A_p(h) at theta_d for index eta (p = 0, 1, 2). */
-HT_FN real3 ht_marschner_ap(const HtMaterial* m, int p, real h, real eta, real sin_d, real cos_d) {
-    real f = ht_fresnel_dielectric(cos_d * ht_safe_sqrt(R(1) - h * h), eta);
+/* A_p(h) at theta_d for index eta (p = 0, 1, 2), c = sqrt(1 - h^2). */
+HT_FN real3 ht_marschner_ap_c(const HtMaterial* m, int p, real h, real c, real eta, real sin_d, real cos_d) {
+    real f = ht_fresnel_dielectric(cos_d * c, eta);
     if (p == 0) return ht_splat(f);
     real ht_ = h * ht_inv_eta_prime(eta, sin_d, cos_d);
     real cgt = ht_safe_sqrt(R(1) - ht_ * ht_);
     real3 T = ht_chord_transmittance(ht_load3(m->sigma_a), cgt, ht_cos_theta_t(eta, sin_d));
     real3 a = T * ((R(1) - f) * (R(1) - f));
     return p == 1 ? a : a * T * f;
+}
+HT_FN real3 ht_marschner_ap(const HtMaterial* m, int p, real h, real eta, real sin_d, real cos_d) {
+    return ht_marschner_ap_c(m, p, h, ht_safe_sqrt(R(1) - h * h), eta, sin_d, cos_d);
 }
 
 /* Caustic parameters of TRT at 1/eta' = inv_ep: centre phi_c, glint interval dh, fade t, h_c. */
@@ -72,13 +75,13 @@ HT_FN void ht_marschner_caustic(const HtMaterial* m, real inv_ep, real* phi_c, r
 HT_FN void ht_marschner_np_raw(const HtMaterial* m, int p, real phi, real eta, real sin_d, real cos_d,
                                real3* np, real* density) {
     real inv_ep = ht_inv_eta_prime(eta, sin_d, cos_d);
-    real hs[3];
-    int n = ht_phi_roots(p, phi, inv_ep, hs);
+    real hs[3], cs[3];
+    int n = ht_phi_roots(p, phi, inv_ep, hs, cs);
     real3 acc = ht_splat(R(0));
     real dens = R(0);
     for (int k = 0; k < n; ++k) {
-        real s = R(0.5) * ht_inv_dphi_dh(p, hs[k], inv_ep);
-        acc += ht_marschner_ap(m, p, hs[k], eta, sin_d, cos_d) * s;
+        real s = R(0.5) * ht_inv_dphi_dh_c(p, hs[k], cs[k], inv_ep);
+        acc += ht_marschner_ap_c(m, p, hs[k], cs[k], eta, sin_d, cos_d) * s;
         dens += s;
     }
     *np = acc;
@@ -94,11 +97,12 @@ HT_FN real ht_marschner_eta_star(const HtMaterial* m, real cos2h) {
     return ht_max(R(0.5) * ((e1 + e2) + cos2h * (e1 - e2)), R(1.0001));
 }
 
-/* N'_TRT with caustic removal and glints. */
-HT_FN real3 ht_marschner_ntrt(const HtMaterial* m, real phi, real eta, real sin_d, real cos_d) {
+/* N'_TRT with caustic removal and glints; *dens_out = h-uniform density of the raw roots. */
+HT_FN real3 ht_marschner_ntrt(const HtMaterial* m, real phi, real eta, real sin_d, real cos_d, real* dens_out) {
     real3 n;
     real dens;
     ht_marschner_np_raw(m, 2, phi, eta, sin_d, cos_d, &n, &dens);
+    *dens_out = dens;
     real inv_ep = ht_inv_eta_prime(eta, sin_d, cos_d);
     real phi_c, dh, t, hc;
     ht_marschner_caustic(m, inv_ep, &phi_c, &dh, &t, &hc);
@@ -126,8 +130,9 @@ HT_FN void ht_marschner_probs(const HtMaterial* m, real sin_o, real cos_o, real*
 #define HT_MARSCHNER_TRT_UNIFORM R(0.10)
 #define HT_MARSCHNER_TRT_GLINT R(0.15)
 
-/* Solid-angle pdf of ht_marschner_sample. */
-HT_FN real ht_marschner_pdf(const HtMaterial* m, const HtMarschnerAngles* a) {
+/* Solid-angle pdf of ht_marschner_sample.  dens[p] >= 0: the h-uniform density of lobe p at a->phi
+ * (index eta) already known to the caller; < 0: computed here. */
+HT_FN real ht_marschner_pdf(const HtMaterial* m, const HtMarschnerAngles* a, const real* dens_in) {
     real pr[3];
     ht_marschner_probs(m, a->sin_o, a->cos_o, pr);
     real ab[3] = {m->alpha_r, m->alpha_tt, m->alpha_trt};
@@ -135,9 +140,11 @@ HT_FN real ht_marschner_pdf(const HtMaterial* m, const HtMarschnerAngles* a) {
     real pd = R(0);
     for (int p = 0; p < 3; ++p) {
         real pth = R(0.5) * ht_gaussian(a->theta_h - ab[p], bb[p]); /* density of theta_i */
-        real3 np;
-        real dens;
-        ht_marschner_np_raw(m, p, a->phi, m->eta, a->sin_d, a->cos_d, &np, &dens);
+        real dens = dens_in[p];
+        if (dens < R(0)) {
+            real3 np;
+            ht_marschner_np_raw(m, p, a->phi, m->eta, a->sin_d, a->cos_d, &np, &dens);
+        }
         real pphi = dens;
         if (p == 2) {
             real inv_ep = ht_inv_eta_prime(m->eta, a->sin_d, a->cos_d);
@@ -157,10 +164,10 @@ HT_FN void ht_marschner_eval(const HtMaterial* m, real3 wo, real3 wi, real h, re
     HtMarschnerAngles a;
     ht_marschner_angles(wo, wi, &a);
     real geo = R(0.5) * a.cos_i / ht_max(a.cos_d * a.cos_d, R(1e-6));
-    real dens;
+    real dens[3];
     real3 n0, n1;
-    ht_marschner_np_raw(m, 0, a.phi, m->eta, a.sin_d, a.cos_d, &n0, &dens);
-    ht_marschner_np_raw(m, 1, a.phi, m->eta, a.sin_d, a.cos_d, &n1, &dens);
+    ht_marschner_np_raw(m, 0, a.phi, m->eta, a.sin_d, a.cos_d, &n0, &dens[0]);
+    ht_marschner_np_raw(m, 1, a.phi, m->eta, a.sin_d, a.cos_d, &n1, &dens[1]);
     real eta_trt = m->eta;
     if (m->eccentricity < R(1)) {
         /* cos(2 phi_h) = cos(2 phi_o + phi), phi_h = (phi_i + phi_o)/2 */
@@ -170,14 +177,15 @@ HT_FN void ht_marschner_eval(const HtMaterial* m, real3 wo, real3 wi, real h, re
         ht_sincos(a.phi, &sp, &cp);
         eta_trt = ht_marschner_eta_star(m, c2o * cp - s2o * sp);
     }
-    real3 n2 = ht_marschner_ntrt(m, a.phi, eta_trt, a.sin_d, a.cos_d);
+    real3 n2 = ht_marschner_ntrt(m, a.phi, eta_trt, a.sin_d, a.cos_d, &dens[2]);
+    if (eta_trt != m->eta) dens[2] = R(-1); /* the sampling proxy uses eta, not eta* */
     lobes[0] = n0 * (geo * ht_gaussian(a.theta_h - m->alpha_r, m->beta_r));
     lobes[1] = n1 * (geo * ht_gaussian(a.theta_h - m->alpha_tt, m->beta_tt));
     lobes[2] = n2 * (geo * ht_gaussian(a.theta_h - m->alpha_trt, m->beta_trt));
     lobes[3] = ht_splat(R(0));
     for (int p = 0; p < 3; ++p) lobes[p] = ht_sanitize3(lobes[p]);
     *value = lobes[0] + lobes[1] + lobes[2];
-    *pdf = ht_sanitize(ht_marschner_pdf(m, &a));
+    *pdf = ht_sanitize(ht_marschner_pdf(m, &a, dens));
 }
 
 HT_FN int ht_marschner_sample(const HtMaterial* m, real3 wo, real h, real u0, real u1, real u2, real u3,

@@ -19,12 +19,12 @@ TEST(FiberChiang, RoughnessMappingsMatchPbrt) {
 TEST(FiberChiang, WhiteFurnaceIsOneOverBetaGrid) {
     // sigma_a = 0, alpha = 0: integral value dwi averaged over h must be 1 (pbrt: exact energy
     // conservation).  Tolerance 1e-3 as the brief; the quadrature (fibertest::albedo) error is < 1e-4.
-    for (double bm : {0.1, 0.3, 0.6, 1.0})
-        for (double bn : {0.1, 0.3, 0.6, 1.0}) {
+    for (double bm : {0.1, 0.4, 1.0})
+        for (double bn : {0.1, 0.4, 1.0}) {
             HairMaterialDesc d = fibertest::white("chiang", bm, bn);
             HtMaterial m = make_kernel_material(d);
-            for (double th : {-80.0, -30.0, 0.0, 45.0, 85.0}) {
-                double a = fibertest::albedo(m, th, 5);
+            for (double th : {-80.0, 0.0, 45.0, 85.0}) {
+                double a = fibertest::albedo(m, th, 3);
                 EXPECT_GE(a, 0.999) << "beta_m " << bm << " beta_n " << bn << " theta " << th;
                 EXPECT_LE(a, 1.001) << "beta_m " << bm << " beta_n " << bn << " theta " << th;
             }

@@ -13,7 +13,8 @@ TEST(FiberMarschner, RootsSolvePhiExactly) {
         for (int p = 0; p < 3; ++p)
             for (double phi = -3.1; phi < 3.15; phi += 0.05) {
                 double hs[3];
-                int n = ht_phi_roots(p, phi, inv_ep, hs);
+                double cs[3];
+                int n = ht_phi_roots(p, phi, inv_ep, hs, cs);
                 for (int k = 0; k < n; ++k) {
                     double g = std::asin(hs[k]);
                     double d = ht_wrap_pi(ht_phi_gamma(p, g, inv_ep) - phi);
@@ -24,8 +25,9 @@ TEST(FiberMarschner, RootsSolvePhiExactly) {
                 }
             }
     double hs[3];
-    EXPECT_EQ(ht_phi_roots(2, 0.2, 1 / 1.55, hs), 3);
-    EXPECT_EQ(ht_phi_roots(2, 0.5, 1 / 1.55, hs), 0);  // beyond the caustic phi_c = 0.3249 and 4c - pi
+    double cs[3];
+    EXPECT_EQ(ht_phi_roots(2, 0.2, 1 / 1.55, hs, cs), 3);
+    EXPECT_EQ(ht_phi_roots(2, 0.5, 1 / 1.55, hs, cs), 0);  // beyond the caustic phi_c = 0.3249 and 4c - pi
 }
 
 TEST(FiberMarschner, CausticConstantsMatchNotes) {
@@ -122,4 +124,25 @@ TEST(FiberZinke, HAverageOfAlbedoIsAfsSum) {
     double a = fibertest::albedo(m, 0.0, 24);
     AfsValues v = afs_reference(1.55, 0.1, 0.0);
     EXPECT_NEAR(a, v.R + v.TT + v.TRT_glint, 0.02 * a);
+}
+
+TEST(FiberMarschner, CubicApproximationIsOnlyAStart) {
+    // MODEL_NOTES §3: the cubic's TRT stationary point sits at h = 0.7108, phi = 20.49 deg versus the exact
+    // 0.7297 / 18.62 deg (eta' = 1.55): its roots are close to, not equal to, the exact ones (TT within
+    // 0.05 rad here), and ht_phi_roots polishes them to 1e-10 (RootsSolvePhiExactly).
+    const double inv_ep = 1 / 1.55;
+    for (double phi = 2.0; phi < 4.2; phi += 0.1) {
+        double g[3];
+        ASSERT_EQ(ht_phi_cubic_roots(1, phi, inv_ep, g), 1);
+        double hs[3], cs[3];
+        ASSERT_EQ(ht_phi_roots(1, phi, inv_ep, hs, cs), 1);
+        EXPECT_NEAR(g[0], std::asin(hs[0]), 0.05) << phi;
+        EXPECT_GT(std::fabs(ht_wrap_pi(ht_phi_gamma(1, g[0], inv_ep) - phi)), 0.0);
+    }
+    // stationary point of the cubic: d/dgamma = 0 at gamma^2 = (6pc/pi - 2) pi^3 / (24 p c)
+    double c = std::asin(inv_ep), p = 2;
+    double gs = std::sqrt((6 * p * c / HT_PI - 2) * HT_PI * HT_PI * HT_PI / (24 * p * c));
+    EXPECT_NEAR(std::sin(gs), 0.7108, 2e-4);
+    double phis = (6 * p * c / HT_PI - 2) * gs - 8 * p * c / (HT_PI * HT_PI * HT_PI) * gs * gs * gs;
+    EXPECT_NEAR(phis * 180 / HT_PI, 20.49, 0.01);
 }

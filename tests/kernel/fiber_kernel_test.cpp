@@ -1,0 +1,188 @@
+// Float OpenCL kernel (fiber_query.cl) vs the same headers in double on the host.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include "cl/device.h"
+#include "fiber/material.h"
+// Last: compat.h defines R(x).
+#include "kernels/fiber/bcsdf.h"
+#include "kernels/fiber/query.h"
+
+using namespace ht;
+
+namespace {
+double rnd(uint64_t& s) {
+    s ^= s >> 12;
+    s ^= s << 25;
+    s ^= s >> 27;
+    return (double)((s * 2685821657736338717ull) >> 11) * (1.0 / 9007199254740992.0);
+}
+float fl(double x) { return (float)x; }
+
+struct QueryBatch {
+    std::vector<HtMaterial> mats;
+    std::vector<HtFiberQuery> qs;
+    std::vector<HtFiberResult> out;
+};
+
+bool run_kernel(QueryBatch& r, const char* name) {
+    try {
+        ClContext ctx;
+        cl::Program prog = ctx.build("fiber/fiber_query.cl", "-cl-std=CL1.2");
+        cl::Kernel k(prog, name);
+        cl::Buffer bm(ctx.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, r.mats.size() * sizeof(HtMaterial), r.mats.data());
+        cl::Buffer bq(ctx.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, r.qs.size() * sizeof(HtFiberQuery), r.qs.data());
+        cl::Buffer bo(ctx.context(), CL_MEM_WRITE_ONLY, r.qs.size() * sizeof(HtFiberResult));
+        cl_uint n = (cl_uint)r.qs.size();
+        k.setArg(0, bm); k.setArg(1, bq); k.setArg(2, bo); k.setArg(3, n);
+        ctx.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up(n, 64)), cl::NDRange(64));
+        r.out.resize(n);
+        ctx.queue().enqueueReadBuffer(bo, CL_TRUE, 0, n * sizeof(HtFiberResult), r.out.data());
+        return true;
+    } catch (const DeviceError& e) {
+        std::printf("no OpenCL device: %s\n", e.what());
+        return false;
+    }
+}
+
+HtMaterial random_material(uint32_t model, uint64_t& s) {
+    HairMaterialDesc d;
+    const char* names[4] = {"kajiya", "marschner", "zinke", "chiang"};
+    d.model = names[model];
+    d.has_sigma_a = true;
+    d.sigma_a = {fl(2 * rnd(s)), fl(2 * rnd(s)), fl(2 * rnd(s))};
+    d.beta_m = fl(0.1 + 0.8 * rnd(s));
+    d.beta_n = fl(0.1 + 0.8 * rnd(s));
+    d.eta = fl(1.3 + 0.5 * rnd(s));
+    d.alpha_deg = fl(-4 + 8 * rnd(s));
+    d.alpha_r_deg = fl(-10 + 5 * rnd(s));
+    d.beta_r_deg = fl(5 + 5 * rnd(s));
+    d.eccentricity = fl(0.85 + 0.15 * rnd(s));
+    return make_kernel_material(d);
+}
+}  // namespace
+
+TEST(FiberKernel, FloatEvalMatchesDoubleHost) {
+    // Tolerance: |float - double| <= 1e-4 |double| + 1e-7 x (largest value of that model in the batch)
+    // for all queries away from the fragile regions (MODEL_NOTES §14): directions within 2.5 deg of the
+    // tangent, |h| > 0.995, and for marschner/zinke the TRT caustic (|phi -+ phi_c| < 0.02 or eta' in
+    // [1.98, 2.02], where the two caustics merge).  Everywhere (fragile or not) both must be finite and >= 0.  The absolute floor covers
+    // far-tail values (exp(-30) and below) whose exponent carries float rounding x 30.
+    const int per_model = 4000;
+    QueryBatch r;
+    uint64_t s = 12345;
+    for (uint32_t model = 0; model < 4; ++model)
+        for (int i = 0; i < per_model; ++i) {
+            HtMaterial m = random_material(model, s);
+            HtFiberQuery q{};
+            double z1 = 2 * rnd(s) - 1, p1 = 2 * HT_PI * rnd(s), z2 = 2 * rnd(s) - 1, p2 = 2 * HT_PI * rnd(s);
+            double r1 = std::sqrt(1 - z1 * z1), r2 = std::sqrt(1 - z2 * z2);
+            q.wo[0] = fl(z1); q.wo[1] = fl(r1 * std::cos(p1)); q.wo[2] = fl(r1 * std::sin(p1));
+            q.wi[0] = fl(z2); q.wi[1] = fl(r2 * std::cos(p2)); q.wi[2] = fl(r2 * std::sin(p2));
+            q.h = fl(2 * rnd(s) - 1);
+            r.mats.push_back(m);
+            r.qs.push_back(q);
+        }
+    if (!run_kernel(r, "fiber_eval")) GTEST_SKIP() << "no OpenCL device";
+    double vmax[4] = {0, 0, 0, 0}, pmax[4] = {0, 0, 0, 0};
+    std::vector<real3> dv(r.qs.size());
+    std::vector<double> dp(r.qs.size());
+    for (size_t i = 0; i < r.qs.size(); ++i) {
+        const HtFiberQuery& q = r.qs[i];
+        real3 wo = make_real3(q.wo[0], q.wo[1], q.wo[2]), wi = make_real3(q.wi[0], q.wi[1], q.wi[2]);
+        real pdf;
+        ht_bcsdf_eval(&r.mats[i], wo, wi, q.h, &dv[i], &pdf);
+        dp[i] = pdf;
+        uint32_t mo = r.mats[i].model;
+        vmax[mo] = std::max({vmax[mo], dv[i].x, dv[i].y, dv[i].z});
+        pmax[mo] = std::max(pmax[mo], pdf);
+    }
+    int checked = 0, bad = 0;
+    double worst = 0;
+    for (size_t i = 0; i < r.qs.size(); ++i) {
+        const HtFiberQuery& q = r.qs[i];
+        const HtFiberResult& o = r.out[i];
+        const HtMaterial& m = r.mats[i];
+        for (int c = 0; c < 3; ++c) ASSERT_TRUE(std::isfinite(o.value[c]) && o.value[c] >= 0) << i;
+        ASSERT_TRUE(std::isfinite(o.pdf) && o.pdf >= 0) << i;
+        bool fragile = std::fabs(q.wo[0]) > 0.999 || std::fabs(q.wi[0]) > 0.999 || std::fabs(q.h) > 0.995;
+        if (m.model == HT_MODEL_MARSCHNER || m.model == HT_MODEL_ZINKE) {
+            real3 wo = make_real3(q.wo[0], q.wo[1], q.wo[2]), wi = make_real3(q.wi[0], q.wi[1], q.wi[2]);
+            HtMarschnerAngles a;
+            ht_marschner_angles(wo, wi, &a);
+            for (double eta : {(double)m.eta, ht_marschner_eta_star(&m, -1.0), ht_marschner_eta_star(&m, 1.0)}) {
+                double inv_ep = ht_inv_eta_prime(eta, a.sin_d, a.cos_d), ep = 1 / inv_ep;
+                double phi_c, dh, t, hc;
+                ht_marschner_caustic(&m, inv_ep, &phi_c, &dh, &t, &hc);
+                double phi = m.model == HT_MODEL_ZINKE ? ht_phi_path(2, std::asin(q.h), std::asin(q.h * inv_ep)) : a.phi;
+                if (std::fabs(ht_wrap_pi(phi - phi_c)) < 0.02 || std::fabs(ht_wrap_pi(phi + phi_c)) < 0.02) fragile = true;
+                if (ep > 1.98 && ep < 2.02) fragile = true;
+                if (m.model == HT_MODEL_ZINKE && std::fabs(q.h) > 0.98) fragile = true;
+            }
+        }
+        if (fragile) continue;
+        ++checked;
+        double d[3] = {dv[i].x, dv[i].y, dv[i].z};
+        for (int c = 0; c < 3; ++c) {
+            double tol = 1e-4 * d[c] + 1e-7 * vmax[m.model];
+            double e = std::fabs(o.value[c] - d[c]);
+            worst = std::max(worst, e / (d[c] + 1e-7 * vmax[m.model]));
+            if (e > tol) {
+                if (++bad < 10) {
+                    real3 lo[4], vv;
+                    real pp;
+                    ht_bcsdf_eval_lobes(&m, make_real3(q.wo[0], q.wo[1], q.wo[2]), make_real3(q.wi[0], q.wi[1], q.wi[2]), q.h, lo, &vv, &pp);
+                    std::printf("model %u query %zu ch %d: float %.9g double %.9g lobes f %g %g %g d %g %g %g\n", m.model, i, c, o.value[c], d[c],
+                                o.lobes[0][c], o.lobes[1][c], o.lobes[2][c], c == 0 ? lo[0].x : lo[0].y, c == 0 ? lo[1].x : lo[1].y, c == 0 ? lo[2].x : lo[2].y);
+                }
+            }
+        }
+        double tp = 1e-4 * dp[i] + 1e-7 * pmax[m.model];
+        if (std::fabs(o.pdf - dp[i]) > tp) {
+            if (++bad < 10) std::printf("model %u query %zu pdf: float %.9g double %.9g\n", m.model, i, o.pdf, dp[i]);
+        }
+    }
+    std::printf("float vs double: %d of %zu queries checked (rest fragile), worst relative %.2e\n", checked,
+                r.qs.size(), worst);
+    EXPECT_EQ(bad, 0);
+    EXPECT_GT(checked, (int)(0.8 * r.qs.size()));
+}
+
+TEST(FiberKernel, FloatSampleMatchesDoubleHost) {
+    // Same uniforms: same lobe choice and direction (<= 1e-4 per component away from lobe-choice
+    // boundaries and the fragile regions above); the float weight is finite and >= 0 everywhere.
+    QueryBatch r;
+    uint64_t s = 777;
+    for (uint32_t model = 0; model < 4; ++model)
+        for (int i = 0; i < 2000; ++i) {
+            HtMaterial m = random_material(model, s);
+            HtFiberQuery q{};
+            double z1 = 1.9 * rnd(s) - 0.95, p1 = 2 * HT_PI * rnd(s), r1 = std::sqrt(1 - z1 * z1);
+            q.wo[0] = fl(z1); q.wo[1] = fl(r1 * std::cos(p1)); q.wo[2] = fl(r1 * std::sin(p1));
+            q.h = fl(1.9 * rnd(s) - 0.95);
+            q.u0 = fl(rnd(s)); q.u1 = fl(rnd(s)); q.u2 = fl(rnd(s)); q.u3 = fl(rnd(s));
+            r.mats.push_back(m);
+            r.qs.push_back(q);
+        }
+    if (!run_kernel(r, "fiber_sample")) GTEST_SKIP() << "no OpenCL device";
+    int same = 0, total = 0;
+    for (size_t i = 0; i < r.qs.size(); ++i) {
+        const HtFiberQuery& q = r.qs[i];
+        const HtFiberResult& o = r.out[i];
+        for (int c = 0; c < 3; ++c) ASSERT_TRUE(std::isfinite(o.value[c]) && o.value[c] >= 0);
+        ASSERT_TRUE(std::isfinite(o.pdf) && o.pdf >= 0);
+        real3 wi, w;
+        real pdf;
+        int ok = ht_bcsdf_sample(&r.mats[i], make_real3(q.wo[0], q.wo[1], q.wo[2]), q.h, q.u0, q.u1, q.u2, q.u3, &wi, &w, &pdf);
+        if (!ok || o.ok == 0) continue;
+        ++total;
+        if (std::fabs(wi.x - o.wi[0]) < 1e-4 && std::fabs(wi.y - o.wi[1]) < 1e-4 && std::fabs(wi.z - o.wi[2]) < 1e-4) ++same;
+    }
+    std::printf("float vs double sampling: %d of %d directions agree to 1e-4\n", same, total);
+    // Lobe choice and root/caustic branches can flip at float rounding; 98 % must agree.
+    EXPECT_GT(same, (int)(0.98 * total));
+}
