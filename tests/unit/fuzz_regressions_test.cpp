@@ -152,3 +152,22 @@ TEST(DeepGltf, NestedExtrasDoNotOverflowTheStack) {
 }
 
 }  // namespace
+
+namespace {
+
+// A directory named like a scene is not a file: every loader must say so with a SceneError.
+// Finding: BinaryFile and tinygltf take the size of a directory from seekg/tellg, which reports
+// LLONG_MAX on Linux, so the .hair/.data loaders fail later with a misleading "read error ... was
+// the file changed while loading?", load_glb with "GLB files of 4 GiB or more", and tinygltf's
+// ReadWholeFile asks for a 9.2e18-byte buffer (std::bad_alloc, turned into a SceneError by
+// load_gltf; under ASan the allocation itself aborts the process).
+TEST(FuzzRegressionPaths, DirectoryNamedLikeASceneThrowsSceneError) {
+    for (const char* name : {"dir.hair", "dir.data", "dir.gltf", "dir.glb"}) {
+        const fs::path p = scratch_dir() / name;
+        fs::create_directories(p);
+        EXPECT_EQ(judge(p.string()), "") << name;
+        EXPECT_THROW(ht::load_scene(p.string()), ht::SceneError) << name;
+    }
+}
+
+}  // namespace
