@@ -21,6 +21,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,9 @@ struct Case {
     fs::path file;
     std::string name;  // gtest-safe
 };
+
+// gtest prints the parameter of a failing case: the file, not a byte dump of the struct.
+void PrintTo(const Case& c, std::ostream* os) { *os << c.file.string(); }
 
 std::string read_bytes(const fs::path& p) {
     std::ifstream in(p, std::ios::binary);
