@@ -61,6 +61,30 @@ std::string directory_of(const std::string& path) {
     return slash == std::string::npos ? std::string(".") : path.substr(0, slash);
 }
 
+// JSON nested deeper than this is refused before parsing: tinygltf and nlohmann::json recurse
+// once per level, and a few ten thousand levels overflow the stack (found by fuzzing).  Real
+// glTF files nest a dozen levels.
+constexpr int kMaxJsonDepth = 256;
+
+void check_json_depth(const char* text, size_t n, const std::string& path) {
+    int depth = 0;
+    bool in_string = false;
+    for (size_t i = 0; i < n; ++i) {
+        const char c = text[i];
+        if (in_string) {
+            if (c == '\\') ++i;
+            else if (c == '"') in_string = false;
+        } else if (c == '"') {
+            in_string = true;
+        } else if (c == '[' || c == '{') {
+            if (++depth > kMaxJsonDepth)
+                scene_fail(path, "JSON is nested more than ", kMaxJsonDepth, " levels deep");
+        } else if (c == ']' || c == '}') {
+            --depth;
+        }
+    }
+}
+
 // Reads a .glb after checking its container header against the file, so a truncated file is
 // reported as such rather than as whatever tinygltf makes of the remains.
 void load_glb(tinygltf::TinyGLTF& loader, tinygltf::Model& model, const std::string& path,
@@ -86,6 +110,7 @@ void load_glb(tinygltf::TinyGLTF& loader, tinygltf::Model& model, const std::str
     if (uint64_t(header[3]) + 20 > static_cast<uint64_t>(size))
         scene_fail(path, "GLB JSON chunk of ", header[3], " bytes exceeds the file (", size,
                    " bytes)");
+    check_json_depth(reinterpret_cast<const char*>(bytes.data()) + 20, header[3], path);
     if (!loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(),
                                      static_cast<unsigned int>(size), directory_of(path)))
         scene_fail(path, "glTF parse error: ", err.empty() ? std::string("unknown") : err);
@@ -182,24 +207,32 @@ private:
         return m;
     }
 
-    void visit(int index, const glm::dmat4& parent) {
-        if (index < 0 || static_cast<size_t>(index) >= model_.nodes.size())
-            scene_fail(file_, "node ", index, " does not exist");
-        if (visited_.size() < model_.nodes.size()) visited_.resize(model_.nodes.size(), false);
-        // glTF node hierarchies are strict trees; a second visit means a cycle or shared child.
-        if (visited_[index])
-            scene_fail(file_, "node ", index, " is reached twice (node hierarchy is not a tree)");
-        visited_[index] = true;
-        const tinygltf::Node& node = model_.nodes[index];
-        const glm::dmat4 world = parent * local_transform(node, index);
-        for (int i = 0; i < 16; ++i)
-            if (!std::isfinite(glm::value_ptr(world)[i]))
-                scene_fail(file_, "node ", index, ": transform is not finite");
-        if (node.camera >= 0) add_camera(node.camera, world, index);
-        const auto light_ext = node.extensions.find("KHR_lights_punctual");
-        if (light_ext != node.extensions.end()) add_light(light_ext->second, world, index);
-        if (node.mesh >= 0) add_mesh(node.mesh, world, index);
-        for (int child : node.children) visit(child, world);
+    // Depth-first over the node tree with an explicit stack: a hostile file may chain nodes
+    // deeper than the call stack allows.
+    void visit(int root, const glm::dmat4& root_parent) {
+        std::vector<std::pair<int, glm::dmat4>> todo{{root, root_parent}};
+        while (!todo.empty()) {
+            const auto [index, parent] = todo.back();
+            todo.pop_back();
+            if (index < 0 || static_cast<size_t>(index) >= model_.nodes.size())
+                scene_fail(file_, "node ", index, " does not exist");
+            if (visited_.size() < model_.nodes.size()) visited_.resize(model_.nodes.size(), false);
+            // glTF node hierarchies are strict trees; a second visit means a cycle or shared child.
+            if (visited_[index])
+                scene_fail(file_, "node ", index, " is reached twice (node hierarchy is not a tree)");
+            visited_[index] = true;
+            const tinygltf::Node& node = model_.nodes[index];
+            const glm::dmat4 world = parent * local_transform(node, index);
+            for (int i = 0; i < 16; ++i)
+                if (!std::isfinite(glm::value_ptr(world)[i]))
+                    scene_fail(file_, "node ", index, ": transform is not finite");
+            if (node.camera >= 0) add_camera(node.camera, world, index);
+            const auto light_ext = node.extensions.find("KHR_lights_punctual");
+            if (light_ext != node.extensions.end()) add_light(light_ext->second, world, index);
+            if (node.mesh >= 0) add_mesh(node.mesh, world, index);
+            // reversed, so children are visited in file order
+            for (auto c = node.children.rbegin(); c != node.children.rend(); ++c) todo.push_back({*c, world});
+        }
     }
 
     void add_camera(int index, const glm::dmat4& world, int node) {
@@ -528,8 +561,13 @@ Scene load_gltf(const std::string& path, const LoadOptions& opt) {
     try {
         if (binary) {
             load_glb(loader, model, path, err, warn);
-        } else if (!loader.LoadASCIIFromFile(&model, &err, &warn, path)) {
-            scene_fail(path, "glTF parse error: ", err.empty() ? std::string("unknown") : err);
+        } else {
+            std::ifstream in(path, std::ios::binary);
+            std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+            check_json_depth(text.data(), text.size(), path);
+            if (!loader.LoadASCIIFromString(&model, &err, &warn, text.data(), static_cast<unsigned int>(text.size()),
+                                            directory_of(path)))
+                scene_fail(path, "glTF parse error: ", err.empty() ? std::string("unknown") : err);
         }
         Scene scene = GltfSceneBuilder(path, model, opt).build();
         if (!warn.empty()) scene.warnings.push_back(one_line(path + ": glTF parser: " + warn));

@@ -30,6 +30,29 @@ void check_scene_invariants(const Scene& s) {
     for (uint32_t m : s.strands.material)
         if (m >= s.materials.size())
             scene_fail(s.source, "a strand refers to material ", m, " of ", s.materials.size());
+    // Camera and lights feed ray generation and light sampling directly: one non-finite value
+    // would turn the whole image into NaN, so refuse it here for every loader (found by fuzzing).
+    auto finite3 = [](const Vec3f& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); };
+    if (s.has_camera) {
+        const Camera& c = s.camera;
+        if (!finite3(c.eye) || !finite3(c.target) || !finite3(c.up))
+            scene_fail(s.source, "camera position, target or up vector is not finite");
+        if (!(c.yfov_deg > 0.0f && c.yfov_deg < 180.0f))
+            scene_fail(s.source, "camera vertical field of view ", c.yfov_deg, " is outside (0, 180) degrees");
+        if (c.has_aspect && !(std::isfinite(c.aspect) && c.aspect > 0.0f))
+            scene_fail(s.source, "camera aspect ratio ", c.aspect, " is not a positive finite number");
+    }
+    for (size_t i = 0; i < s.lights.size(); ++i) {
+        const Light& l = s.lights[i];
+        if (!finite3(l.position) || !finite3(l.direction) || !finite3(l.color))
+            scene_fail(s.source, "light ", i, ": position, direction or colour is not finite");
+        if (!(std::isfinite(l.intensity) && l.intensity >= 0.0f))
+            scene_fail(s.source, "light ", i, ": intensity ", l.intensity, " is not a finite number >= 0");
+        if (!(std::isfinite(l.radius) && l.radius >= 0.0f))
+            scene_fail(s.source, "light ", i, ": radius ", l.radius, " is not a finite number >= 0");
+        if (!(std::isfinite(l.inner_cone_deg) && std::isfinite(l.outer_cone_deg)))
+            scene_fail(s.source, "light ", i, ": spot cone angles are not finite");
+    }
 }
 
 }  // namespace
