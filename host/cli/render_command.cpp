@@ -4,6 +4,7 @@
 #include "cli/commands.h"
 #include "io/image_io.h"
 #include "render/checkpoint.h"
+#include "render/depth_choice.h"
 #include "render/error_metrics.h"
 #include "render/features.h"
 #include "render/renderer.h"
@@ -37,7 +38,7 @@ uint64_t render_key(const Scene& scene, const RenderSettings& rs, const std::str
     std::string k = scene.source + "|" + std::to_string(scene.strands.point_count()) + "|" +
                     std::to_string(scene.strands.strand_count()) + "|" + kernel_options + "|" +
                     std::to_string(rs.width) + "x" + std::to_string(rs.height) + "|" + std::to_string(rs.seed) + "|" +
-                    std::to_string(rs.max_depth) + "|" + std::to_string(rs.fiber_field) + "|" + scene.environment.map_path + "|" +
+                    std::to_string(rs.max_depth) + "|" + std::to_string(int(rs.indirect)) + "|" + std::to_string(rs.fiber_field) + "|" + scene.environment.map_path + "|" +
                     std::to_string(scene.environment.color[0]) + "," + std::to_string(scene.environment.color[1]) +
                     "," + std::to_string(scene.environment.color[2]) + "x" + std::to_string(scene.environment.intensity);
     for (auto& m : scene.materials) k += "|" + m.model;
@@ -55,8 +56,9 @@ int cmd_render(const std::vector<std::string>& args) {
         .option("--spp", "N", "samples per pixel", "16")
         .option("--time-limit", "SECONDS", "stop after the sample that crosses this wall time (0 = none)", "0")
         .option("--seed", "S", "random seed; the image depends only on seed, spp and scene", "1")
-        .option("--max-depth", "D", "path length in fibre bounces (1 = direct light only)", "1")
+        .option("--max-depth", "D|auto", "path length in fibre bounces (1 = direct light only); auto: from the materials' averaged attenuation (AFS_TT^avg^D < 0.2, Zinke 2004 §5)", "auto")
         .option("--model", "M", "override every material's fibre model: kajiya|marschner|zinke|chiang")
+        .option("--indirect", "exact|afs|none", "hair-to-hair light: exact = path traced to --max-depth; afs = traced to --max-depth (auto: 1), then the paper's averaged attenuation: the last bounce's shadow rays cross hair with AFS_TT^avg per fibre; none = direct light with opaque hair (depth 1)", "exact")
         .option("--fiber-field", "near|far|auto|material", "for marschner/zinke materials: near field (zinke) everywhere, far field (marschner) everywhere, or auto: near where a fibre covers at least half a camera pixel's footprint and for hair-to-hair light, far elsewhere", "material")
         .option("--background", "R,G,B", "uniform environment radiance (importance sampled like any light); replaces the scene's")
         .option("--environment", "FILE", "lat-long HDR environment map (.exr/.hdr, +y up); replaces the scene's")
@@ -95,7 +97,6 @@ int cmd_render(const std::vector<std::string>& args) {
     rs.height = p.get_int("--height", 1, 16384);
     rs.spp = p.get_int("--spp", 1, 1 << 24);
     rs.seed = uint32_t(p.get_int("--seed", 0, 2147483647));
-    rs.max_depth = p.get_int("--max-depth", 1, 1000);
     {
         std::string f = p.get("--fiber-field");
         if (f == "material") rs.fiber_field = HT_FIELD_MATERIAL;
@@ -134,6 +135,21 @@ int cmd_render(const std::vector<std::string>& args) {
     if (p.has("--environment")) scene.environment.map_path = p.get("--environment");
     scene.environment.intensity *= float(p.get_double("--environment-intensity", 0, 1e12));
     ensure_camera_and_light(scene);
+    const std::string indirect = p.get("--indirect");
+    if (indirect != "exact" && indirect != "afs" && indirect != "none")
+        throw UsageError("--indirect must be exact, afs or none, got '" + indirect + "'");
+    if (indirect == "afs") rs.indirect = RenderSettings::Indirect::Afs;
+    if (indirect == "none" || (indirect == "afs" && p.get("--max-depth") == "auto")) {
+        if (p.get("--max-depth") != "auto" && p.get_int("--max-depth", 1, 1000) != 1 && indirect == "none")
+            throw UsageError("--indirect none renders direct light only; it contradicts --max-depth " + p.get("--max-depth"));
+        rs.max_depth = 1;
+    } else if (p.get("--max-depth") == "auto") {
+        DepthChoice dc = choose_max_depth(scene);
+        rs.max_depth = dc.depth;
+        if (!quiet) std::fprintf(stderr, "%s\n", dc.why.c_str());
+    } else {
+        rs.max_depth = p.get_int("--max-depth", 1, 1000);
+    }
     if (!quiet)
         for (auto& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
 
@@ -143,9 +159,10 @@ int cmd_render(const std::vector<std::string>& args) {
                      cl.info().platform.c_str(), scene.source.c_str(), scene.strands.strand_count(),
                      scene.strands.segment_count());
     if (p.has("--verbose")) {
-        for (auto& line : describe_features(scene_features(scene, rs.fiber_field)))
+        const bool afs = rs.indirect == RenderSettings::Indirect::Afs;
+        for (auto& line : describe_features(scene_features(scene, rs.fiber_field, afs)))
             std::fprintf(stderr, "feature %s\n", line.c_str());
-        std::fprintf(stderr, "kernel options: %s\n", kernel_build_options(scene, rs.fiber_field).c_str());
+        std::fprintf(stderr, "kernel options: %s\n", kernel_build_options(scene, rs.fiber_field, afs).c_str());
     }
 
     Renderer renderer(cl, scene, rs);

@@ -15,8 +15,9 @@ int model_index(const std::string& name) {
 }
 }  // namespace
 
-KernelFeatures scene_features(const Scene& scene, uint32_t fiber_field) {
+KernelFeatures scene_features(const Scene& scene, uint32_t fiber_field, bool indirect_afs) {
     KernelFeatures f;
+    f.indirect_afs = indirect_afs;
     for (const Light& l : scene.lights) {
         switch (l.type) {
         case LightType::Point: f.light_point = true; break;
@@ -37,8 +38,8 @@ KernelFeatures scene_features(const Scene& scene, uint32_t fiber_field) {
     return f;
 }
 
-std::string kernel_build_options(const Scene& scene, uint32_t fiber_field) {
-    KernelFeatures f = scene_features(scene, fiber_field);
+std::string kernel_build_options(const Scene& scene, uint32_t fiber_field, bool indirect_afs) {
+    KernelFeatures f = scene_features(scene, fiber_field, indirect_afs);
     std::string o = base_kernel_options();
     auto def = [&](const char* name, bool on) { o += std::string(" -D") + name + "=" + (on ? "1" : "0"); };
     def("HT_FEATURE_LIGHT_POINT", f.light_point);
@@ -49,6 +50,7 @@ std::string kernel_build_options(const Scene& scene, uint32_t fiber_field) {
     def("HT_FEATURE_MODEL_MARSCHNER", f.model[HT_MODEL_MARSCHNER]);
     def("HT_FEATURE_MODEL_ZINKE", f.model[HT_MODEL_ZINKE]);
     def("HT_FEATURE_MODEL_CHIANG", f.model[HT_MODEL_CHIANG]);
+    def("HT_FEATURE_INDIRECT_AFS", f.indirect_afs);
     return o;
 }
 
@@ -60,6 +62,7 @@ std::vector<std::string> describe_features(const KernelFeatures& f) {
     add("directional lights", f.light_directional);
     add("sphere lights", f.light_sphere);
     for (int i = 0; i < 4; ++i) add((std::string("model ") + kModelNames[i]).c_str(), f.model[i]);
+    add("translucent AFS shadow rays", f.indirect_afs);
     return out;
 }
 

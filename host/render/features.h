@@ -13,13 +13,14 @@ namespace ht {
 struct KernelFeatures {
     bool light_point = false, light_spot = false, light_directional = false, light_sphere = false;
     bool model[4] = {false, false, false, false};  // indexed by HT_MODEL_*
+    bool indirect_afs = false;                      // translucent AFS shadow rays (--indirect afs)
 };
 
 // fiber_field (HT_FIELD_*): anything but "the material's model" may swap marschner and zinke.
-KernelFeatures scene_features(const Scene& scene, uint32_t fiber_field = 0);
+KernelFeatures scene_features(const Scene& scene, uint32_t fiber_field = 0, bool indirect_afs = false);
 
 // "-cl-std=CL1.2 ... -DHT_FEATURE_..=1": the options the render program is built with.
-std::string kernel_build_options(const Scene& scene, uint32_t fiber_field = 0);
+std::string kernel_build_options(const Scene& scene, uint32_t fiber_field = 0, bool indirect_afs = false);
 
 // One line per chosen feature, for --verbose.
 std::vector<std::string> describe_features(const KernelFeatures& f);

@@ -51,6 +51,7 @@ struct Renderer::Impl {
     cl::Program program;
     cl::Kernel k_generate, k_closest, k_shade, k_shadow, k_resolve, k_accumulate;
     cl::Kernel k_compact_count, k_compact_scan, k_compact_scatter;
+    cl::Kernel k_shadow_afs, k_resolve_afs;
     RenderStats stats;
     cl::Buffer film_buf;
 
@@ -58,6 +59,7 @@ struct Renderer::Impl {
     size_t capacity = 0;
     cl::Buffer rays[2], ray_path[2], hits, paths, shadow_rays, shadow_contrib, occluded, counters;
     cl::Buffer stage_rays, stage_path, group_sums;  // uncompacted extension rays, per-group counts
+    cl::Buffer transmittance;                        // --indirect afs: per shadow slot, rgb
 
     Impl(ClContext& c, const Scene& scene, const RenderSettings& s) : cl(c), settings(s) {
         geometry = build_geometry(scene.strands);
@@ -75,7 +77,8 @@ struct Renderer::Impl {
         env_marginal = device_array(cl.context(), environment.marginal);
         env_conditional = device_array(cl.context(), environment.conditional);
 
-        options = kernel_build_options(scene, s.fiber_field);
+        const bool afs = s.indirect == RenderSettings::Indirect::Afs;
+        options = kernel_build_options(scene, s.fiber_field, afs);
         program = cl.build("stages/wavefront.cl", options);
         stats.build_ms = cl.last_build_ms();
         stats.build_cached = cl.last_build_cached();
@@ -87,6 +90,10 @@ struct Renderer::Impl {
         k_resolve = cl::Kernel(program, "resolve_shadows");
         k_accumulate = cl::Kernel(program, "accumulate");
         k_compact_count = cl::Kernel(program, "compact_count");
+        if (afs) {
+            k_shadow_afs = cl::Kernel(program, "intersect_shadow_afs");
+            k_resolve_afs = cl::Kernel(program, "resolve_shadows_afs");
+        }
         k_compact_scan = cl::Kernel(program, "compact_scan");
         k_compact_scatter = cl::Kernel(program, "compact_scatter");
 
@@ -109,6 +116,8 @@ struct Renderer::Impl {
         occluded = cl::Buffer(ctx, CL_MEM_READ_WRITE, cap * sizeof(uint32_t));
         counters = cl::Buffer(ctx, CL_MEM_READ_WRITE, HT_COUNTER_COUNT * sizeof(uint32_t));
         stage_rays = cl::Buffer(ctx, CL_MEM_READ_WRITE, cap * sizeof(HtRay));
+        if (settings.indirect == RenderSettings::Indirect::Afs)
+            transmittance = cl::Buffer(ctx, CL_MEM_READ_WRITE, cap * 4 * sizeof(float));
         stage_path = cl::Buffer(ctx, CL_MEM_READ_WRITE, cap * sizeof(uint32_t));
         group_sums = cl::Buffer(ctx, CL_MEM_READ_WRITE, (cap / kLocalSize + 1) * sizeof(uint32_t));
     }
@@ -206,6 +215,26 @@ struct Renderer::Impl {
         launch(k_shadow, count);
     }
 
+    void intersect_shadow_afs(uint32_t count) {
+        k_shadow_afs.setArg(0, device_geometry.nodes);
+        k_shadow_afs.setArg(1, device_geometry.segments);
+        k_shadow_afs.setArg(2, device_geometry.points);
+        k_shadow_afs.setArg(3, strand_material);
+        k_shadow_afs.setArg(4, materials);
+        k_shadow_afs.setArg(5, shadow_rays);
+        k_shadow_afs.setArg(6, transmittance);
+        k_shadow_afs.setArg(7, count);
+        launch(k_shadow_afs, count);
+    }
+
+    void resolve_shadows_afs(uint32_t count) {
+        k_resolve_afs.setArg(0, shadow_contrib);
+        k_resolve_afs.setArg(1, transmittance);
+        k_resolve_afs.setArg(2, count);
+        k_resolve_afs.setArg(3, paths);
+        launch(k_resolve_afs, count);
+    }
+
     void resolve_shadows(uint32_t count) {
         k_resolve.setArg(0, shadow_contrib);
         k_resolve.setArg(1, occluded);
@@ -291,8 +320,14 @@ void Renderer::render_sample(uint32_t sample) {
             for (uint32_t bounce = 0; n > 0 && bounce < uint32_t(s.max_depth); ++bounce) {
                 r.intersect_closest(q, n);
                 r.shade(q, n, sample, bounce);
-                r.intersect_shadow(n);
-                r.resolve_shadows(n);
+                const bool last = bounce + 1 == uint32_t(s.max_depth);
+                if (last && s.indirect == RenderSettings::Indirect::Afs) {
+                    r.intersect_shadow_afs(n);
+                    r.resolve_shadows_afs(n);
+                } else {
+                    r.intersect_shadow(n);
+                    r.resolve_shadows(n);
+                }
                 if (bounce + 1 < uint32_t(s.max_depth)) r.compact(1 - q, n);  // else no path continues
                 auto [shadows, next, nonfinite] = r.read_counters();
                 r.stats.nonfinite_caught += nonfinite;

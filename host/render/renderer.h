@@ -17,6 +17,9 @@ struct RenderSettings {
     uint32_t seed = 1;
     int max_depth = 1;        // 1 = direct light only
     uint32_t fiber_field = 0; // HT_FIELD_MATERIAL | NEAR | FAR | AUTO
+    // Light beyond the last traced bounce: none, or the paper's averaged attenuation (AFS):
+    // the last bounce's shadow rays pass through hair with AFS_TT^avg per fibre crossed.
+    enum class Indirect { Exact, Afs } indirect = Indirect::Exact;
     int first_sample = 0;     // render samples [first_sample, first_sample + spp)
     size_t max_paths_per_pass = 1u << 20;  // bounds device memory for big images
     bool profile_stages = false;           // time each stage kernel (drains the queue after each)

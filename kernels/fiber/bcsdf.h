@@ -17,10 +17,38 @@
 #define HT_FIBER_BCSDF_H
 
 #include "../types.h"
+
+/* Scene features (host/render/features.cpp): models no material uses are compiled out of the
+ * render program, which keeps its build time and register pressure down.  Undefined = in. */
+#ifndef HT_FEATURE_MODEL_KAJIYA
+#define HT_FEATURE_MODEL_KAJIYA 1
+#endif
+#ifndef HT_FEATURE_MODEL_MARSCHNER
+#define HT_FEATURE_MODEL_MARSCHNER 1
+#endif
+#ifndef HT_FEATURE_MODEL_ZINKE
+#define HT_FEATURE_MODEL_ZINKE 1
+#endif
+#ifndef HT_FEATURE_MODEL_CHIANG
+#define HT_FEATURE_MODEL_CHIANG 1
+#endif
+/* shared building blocks; each model header below includes what it needs of them too */
+#include "math.h"
+#include "fresnel.h"
+#include "longitudinal.h"
+#include "azimuthal.h"
+#if HT_FEATURE_MODEL_KAJIYA
 #include "kajiya.h"
+#endif
+#if HT_FEATURE_MODEL_CHIANG
 #include "chiang.h"
-#include "marschner.h"
+#endif
+#if HT_FEATURE_MODEL_MARSCHNER || HT_FEATURE_MODEL_ZINKE
+#include "marschner.h" /* zinke reuses its attenuation, caustic and angle helpers */
+#endif
+#if HT_FEATURE_MODEL_ZINKE
 #include "zinke.h"
+#endif
 
 /* Finite, non-zero direction (x - x == 0 exactly for finite x; NaN otherwise). */
 HT_FN int ht_valid_dir(real3 w) {
@@ -43,10 +71,18 @@ HT_FN void ht_bcsdf_eval_lobes(const HtMaterial* m, real3 wo, real3 wi, real h, 
         return;
     }
     switch (m->model) {
+#if HT_FEATURE_MODEL_KAJIYA
     case HT_MODEL_KAJIYA: ht_kajiya_eval(m, wo, wi, h, lobes, value, pdf); break;
+#endif
+#if HT_FEATURE_MODEL_MARSCHNER
     case HT_MODEL_MARSCHNER: ht_marschner_eval(m, wo, wi, h, lobes, value, pdf); break;
+#endif
+#if HT_FEATURE_MODEL_ZINKE
     case HT_MODEL_ZINKE: ht_zinke_eval(m, wo, wi, h, lobes, value, pdf); break;
+#endif
+#if HT_FEATURE_MODEL_CHIANG
     case HT_MODEL_CHIANG: ht_chiang_eval(m, wo, wi, h, lobes, value, pdf); break;
+#endif
     default:
         for (int p = 0; p < 4; ++p) lobes[p] = ht_splat(R(0));
         *value = ht_splat(R(0));
@@ -71,10 +107,18 @@ HT_FN int ht_bcsdf_sample(const HtMaterial* m, real3 wo, real h, real u0, real u
     u3 = ht_sanitize_u(u3);
     int ok = 0;
     if (ht_valid_dir(wo)) switch (m->model) {
+#if HT_FEATURE_MODEL_KAJIYA
     case HT_MODEL_KAJIYA: ok = ht_kajiya_sample(m, wo, h, u0, u1, u2, u3, wi, weight, pdf); break;
+#endif
+#if HT_FEATURE_MODEL_MARSCHNER
     case HT_MODEL_MARSCHNER: ok = ht_marschner_sample(m, wo, h, u0, u1, u2, u3, wi, weight, pdf); break;
+#endif
+#if HT_FEATURE_MODEL_ZINKE
     case HT_MODEL_ZINKE: ok = ht_zinke_sample(m, wo, h, u0, u1, u2, u3, wi, weight, pdf); break;
+#endif
+#if HT_FEATURE_MODEL_CHIANG
     case HT_MODEL_CHIANG: ok = ht_chiang_sample(m, wo, h, u0, u1, u2, u3, wi, weight, pdf); break;
+#endif
     default: break;
     }
     if (ok && !ht_valid_dir(*wi)) ok = 0;

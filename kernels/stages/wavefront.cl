@@ -5,5 +5,8 @@
 #include "shade.cl"
 #include "intersect_shadow.cl"
 #include "resolve_shadows.cl"
+#if HT_FEATURE_INDIRECT_AFS
+#include "intersect_shadow_afs.cl"
+#endif
 #include "compact.cl"
 #include "accumulate.cl"
