@@ -69,15 +69,16 @@ Bounds3 bounds_of(const SceneGeometry& g) {
 }
 
 // Pinhole camera from +z looking at the bounds' centre, 30 deg vertical FOV, distance fitting
-// the bounding sphere with 5 % margin; 4x4 pixel blocks in ray order (as the anchor).
+// the scene's bounding sphere with 5 % margin; 4x4 pixel blocks in ray order (as the anchor).
 std::vector<HtRay> camera_rays(const SceneGeometry& g, int res) {
     const Bounds3 b = bounds_of(g);
-    double c[3], rad = 0;
-    for (int k = 0; k < 3; ++k) {
-        c[k] = 0.5 * (b.lo[k] + b.hi[k]);
-        rad += 0.25 * (b.hi[k] - b.lo[k]) * (b.hi[k] - b.lo[k]);
+    double c[3], rad = 1e-6;
+    for (int k = 0; k < 3; ++k) c[k] = 0.5 * (b.lo[k] + b.hi[k]);
+    // Bounding sphere around the box centre through the farthest point (+ its radius).
+    for (const HtPoint& p : g.points) {
+        const double dx = p.x - c[0], dy = p.y - c[1], dz = p.z - c[2];
+        rad = std::max(rad, std::sqrt(dx * dx + dy * dy + dz * dz) + std::fabs(p.r));
     }
-    rad = std::sqrt(std::max(rad, 1e-12));
     const double tan_half = std::tan(15.0 * M_PI / 180.0);
     const double dist = 1.05 * rad / std::sin(15.0 * M_PI / 180.0);
     std::vector<HtRay> rays((size_t)res * res);

@@ -10,6 +10,12 @@
 #include <memory>
 #include <thread>
 
+// Kernel headers after the standard ones (compat.h defines the macro R()).
+#include "kernels/geometry/bvh_traverse.h"
+
+// The traversal pushes at most one entry per level, so the depth cap keeps the stack safe.
+static_assert(ht::kMaxBvhDepth < HT_STACK_SIZE, "BVH depth cap must stay below the kernel stack");
+
 namespace ht {
 namespace {
 

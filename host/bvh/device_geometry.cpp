@@ -6,6 +6,18 @@
 namespace ht {
 
 namespace {
+// Runtime failures of the tracer as DeviceError naming the step (cl::Error only has a code).
+template <typename F> void device_step(const char* what, F&& f) {
+    try {
+        f();
+    } catch (const cl::Error& e) {
+        throw DeviceError(std::string("intersection: ") + what + " failed: " + e.what() + " (" +
+                          cl_error_name(e.err()) + ")");
+    }
+}
+}  // namespace
+
+namespace {
 cl::Buffer make_buffer(ClContext& cl, const char* what, const void* data, size_t bytes) {
     const unsigned long long max_alloc = cl.info().max_alloc;
     if (max_alloc && bytes > max_alloc) {
@@ -44,20 +56,30 @@ DeviceGeometry upload_geometry(ClContext& cl, const SceneGeometry& geo) {
 
 DeviceTracer::DeviceTracer(ClContext& cl, const DeviceGeometry& geo, const std::string& options)
     : cl_(cl), geo_(geo) {
-    program_ = cl.build("stages/intersect.cl", options);
+    program_ = cl.build("stages/intersect.cl", options);  // throws DeviceError with the log
     build_ms_ = cl.last_build_ms();
     build_cached_ = cl.last_build_cached();
-    closest_ = cl::Kernel(program_, "intersect_closest");
-    shadow_ = cl::Kernel(program_, "intersect_shadow");
+    device_step("creating the intersection kernels", [&] {
+        closest_ = cl::Kernel(program_, "intersect_closest");
+        shadow_ = cl::Kernel(program_, "intersect_shadow");
+    });
 }
+
 
 void DeviceTracer::set_rays(const std::vector<HtRay>& rays) {
     count_ = rays.size();
     if (count_ > capacity_) {
-        capacity_ = count_;
-        rays_ = cl::Buffer(cl_.context(), CL_MEM_READ_ONLY, capacity_ * sizeof(HtRay));
-        hits_ = cl::Buffer(cl_.context(), CL_MEM_WRITE_ONLY, capacity_ * sizeof(HtHit));
-        occluded_ = cl::Buffer(cl_.context(), CL_MEM_WRITE_ONLY, capacity_ * sizeof(uint32_t));
+        const size_t bytes = count_ * sizeof(HtHit);
+        if (cl_.info().max_alloc && bytes > cl_.info().max_alloc)
+            throw DeviceError("intersection: " + std::to_string(count_) + " rays need a " +
+                              std::to_string(bytes >> 20) + " MiB hit buffer, more than the "
+                              "device's maximum allocation; trace them in smaller batches");
+        device_step("allocating ray/hit buffers", [&] {
+            capacity_ = count_;
+            rays_ = cl::Buffer(cl_.context(), CL_MEM_READ_ONLY, capacity_ * sizeof(HtRay));
+            hits_ = cl::Buffer(cl_.context(), CL_MEM_WRITE_ONLY, capacity_ * sizeof(HtHit));
+            occluded_ = cl::Buffer(cl_.context(), CL_MEM_WRITE_ONLY, capacity_ * sizeof(uint32_t));
+        });
     }
     if (!count_) return;
     // The kernels clamp tmax too; replacing inf here keeps it out of the device entirely
@@ -65,35 +87,47 @@ void DeviceTracer::set_rays(const std::vector<HtRay>& rays) {
     std::vector<HtRay> clean(rays);
     for (HtRay& r : clean)
         if (!(r.tmax <= 3.0e38f)) r.tmax = 3.0e38f;
-    cl_.queue().enqueueWriteBuffer(rays_, CL_TRUE, 0, count_ * sizeof(HtRay), clean.data());
+    device_step("uploading rays", [&] {
+        cl_.queue().enqueueWriteBuffer(rays_, CL_TRUE, 0, count_ * sizeof(HtRay), clean.data());
+    });
 }
 
 void DeviceTracer::enqueue(cl::Kernel& k, cl::Buffer& out) {
     if (!count_) return;
-    k.setArg(0, geo_.nodes);
-    k.setArg(1, geo_.segments);
-    k.setArg(2, geo_.points);
-    k.setArg(3, rays_);
-    k.setArg(4, out);
-    k.setArg(5, (cl_uint)count_);
-    cl_.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up(count_, kLocalSize)),
-                                     cl::NDRange(kLocalSize));
+    device_step("kernel launch", [&] {
+        k.setArg(0, geo_.nodes);
+        k.setArg(1, geo_.segments);
+        k.setArg(2, geo_.points);
+        k.setArg(3, rays_);
+        k.setArg(4, out);
+        k.setArg(5, (cl_uint)count_);
+        cl_.queue().enqueueNDRangeKernel(k, cl::NullRange,
+                                         cl::NDRange(round_up(count_, kLocalSize)),
+                                         cl::NDRange(kLocalSize));
+    });
 }
 
 void DeviceTracer::enqueue_closest() { enqueue(closest_, hits_); }
 void DeviceTracer::enqueue_shadow() { enqueue(shadow_, occluded_); }
-void DeviceTracer::finish() { cl_.queue().finish(); }
+void DeviceTracer::finish() {
+    device_step("kernel execution", [&] { cl_.queue().finish(); });
+}
 
 void DeviceTracer::read_hits(std::vector<HtHit>& hits) {
     hits.resize(count_);
     if (count_)
-        cl_.queue().enqueueReadBuffer(hits_, CL_TRUE, 0, count_ * sizeof(HtHit), hits.data());
+        device_step("reading hits", [&] {
+            cl_.queue().enqueueReadBuffer(hits_, CL_TRUE, 0, count_ * sizeof(HtHit), hits.data());
+        });
 }
 
 void DeviceTracer::read_occluded(std::vector<uint32_t>& occ) {
     occ.resize(count_);
     if (count_)
-        cl_.queue().enqueueReadBuffer(occluded_, CL_TRUE, 0, count_ * sizeof(uint32_t), occ.data());
+        device_step("reading occlusion flags", [&] {
+            cl_.queue().enqueueReadBuffer(occluded_, CL_TRUE, 0, count_ * sizeof(uint32_t),
+                                          occ.data());
+        });
 }
 
 std::vector<HtHit> DeviceTracer::trace_closest(const std::vector<HtRay>& rays) {

@@ -488,3 +488,29 @@ TEST(BvhKernel, RaysParallelToASegment) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(Bvh, RebuildWithOtherOptionsKeepsAnswers) {
+    const Strands s = random_strands(21, 100, 10, 0.1, 0.01);
+    const SceneGeometry g = ht::build_geometry(s);
+    SceneGeometry g2 = g;
+    ht::BvhOptions opt = ht::BvhOptions::compact();
+    opt.split_ratio = 0.9f;
+    ht::rebuild_bvh(g2, opt);
+    EXPECT_EQ(g2.segment_count, g.segment_count);
+    EXPECT_GE(g2.stats.references, g2.segment_count);
+    EXPECT_LT(g2.stats.nodes, g.stats.nodes);  // bigger leaves
+    size_t hits = 0;
+    for (const HtRay& r : random_rays(22, 2000, 1.0)) {
+        const HtHit a = host_closest(g, r), b = host_closest(g2, r);
+        ASSERT_EQ(a.segment == HT_NO_HIT, b.segment == HT_NO_HIT);
+        if (a.segment == HT_NO_HIT) continue;
+        ++hits;
+        EXPECT_EQ(g.segments[a.segment].segment, g2.segments[b.segment].segment);
+        EXPECT_EQ(a.t, b.t);
+    }
+    EXPECT_GT(hits, 100u);
+}
+
+}  // namespace
