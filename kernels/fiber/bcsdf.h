@@ -42,6 +42,9 @@ HT_FN void ht_bcsdf_eval_lobes(const HtMaterial* m, real3 wo, real3 wi, real h, 
         *pdf = R(0);
         return;
     }
+#ifdef HT_FIBER_ONLY_MODEL
+    ht_chiang_eval(m, wo, wi, h, lobes, value, pdf); return;
+#endif
     switch (m->model) {
     case HT_MODEL_KAJIYA: ht_kajiya_eval(m, wo, wi, h, lobes, value, pdf); break;
     case HT_MODEL_MARSCHNER: ht_marschner_eval(m, wo, wi, h, lobes, value, pdf); break;

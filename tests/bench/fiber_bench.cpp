@@ -88,7 +88,7 @@ void BM_KernelEval(benchmark::State& st) {
     const bool sample = st.range(1) != 0;
     try {
         static ClContext ctx;
-        static cl::Program prog = ctx.build("fiber/fiber_query.cl", "-cl-std=CL1.2");
+        static cl::Program prog = ctx.build("fiber/fiber_query.cl", std::string("-cl-std=CL1.2 ") + (getenv("HT_BENCH_OPTS") ? getenv("HT_BENCH_OPTS") : ""));
         cl::Kernel k(prog, sample ? "fiber_sample" : "fiber_eval");
         const Inputs& in = inputs();
         std::vector<HtMaterial> mats(n, material((int)st.range(0)));
