@@ -134,13 +134,15 @@ typedef struct {
 /* Hair material as the kernels see it: parameters already validated and converted on the host
  * (melanin/colour -> sigma_a, degrees -> radians) and derived quantities precomputed, all by
  * make_kernel_material (host/fiber/material.h).  Fields not used by a model are ignored by it.
- * 208 bytes (13 x 16). */
+ * 224 bytes (14 x 16). */
 typedef struct {
     uint model, flags, pad0, pad1;
     float sigma_a[4];                 /* absorption per unit radius, rgb (all models but kajiya) */
     float eta, beta_m, beta_n, alpha; /* alpha: scale tilt in radians (chiang) */
     /* chiang: d'Eon longitudinal variances for R, TT, TRT, residual (v, v/4, 4v, 4v) */
     float v[4];
+    /* chiang: -log v - log1p(-exp(-2/v)) per lobe (log normaliser of M_p; float kernels use it) */
+    float mp_c[4];
     /* s: logistic scale (chiang); azim_sigma: std of the zinke azimuthal wrapped Gaussian (radians);
      * ks_norm: 1 / integral of the Kajiya-Kay specular lobe; ks_exponent: Kajiya-Kay exponent */
     float s, azim_sigma, ks_norm, ks_exponent;

@@ -1,12 +1,14 @@
 #include "fiber/material.h"
 
+#include "kernels/fiber/longitudinal.h"
+
 #include <cmath>
 #include <sstream>
 
 namespace ht {
 
 static_assert(sizeof(HtMaterial) % 16 == 0, "HtMaterial must be a multiple of 16 bytes");
-static_assert(sizeof(HtMaterial) == 208, "HtMaterial layout changed: update kernels/types.h comment");
+static_assert(sizeof(HtMaterial) == 224, "HtMaterial layout changed: update kernels/types.h comment");
 
 namespace {
 constexpr double kPi = 3.14159265358979323846;
@@ -105,6 +107,7 @@ HtMaterial make_kernel_material(const HairMaterialDesc& d) {
     m.v[1] = (float)(0.25 * v);
     m.v[2] = (float)(4.0 * v);
     m.v[3] = (float)(4.0 * v);
+    for (int i = 0; i < 4; ++i) m.mp_c[i] = (float)ht_mp_log_norm(m.v[i]);
     double s = chiang_s_from_beta_n(d.beta_n);
     m.s = (float)s;
     m.azim_sigma = (float)(kPi * s / std::sqrt(3.0));  // std of a logistic with scale s

@@ -11,7 +11,8 @@
  * [u_c, pi/2] (one interval when there is no caustic).  Error vs the reference in double
  * (tests/unit/fiber_afs_test, theta in [0, 85] deg step 5, sigma_a in {0, 0.1, 1, 5}, eta in {1.3, 1.55, 2}):
  * R 1.2e-14, TT 6.1e-13, TRT 3.0e-10, glint 4.5e-11 absolute (the split at u_c removes the only kink).
- * In float the error is float rounding, ~1e-6 relative. */
+ * In float (OpenCL kernel fiber_afs) the error is float rounding: 3.7e-7 absolute measured over eta in
+ * {1.3, 1.55, 2}, sigma_a in {0, 0.1, 1}, theta 0..85 deg (tests/kernel/fiber_kernel_test). */
 #ifndef HT_FIBER_AFS_H
 #define HT_FIBER_AFS_H
 

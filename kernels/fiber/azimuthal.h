@@ -137,9 +137,9 @@ HT_FN int ht_phi_cubic_roots(int p, real target, real inv_ep, real* g) {
  * bracket (else the secant of the bracket ends), then Newton steps safeguarded with bisection on the
  * exact Phi.  Bisection alone would reach pi/2^40 ~ 1.4e-12 within the 40-iteration cap; Newton
  * converges in 2-5 steps in practice. */
-HT_FN real ht_phi_root(int p, real target, real inv_ep, real a, real b) {
-    real fa = ht_phi_gamma(p, a, inv_ep) - target;
-    real fb = ht_phi_gamma(p, b, inv_ep) - target;
+HT_FN real ht_phi_root(int p, real target, real inv_ep, real a, real b, real phi_a, real phi_b) {
+    real fa = phi_a - target; /* Phi(a), Phi(b) known to the caller */
+    real fb = phi_b - target;
     real x = R(0.5) * (a + b);
     if (fabs(fb - fa) > R(1e-30)) x = ht_clamp(a - fa * (b - a) / (fb - fa), a, b);
     real gc[3];
@@ -168,29 +168,34 @@ HT_FN real ht_phi_root(int p, real target, real inv_ep, real a, real b) {
  * root angle (accurate where |h| -> 1); returns the count.  Monotone pieces:
  * R and TT: one piece [-pi/2, pi/2]; TRT with eta' < 2: split at the caustics +-gamma_c. */
 HT_FN int ht_phi_roots(int p, real phi, real inv_ep, real* hs, real* cs) {
-    real ga[3], gb[3];
+    real ga[3], gb[3], pa[3], pb[3];
     int pieces = 1;
+    /* ends in closed form: Phi(p, +-pi/2) = +-(2 p c - pi) + p pi, c = asin(1/eta') */
+    real c = ht_asin(inv_ep);
+    real pp = (real)p * HT_PI, e = R(2) * (real)p * c - HT_PI;
     ga[0] = -HT_HALF_PI; gb[0] = HT_HALF_PI;
+    pa[0] = pp - e; pb[0] = pp + e;
     if (p == 2) {
         real ep2 = R(1) / ht_max(inv_ep * inv_ep, R(1e-30));
         if (ep2 < R(4)) {
             real hc = sqrt((R(4) - ep2) / R(3));
             real gc = ht_asin(hc);
-            ga[0] = -HT_HALF_PI; gb[0] = -gc;
-            ga[1] = -gc; gb[1] = gc;
-            ga[2] = gc; gb[2] = HT_HALF_PI;
+            real fc = R(4) * ht_asin(hc * inv_ep) - R(2) * gc; /* Phi(2, gc) - 2 pi */
+            ga[0] = -HT_HALF_PI; gb[0] = -gc; pb[0] = pp - fc;
+            ga[1] = -gc; gb[1] = gc; pa[1] = pp - fc; pb[1] = pp + fc;
+            ga[2] = gc; gb[2] = HT_HALF_PI; pa[2] = pp + fc; pb[2] = pp + e;
             pieces = 3;
         }
     }
     int n = 0;
     for (int i = 0; i < pieces; ++i) {
-        real fa = ht_phi_gamma(p, ga[i], inv_ep), fb = ht_phi_gamma(p, gb[i], inv_ep);
+        real fa = pa[i], fb = pb[i];
         real lo = ht_min(fa, fb), hi = ht_max(fa, fb);
         /* the range of one piece spans < 2 pi: at most one 2 pi-shift of phi lies in it */
         real t = phi + HT_TWO_PI * floor((lo - phi) * HT_INV_TWO_PI + R(1));
         if (t - HT_TWO_PI >= lo) t -= HT_TWO_PI;
         if (t < lo || t > hi) continue;
-        real g = ht_phi_root(p, t, inv_ep, ga[i], gb[i]);
+        real g = ht_phi_root(p, t, inv_ep, ga[i], gb[i], fa, fb);
         real sg, cg;
         ht_sincos(g, &sg, &cg);
         cs[n] = fabs(cg);

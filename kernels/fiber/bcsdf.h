@@ -70,6 +70,9 @@ HT_FN void ht_bcsdf_eval_lobes(const HtMaterial* m, real3 wo, real3 wi, real h, 
         *pdf = R(0);
         return;
     }
+#ifdef HT_FIBER_ONLY_MODEL
+    ht_chiang_eval(m, wo, wi, h, lobes, value, pdf); return;
+#endif
     switch (m->model) {
 #if HT_FEATURE_MODEL_KAJIYA
     case HT_MODEL_KAJIYA: ht_kajiya_eval(m, wo, wi, h, lobes, value, pdf); break;

@@ -45,6 +45,15 @@ HT_FN void ht_chiang_setup(const HtMaterial* m, real3 wo, real h, HtChiangSetup*
     for (int p = 0; p < 4; ++p) c->ap_pdf[p] = sum > R(0) ? c->ap_pdf[p] / sum : R(0.25);
 }
 
+/* log normaliser of lobe p: exact from v on the host, precomputed (mp_c) in the float kernels. */
+HT_FN real ht_chiang_log_norm(const HtMaterial* m, int p) {
+#ifdef HT_HOST
+    return ht_mp_log_norm(m->v[p]);
+#else
+    return m->mp_c[p];
+#endif
+}
+
 /* theta_o rotated by the scale tilt of lobe p (pbrt-v4 HairBxDF::f). */
 HT_FN void ht_chiang_tilt(const HtMaterial* m, int p, real sin_o, real cos_o, real* sp, real* cp) {
     real st, ct, s, c;
@@ -67,14 +76,14 @@ HT_FN void ht_chiang_eval_setup(const HtMaterial* m, const HtChiangSetup* c, rea
     for (int p = 0; p < 3; ++p) {
         real sp, cp;
         ht_chiang_tilt(m, p, c->sin_o, c->cos_o, &sp, &cp);
-        real mp = ht_mp(cos_i, sin_i, cp, sp, m->v[p]);
+        real mp = ht_mp_n(cos_i, sin_i, cp, sp, m->v[p], ht_chiang_log_norm(m, p));
         real np = ht_trimmed_logistic(ht_wrap_pi(phi - ht_phi_path(p, c->gamma_o, c->gamma_t)), m->s);
         real3 l = c->ap[p] * (mp * np);
         lobes[p] = l;
         sum += l;
         pd += mp * np * c->ap_pdf[p];
     }
-    real m3 = ht_mp(cos_i, sin_i, c->cos_o, c->sin_o, m->v[3]) * HT_INV_TWO_PI;
+    real m3 = ht_mp_n(cos_i, sin_i, c->cos_o, c->sin_o, m->v[3], ht_chiang_log_norm(m, 3)) * HT_INV_TWO_PI;
     lobes[3] = c->ap[3] * m3;
     sum += lobes[3];
     pd += m3 * c->ap_pdf[3];

@@ -40,3 +40,13 @@ __kernel void fiber_sample(__global const HtMaterial* mats, __global const HtFib
     r.pdf = pdf; r.ok = (float)ok; r.pad0 = 0.0f; r.pad1 = 0.0f;
     out[i] = r;
 }
+
+#include "afs.h"
+
+/* AFS^avg in float: in[i] = (eta, sigma_a, theta [rad], p as float 0..3), out[i] = ht_afs_fast. */
+__kernel void fiber_afs(__global const float4* in, __global float* out, uint n) {
+    uint i = get_global_id(0);
+    if (i >= n) return;
+    float4 a = in[i];
+    out[i] = ht_afs_fast(a.x, a.y, a.z, (int)a.w);
+}

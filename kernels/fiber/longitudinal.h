@@ -48,22 +48,31 @@ HT_FN real ht_i0e(real x) {
 /* log I0(x) for x >= 0. */
 HT_FN real ht_log_i0(real x) { return ht_log(ht_i0e(x)) + fabs(x); }
 
-/* d'Eon M_p(theta_i, theta_o; v) from sines/cosines (cosines >= 0).  Finite for v >= 1e-7. */
-HT_FN real ht_mp(real cos_i, real sin_i, real cos_o, real sin_o, real v) {
+/* -log v - log1p(-e^{-2/v}): the log of M_p's normaliser 1/(2 v sinh(1/v)) without the e^{-1/v}. */
+HT_FN real ht_mp_log_norm(real v) {
+    v = ht_max(v, R(1e-7));
+    real e2 = exp(-R(2) / v);
+#ifdef HT_HOST
+    return -log(v) - log1p(-e2);
+#else
+    return -ht_log(v) - ht_log(R(1) - e2);
+#endif
+}
+
+/* d'Eon M_p(theta_i, theta_o; v) from sines/cosines (cosines >= 0), given log_norm = ht_mp_log_norm(v):
+ *   M = i0e(a) exp((cos(theta_i + theta_o) - 1)/v + log_norm)   (no overflow: the exponent is <= log_norm).
+ * Finite for v >= 1e-7. */
+HT_FN real ht_mp_n(real cos_i, real sin_i, real cos_o, real sin_o, real v, real log_norm) {
     v = ht_max(v, R(1e-7));
     real inv_v = R(1) / v;
     real a = cos_i * cos_o * inv_v;
     real C = cos_i * cos_o - sin_i * sin_o; /* cos(theta_i + theta_o) */
     real S = sin_i * cos_o + cos_i * sin_o; /* sin(theta_i + theta_o) */
     real cm1 = C > R(0) ? -S * S / (R(1) + C) : C - R(1); /* cos - 1 without cancellation */
-    real e2 = exp(-R(2) * inv_v);
-#ifdef HT_HOST
-    real l1p = log1p(-e2);
-#else
-    real l1p = ht_log(R(1) - e2);
-#endif
-    real lm = ht_log(ht_i0e(a)) + cm1 * inv_v - ht_log(v) - l1p;
-    return exp(ht_min(lm, R(80)));
+    return ht_i0e(a) * exp(ht_min(cm1 * inv_v + log_norm, R(80)));
+}
+HT_FN real ht_mp(real cos_i, real sin_i, real cos_o, real sin_o, real v) {
+    return ht_mp_n(cos_i, sin_i, cos_o, sin_o, v, ht_mp_log_norm(v));
 }
 
 /* d'Eon 2013 sampling of theta_i around the (tilted) cone of theta_o' in the stable form:

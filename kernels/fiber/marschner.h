@@ -11,7 +11,7 @@
  * phi_h measured from the frame's y axis (taken as the major axis of the section).
  *
  * Sampling (exact pdf of what is sampled): lobe p by A_p luminance at h = 1/2 (floored at 2 %);
- * theta_h ~ N(alpha_p, beta_p) (theta_i outside [-90, 90] deg -> no sample); phi: R and TT: h uniform
+ * theta_i from the d'Eon proxy of the Gaussian (ht_mz_theta_sample: never fails); phi: R and TT: h uniform
  * in [-1, 1], phi = Phi(p, h) (density sum_roots 1/|2 dPhi/dh|); TRT: the same mixed with the glint
  * Gaussians at +-phi_c (15 % when glints are on) and a uniform (10 %).  eta (not eta*) in the proxy. */
 #ifndef HT_FIBER_MARSCHNER_H
@@ -33,6 +33,31 @@ HT_FN void ht_marschner_angles(real3 wo, real3 wi, HtMarschnerAngles* a) {
     ht_sincos(R(0.5) * (a->theta_o - a->theta_i), &a->sin_d, &a->cos_d);
     a->cos_d = fabs(a->cos_d);
     a->phi = ht_relative_phi(wo, wi);
+}
+
+/* Longitudinal sampling proxy shared by marschner and zinke: the d'Eon lobe M(theta_i; theta_o', v)
+ * with theta_o' = theta_o - 2 alpha_p (cone at theta_h = alpha_p) and v = (2 beta_p)^2 (the Gaussian
+ * in theta_h of std beta_p is a Gaussian in theta_i of std 2 beta_p).  It lives on the sphere, so no
+ * sample is lost at grazing angles, and its solid-angle density is M (the cos theta_i cancels). */
+HT_FN void ht_mz_tilt(const HtMaterial* m, int p, real sin_o, real cos_o, real* sp, real* cp, real* v) {
+    real a = p == 0 ? m->alpha_r : (p == 1 ? m->alpha_tt : m->alpha_trt);
+    real b = p == 0 ? m->beta_r : (p == 1 ? m->beta_tt : m->beta_trt);
+    real s2, c2;
+    ht_sincos(R(2) * a, &s2, &c2);
+    *sp = ht_clamp(sin_o * c2 - cos_o * s2, R(-1), R(1));
+    *cp = fabs(cos_o * c2 + sin_o * s2);
+    *v = R(4) * b * b;
+}
+HT_FN real ht_mz_theta_pdf(const HtMaterial* m, int p, real sin_o, real cos_o, real sin_i, real cos_i) {
+    real sp, cp, v;
+    ht_mz_tilt(m, p, sin_o, cos_o, &sp, &cp, &v);
+    return ht_mp(cos_i, sin_i, cp, sp, v);
+}
+HT_FN void ht_mz_theta_sample(const HtMaterial* m, int p, real sin_o, real cos_o, real u1, real u2, real* sin_i,
+                              real* cos_i) {
+    real sp, cp, v;
+    ht_mz_tilt(m, p, sin_o, cos_o, &sp, &cp, &v);
+    ht_mp_sample(u1, u2, sp, cp, v, sin_i, cos_i);
 }
 
 /* A_p(h) at theta_d for index eta (p = 0, 1, 2), c = sqrt(1 - h^2). */
@@ -135,11 +160,9 @@ HT_FN void ht_marschner_probs(const HtMaterial* m, real sin_o, real cos_o, real*
 HT_FN real ht_marschner_pdf(const HtMaterial* m, const HtMarschnerAngles* a, const real* dens_in) {
     real pr[3];
     ht_marschner_probs(m, a->sin_o, a->cos_o, pr);
-    real ab[3] = {m->alpha_r, m->alpha_tt, m->alpha_trt};
-    real bb[3] = {m->beta_r, m->beta_tt, m->beta_trt};
     real pd = R(0);
     for (int p = 0; p < 3; ++p) {
-        real pth = R(0.5) * ht_gaussian(a->theta_h - ab[p], bb[p]); /* density of theta_i */
+        real pth = ht_mz_theta_pdf(m, p, a->sin_o, a->cos_o, a->sin_i, a->cos_i); /* per solid angle / dphi */
         real dens = dens_in[p];
         if (dens < R(0)) {
             real3 np;
@@ -157,7 +180,7 @@ HT_FN real ht_marschner_pdf(const HtMaterial* m, const HtMarschnerAngles* a, con
         }
         pd += pr[p] * pth * pphi;
     }
-    return pd / ht_max(a->cos_i, R(1e-7));
+    return pd;
 }
 
 HT_FN void ht_marschner_eval(const HtMaterial* m, real3 wo, real3 wi, real h, real3* lobes, real3* value, real* pdf) {
@@ -197,15 +220,9 @@ HT_FN int ht_marschner_sample(const HtMaterial* m, real3 wo, real h, real u0, re
     int p = u0 < pr[0] ? 0 : (u0 < pr[0] + pr[1] ? 1 : 2);
     real ur = p == 0 ? u0 / pr[0] : (p == 1 ? (u0 - pr[0]) / pr[1] : (u0 - pr[0] - pr[1]) / pr[2]);
     ur = ht_clamp(ur, R(0), R(0.99999994));
-    real ab[3] = {m->alpha_r, m->alpha_tt, m->alpha_trt};
-    real bb[3] = {m->beta_r, m->beta_tt, m->beta_trt};
-    real n1, n2;
-    ht_normal_pair(u1, u2, &n1, &n2);
-    real theta_o = ht_asin(sin_o);
-    real theta_i = R(2) * (ab[p] + bb[p] * n1) - theta_o;
-    if (!(fabs(theta_i) < HT_HALF_PI)) return 0;
     real sin_i, cos_i, sin_d, cos_d;
-    ht_sincos(theta_i, &sin_i, &cos_i);
+    ht_mz_theta_sample(m, p, sin_o, cos_o, u1, u2, &sin_i, &cos_i);
+    real theta_o = ht_asin(sin_o), theta_i = ht_asin(sin_i);
     ht_sincos(R(0.5) * (theta_o - theta_i), &sin_d, &cos_d);
     cos_d = fabs(cos_d);
     real inv_ep = ht_inv_eta_prime(m->eta, sin_d, cos_d);
@@ -220,7 +237,13 @@ HT_FN int ht_marschner_sample(const HtMaterial* m, real3 wo, real h, real u0, re
         if (ur < HT_MARSCHNER_TRT_UNIFORM) {
             dphi = HT_TWO_PI * (u3 - R(0.5));
         } else if (ur < HT_MARSCHNER_TRT_UNIFORM + eg) {
-            dphi = (u3 < R(0.5) ? phi_c : -phi_c) + m->caustic_wc * n2;
+            /* glint: sign from the remapped lobe uniform, Gaussian from (u3, its remainder) */
+            real ug = (ur - HT_MARSCHNER_TRT_UNIFORM) / eg;
+            real sg = ug < R(0.5) ? R(1) : R(-1);
+            real ug2 = ht_clamp(ug < R(0.5) ? R(2) * ug : R(2) * ug - R(1), R(0), R(0.99999994));
+            real n1, n2;
+            ht_normal_pair(u3, ug2, &n1, &n2);
+            dphi = sg * phi_c + m->caustic_wc * n1;
         } else {
             dphi = ht_phi_path(2, ht_asin(hh), ht_asin(hh * inv_ep));
         }

@@ -12,8 +12,9 @@
  * h: the hit's own offset (exit azimuth Phi(p, h), pbrt's convention for gamma_o).
  * Not energy conserving pointwise in h (S' > 1 near h = 0 for TT): the furnace reports the h-average.
  *
- * Sampling: lobe by luminance of W_p(h) at theta_d = theta_o (floored at 2 %), theta_h ~ N(alpha_p,
- * beta_p), phi = Phi(p, h) + sigma_w n (wrapped): pdf exact. */
+ * Sampling: lobe by luminance of W_p(h) at theta_d = theta_o (floored at 2 %), theta_i from the d'Eon
+ * proxy of the theta_h Gaussian (ht_mz_theta_sample), phi = Phi(p, h) + sigma_w n (wrapped, n from u3 and
+ * the remapped lobe uniform): pdf exact. */
 #ifndef HT_FIBER_ZINKE_H
 #define HT_FIBER_ZINKE_H
 
@@ -68,11 +69,11 @@ HT_FN void ht_zinke_eval(const HtMaterial* m, real3 wo, real3 wi, real h, real3*
         real d = ht_wrapped_gaussian(a.phi - phis[p], m->azim_sigma);
         lobes[p] = ht_sanitize3(w[p] * (geo * g * d));
         sum += lobes[p];
-        pd += pr[p] * R(0.5) * g * d;
+        pd += pr[p] * ht_mz_theta_pdf(m, p, a.sin_o, a.cos_o, a.sin_i, a.cos_i) * d;
     }
     lobes[3] = ht_splat(R(0));
     *value = sum;
-    *pdf = ht_sanitize(pd / ht_max(a.cos_i, R(1e-7)));
+    *pdf = ht_sanitize(pd);
 }
 
 HT_FN int ht_zinke_sample(const HtMaterial* m, real3 wo, real h, real u0, real u1, real u2, real u3,
@@ -82,17 +83,15 @@ HT_FN int ht_zinke_sample(const HtMaterial* m, real3 wo, real h, real u0, real u
     real pr[3];
     ht_zinke_probs(m, h, sin_o, cos_o, pr);
     int p = u0 < pr[0] ? 0 : (u0 < pr[0] + pr[1] ? 1 : 2);
-    real ab[3] = {m->alpha_r, m->alpha_tt, m->alpha_trt};
-    real bb[3] = {m->beta_r, m->beta_tt, m->beta_trt};
-    real n1, n2;
-    ht_normal_pair(u1, u2, &n1, &n2);
-    real theta_o = ht_asin(sin_o);
-    real theta_i = R(2) * (ab[p] + bb[p] * n1) - theta_o;
-    if (!(fabs(theta_i) < HT_HALF_PI)) return 0;
+    real ur = p == 0 ? u0 / pr[0] : (p == 1 ? (u0 - pr[0]) / pr[1] : (u0 - pr[0] - pr[1]) / pr[2]);
+    ur = ht_clamp(ur, R(0), R(0.99999994));
     real sin_i, cos_i, sin_d, cos_d;
-    ht_sincos(theta_i, &sin_i, &cos_i);
+    ht_mz_theta_sample(m, p, sin_o, cos_o, u1, u2, &sin_i, &cos_i);
+    real theta_o = ht_asin(sin_o), theta_i = ht_asin(sin_i);
     ht_sincos(R(0.5) * (theta_o - theta_i), &sin_d, &cos_d);
     cos_d = fabs(cos_d);
+    real n2, n3;
+    ht_normal_pair(u3, ur, &n2, &n3);
     real inv_ep = ht_inv_eta_prime(m->eta, sin_d, cos_d);
     real phi_p = ht_phi_path(p, ht_asin(h), ht_asin(h * inv_ep));
     real3 w = ht_dir_from(wo, sin_i, cos_i, ht_wrap_pi(phi_p + m->azim_sigma * n2));

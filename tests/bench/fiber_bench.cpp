@@ -77,3 +77,44 @@ void BM_Sample(benchmark::State& st) {
 // Argument: 0 kajiya, 1 marschner, 2 zinke, 3 chiang
 BENCHMARK(BM_Eval)->DenseRange(0, 3);
 BENCHMARK(BM_Sample)->DenseRange(0, 3);
+
+// ---------------------------------------------------------------- OpenCL float kernel throughput
+#include "cl/device.h"
+#include "kernels/fiber/query.h"
+
+namespace {
+void BM_KernelEval(benchmark::State& st) {
+    const int n = 1 << 18;
+    const bool sample = st.range(1) != 0;
+    try {
+        static ClContext ctx;
+        static cl::Program prog = ctx.build("fiber/fiber_query.cl", std::string("-cl-std=CL1.2 ") + (getenv("HT_BENCH_OPTS") ? getenv("HT_BENCH_OPTS") : ""));
+        cl::Kernel k(prog, sample ? "fiber_sample" : "fiber_eval");
+        const Inputs& in = inputs();
+        std::vector<HtMaterial> mats(n, material((int)st.range(0)));
+        std::vector<HtFiberQuery> qs(n);
+        for (int i = 0; i < n; ++i) {
+            int j = i & 1023;
+            qs[i].wo[0] = (float)in.wo[j].x; qs[i].wo[1] = (float)in.wo[j].y; qs[i].wo[2] = (float)in.wo[j].z;
+            qs[i].wi[0] = (float)in.wi[j].x; qs[i].wi[1] = (float)in.wi[j].y; qs[i].wi[2] = (float)in.wi[j].z;
+            qs[i].h = (float)in.h[j];
+            qs[i].u0 = (float)in.u[4 * j]; qs[i].u1 = (float)in.u[4 * j + 1]; qs[i].u2 = (float)in.u[4 * j + 2]; qs[i].u3 = (float)in.u[4 * j + 3];
+        }
+        cl::Buffer bm(ctx.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, n * sizeof(HtMaterial), mats.data());
+        cl::Buffer bq(ctx.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, n * sizeof(HtFiberQuery), qs.data());
+        cl::Buffer bo(ctx.context(), CL_MEM_WRITE_ONLY, n * sizeof(HtFiberResult));
+        k.setArg(0, bm); k.setArg(1, bq); k.setArg(2, bo); k.setArg(3, (cl_uint)n);
+        ctx.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(n), cl::NDRange(64));  // warm-up: PoCL
+        ctx.queue().finish();                                                                // JIT per kernel
+        for (auto _ : st) {
+            ctx.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(n), cl::NDRange(64));
+            ctx.queue().finish();
+        }
+        st.SetItemsProcessed(st.iterations() * n);
+    } catch (const std::exception& e) {
+        st.SkipWithError(e.what());
+    }
+}
+}  // namespace
+// Arguments: model (0 kajiya, 1 marschner, 2 zinke, 3 chiang), 0 eval / 1 sample.  items/s = queries/s.
+BENCHMARK(BM_KernelEval)->ArgsProduct({{0, 1, 2, 3}, {0, 1}})->Unit(benchmark::kMillisecond)->UseRealTime();

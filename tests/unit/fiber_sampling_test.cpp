@@ -114,7 +114,7 @@ TEST(FiberSampling, ChiSquareOfSampledDirections) {
     }
 }
 
-TEST(FiberSampling, SampledEstimatorMatchesQuadrature) {
+TEST(FiberSampling, SampledUniformAndQuadratureEstimatorsAgree) {
     // Mean sample weight vs the deterministic quadrature of integral value dwi: |diff| < 5 standard errors
     // + 2e-4 (quadrature error bound, MODEL_NOTES-style doubling check in fiber_furnace_test).
     for (const Case& c : kCases) {
@@ -135,5 +135,18 @@ TEST(FiberSampling, SampledEstimatorMatchesQuadrature) {
         }
         double mean = s / N, se = std::sqrt(std::max(0.0, s2 / N - mean * mean) / N);
         EXPECT_NEAR(mean, q, 5 * se + 2e-4) << c.model << " theta " << c.theta_deg << " h " << c.h;
+        // uniform-sphere estimator 4 pi value(wi): agrees with the sampled one within 5 combined errors
+        double us = 0, us2 = 0;
+        const int NU = 200000;
+        for (int i = 0; i < NU; ++i) {
+            real3 wi = fibertest::rand_dir(st), v;
+            real pdf;
+            ht_bcsdf_eval(&m, wo, wi, c.h, &v, &pdf);
+            double x = 4 * HT_PI * v.x;
+            us += x;
+            us2 += x * x;
+        }
+        double umean = us / NU, use = std::sqrt(std::max(0.0, us2 / NU - umean * umean) / NU);
+        EXPECT_NEAR(umean, mean, 5 * std::sqrt(se * se + use * use)) << c.model << " uniform vs sampled";
     }
 }
