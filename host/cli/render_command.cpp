@@ -7,6 +7,7 @@
 #include "render/depth_choice.h"
 #include "render/error_metrics.h"
 #include "render/features.h"
+#include "render/memory_plan.h"
 #include "render/renderer.h"
 #include "kernels/types.h"
 
@@ -69,6 +70,7 @@ int cmd_render(const std::vector<std::string>& args) {
         .option("--resume", "FILE", "continue a render from a checkpoint (same scene, options and seed)")
         .option("--reference", "REF", "linear image to compare with: prints RMSE, relMSE, max error, NaN count")
         .option("--device", "I", "OpenCL device index from `hairtrace devices` (default: first CPU/GPU)")
+        .option("--max-memory", "SIZE", "upper bound for host memory while loading and for device memory while rendering, e.g. 512M or 8G; inputs that need more are refused before allocating, with the size named")
         .option("--kernel-dir", "DIR", "load kernel sources from DIR instead of the embedded copies");
     add_scene_options(p);
     p.flag("--verbose", "print the kernel features chosen for the scene and the build options")
@@ -124,7 +126,16 @@ int cmd_render(const std::vector<std::string>& args) {
                              std::to_string(rs.height));
     }
 
-    Scene scene = load_scene(p.get("SCENE"), scene_load_options(p));
+    LoadOptions load_options = scene_load_options(p);
+    if (p.has("--max-memory")) {
+        try {
+            rs.max_device_bytes = parse_bytes(p.get("--max-memory"));
+        } catch (const std::exception& e) {
+            throw UsageError(std::string("--max-memory: ") + e.what());
+        }
+        load_options.max_bytes = rs.max_device_bytes;
+    }
+    Scene scene = load_scene(p.get("SCENE"), load_options);
     if (p.has("--model")) {
         std::string m = p.get("--model");
         if (m != "kajiya" && m != "marschner" && m != "zinke" && m != "chiang")

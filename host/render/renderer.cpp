@@ -12,6 +12,7 @@
 #include "bvh/device_geometry.h"
 #include "render/environment.h"
 #include "render/features.h"
+#include "render/memory_plan.h"
 #include "render/scene_upload.h"
 
 #include <algorithm>
@@ -97,8 +98,12 @@ struct Renderer::Impl {
         k_compact_scan = cl::Kernel(program, "compact_scan");
         k_compact_scatter = cl::Kernel(program, "compact_scatter");
 
-        size_t pixels = size_t(s.width) * size_t(s.height);
-        allocate(std::min(pixels, std::max<size_t>(s.max_paths_per_pass, 1)));
+        const uint64_t scene_bytes = device_geometry.bytes + environment.texels.size() * 4 +
+                                     (environment.marginal.size() + environment.conditional.size()) * 4;
+        MemoryPlan plan = plan_device_memory(uint64_t(s.width) * uint64_t(s.height), scene_bytes,
+                                             cl.info().max_alloc, cl.info().global_mem, s.max_device_bytes,
+                                             std::max<size_t>(s.max_paths_per_pass, 1));
+        allocate(plan.paths_per_pass);
     }
 
     void allocate(size_t n) {

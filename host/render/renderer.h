@@ -22,6 +22,7 @@ struct RenderSettings {
     enum class Indirect { Exact, Afs } indirect = Indirect::Exact;
     int first_sample = 0;     // render samples [first_sample, first_sample + spp)
     size_t max_paths_per_pass = 1u << 20;  // bounds device memory for big images
+    uint64_t max_device_bytes = 0;         // --max-memory (0: the device's global memory)
     bool profile_stages = false;           // time each stage kernel (drains the queue after each)
 };
 

@@ -1,0 +1,103 @@
+// Faults a user meets in practice: broken kernels, devices too small, full disks.  Every one must
+// end in a clear message and a meaningful exit code, never a crash, and lose nothing.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <sys/mount.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#ifdef HT_BINARY
+namespace fs = std::filesystem;
+
+namespace {
+struct TempDir {
+    fs::path path;
+    TempDir() {
+        path = fs::temp_directory_path() / ("ht_fail_" + std::to_string(::getpid()) + "_" + std::to_string(std::rand()));
+        fs::create_directories(path);
+    }
+    ~TempDir() { fs::remove_all(path); }
+    std::string operator/(const std::string& f) const { return (path / f).string(); }
+};
+
+int run(const std::string& cmd) { return WEXITSTATUS(std::system(cmd.c_str())); }
+
+std::string slurp(const std::string& p) {
+    std::ifstream f(p, std::ios::binary);
+    std::stringstream s;
+    s << f.rdbuf();
+    return s.str();
+}
+
+const std::string kBin = HT_BINARY;
+const std::string kSmall = " render 'builtin:strand?hairs=60&segments=8' --width 24 --height 24 --spp 1 --max-depth 1 --quiet";
+}  // namespace
+
+TEST(Failure, KernelBuildErrorPrintsTheLogWithTheFileAndExits3) {
+    TempDir d;
+    fs::copy(fs::path(HT_SOURCE_DIR) / "kernels", d.path / "kernels", fs::copy_options::recursive);
+    {
+        std::ofstream f(d / "kernels/stages/shade.cl", std::ios::app);
+        f << "\nthis is not OpenCL C;\n";
+    }
+    std::string cmd = "HAIRTRACE_CACHE_DIR=off HAIRTRACE_KERNEL_DIR=" + (d / "kernels") + " " + kBin + kSmall +
+                      " -o " + (d / "x.png") + " 2>" + (d / "err.txt");
+    EXPECT_EQ(run(cmd), 3);
+    std::string err = slurp(d / "err.txt");
+    EXPECT_NE(err.find("kernels/stages/shade.cl:"), std::string::npos) << err;
+    EXPECT_NE(err.find("failed"), std::string::npos) << err;
+    EXPECT_FALSE(fs::exists(d / "x.png"));
+}
+
+TEST(Failure, FilmLargerThanTheDeviceAllocationIsRefusedBeforeAllocating) {
+    TempDir d;
+    std::string cmd = kBin + " render 'builtin:strand?hairs=60&segments=8' --width 16384 --height 16384 --spp 1 --quiet -o " +
+                      (d / "x.exr") + " 2>" + (d / "err.txt");
+    EXPECT_EQ(run(cmd), 3);
+    std::string err = slurp(d / "err.txt");
+    EXPECT_NE(err.find("largest allocation"), std::string::npos) << err;
+}
+
+TEST(Failure, MaxMemoryRefusesLargeInputsWithTheSize) {
+    TempDir d;
+    std::string cmd = kBin + " render builtin:strand --max-memory 1M --spp 1 --quiet -o " + (d / "x.exr") + " 2>" +
+                      (d / "err.txt");
+    EXPECT_EQ(run(cmd), 2);
+    std::string err = slurp(d / "err.txt");
+    EXPECT_NE(err.find("limit"), std::string::npos) << err;
+    EXPECT_EQ(run(kBin + kSmall + " --max-memory banana -o " + (d / "y.exr") + " 2>/dev/null"), 2);
+}
+
+TEST(Failure, FullDiskKeepsThePreviousImage) {
+    TempDir d;
+    fs::path mnt = d.path / "small_fs";
+    fs::create_directories(mnt);
+    if (::mount("tmpfs", mnt.c_str(), "tmpfs", 0, "size=96k") != 0) GTEST_SKIP() << "cannot mount a tmpfs here (not root?)";
+    struct Unmount {
+        fs::path p;
+        ~Unmount() { ::umount(p.c_str()); }
+    } unmount{mnt};
+    // a previous, small image
+    ASSERT_EQ(run(kBin + kSmall + " -o " + (mnt / "img.exr").string()), 0);
+    std::string before = slurp((mnt / "img.exr").string());
+    ASSERT_FALSE(before.empty());
+    // fill the disk, leaving a few KiB
+    {
+        std::ofstream filler(mnt / "filler", std::ios::binary);
+        std::string block(4096, 'x');
+        while (filler.write(block.data(), block.size()) && fs::space(mnt).available > 8192) {
+        }
+    }
+    std::string cmd = kBin + " render 'builtin:strand?hairs=60&segments=8' --width 256 --height 256 --spp 1 --max-depth 1 --quiet -o " +
+                      (mnt / "img.exr").string() + " 2>" + (d / "err.txt");
+    EXPECT_EQ(run(cmd), 3);
+    EXPECT_EQ(slurp((mnt / "img.exr").string()), before) << "the previous image must survive a failed write";
+    EXPECT_NE(slurp(d / "err.txt").find("img.exr"), std::string::npos) << slurp(d / "err.txt");
+    for (auto& e : fs::directory_iterator(mnt))
+        EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << "left a temporary file: " << e.path();
+}
+#endif
