@@ -21,6 +21,9 @@ int cmd_converge(const std::vector<std::string>& args);
 void add_scene_options(ArgParser& p);
 LoadOptions scene_load_options(const ArgParser& p);
 
+// --model / configs model=: sets every material's fibre model; throws UsageError for unknown names.
+void apply_model_override(Scene& scene, const std::string& model);
+
 // "r,g,b" or a single value for all three.
 Vec3f parse_rgb(const std::string& option, const std::string& text);
 

@@ -6,6 +6,7 @@
 #include "io/plot.h"
 #include "render/error_metrics.h"
 #include "render/renderer.h"
+#include "kernels/types.h"
 
 #include <chrono>
 #include <cstdio>
@@ -35,7 +36,7 @@ std::vector<std::string> split(const std::string& s, char sep) {
 
 // "model=zinke,depth=5;model=marschner,depth=1"
 std::vector<ConvergeConfig> parse_configs(const std::string& text) {
-    static const std::vector<std::string> known = {"model", "depth"};
+    static const std::vector<std::string> known = {"model", "depth", "indirect", "field"};
     std::vector<ConvergeConfig> out;
     for (auto& c : split(text, ';')) {
         ConvergeConfig cfg;
@@ -45,7 +46,7 @@ std::vector<ConvergeConfig> parse_configs(const std::string& text) {
             if (eq == std::string::npos) throw UsageError("--configs: '" + kv + "' is not key=value");
             std::string k = kv.substr(0, eq), v = kv.substr(eq + 1);
             if (std::find(known.begin(), known.end(), k) == known.end())
-                throw UsageError("--configs: unknown key '" + k + "' (known: model, depth)");
+                throw UsageError("--configs: unknown key '" + k + "' (known: model, depth, indirect, field)");
             cfg.keys[k] = v;
         }
         out.push_back(cfg);
@@ -73,7 +74,7 @@ int cmd_converge(const std::vector<std::string>& args) {
     ArgParser p("converge");
     p.positional("SCENE", "scene file or builtin:NAME");
     p.option("--reference", "REF", "linear reference image (EXR) of the same size")
-        .option("--configs", "LIST", "configurations separated by ';', each key=value pairs separated by ','; keys: model (kajiya|marschner|zinke|chiang), depth", "depth=1")
+        .option("--configs", "LIST", "configurations separated by ';', each key=value pairs separated by ','; keys: model (kajiya|marschner|zinke|chiang), depth (bounces), indirect (exact|afs; afs without depth means depth 1), field (near|far|auto|material)", "depth=1")
         .option("--spp", "LIST", "increasing sample counts at which the error is measured", "1,2,4,8,16,32")
         .option("--width", "W", "image width (must match the reference)", "256")
         .option("--height", "H", "image height (must match the reference)", "256")
@@ -114,17 +115,28 @@ int cmd_converge(const std::vector<std::string>& args) {
         const ConvergeConfig& cfg = configs[ci];
         Scene s = scene;
         RenderSettings rs = base;
-        if (cfg.keys.count("model")) {
-            const std::string& m = cfg.keys.at("model");
-            if (m != "kajiya" && m != "marschner" && m != "zinke" && m != "chiang")
-                throw UsageError("--configs: unknown model '" + m + "'");
-            for (auto& mat : s.materials) mat.model = m;
-        }
+        if (cfg.keys.count("model")) apply_model_override(s, cfg.keys.at("model"));
         if (cfg.keys.count("depth")) {
             char* end = nullptr;
             long d = std::strtol(cfg.keys.at("depth").c_str(), &end, 10);
             if (*end || d < 1 || d > 1000) throw UsageError("--configs: depth must be 1..1000");
             rs.max_depth = int(d);
+        }
+        if (cfg.keys.count("indirect")) {
+            const std::string& v = cfg.keys.at("indirect");
+            if (v == "afs") {
+                rs.indirect = RenderSettings::Indirect::Afs;
+                if (!cfg.keys.count("depth")) rs.max_depth = 1;
+            } else if (v != "exact") {
+                throw UsageError("--configs: indirect must be exact or afs, got '" + v + "'");
+            }
+        }
+        if (cfg.keys.count("field")) {
+            const std::string& v = cfg.keys.at("field");
+            if (v == "near") rs.fiber_field = HT_FIELD_NEAR;
+            else if (v == "far") rs.fiber_field = HT_FIELD_FAR;
+            else if (v == "auto") rs.fiber_field = HT_FIELD_AUTO;
+            else if (v != "material") throw UsageError("--configs: field must be near, far, auto or material");
         }
         rs.spp = spps.back();
         Renderer r(cl, s, rs);

@@ -136,12 +136,7 @@ int cmd_render(const std::vector<std::string>& args) {
         load_options.max_bytes = rs.max_device_bytes;
     }
     Scene scene = load_scene(p.get("SCENE"), load_options);
-    if (p.has("--model")) {
-        std::string m = p.get("--model");
-        if (m != "kajiya" && m != "marschner" && m != "zinke" && m != "chiang")
-            throw UsageError("--model must be kajiya, marschner, zinke or chiang, got '" + m + "'");
-        for (auto& mat : scene.materials) mat.model = m;
-    }
+    if (p.has("--model")) apply_model_override(scene, p.get("--model"));
     if (p.has("--background")) scene.environment = Environment{"", parse_rgb("--background", p.get("--background")), 1.0f};
     if (p.has("--environment")) scene.environment.map_path = p.get("--environment");
     scene.environment.intensity *= float(p.get_double("--environment-intensity", 0, 1e12));

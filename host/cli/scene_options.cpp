@@ -20,6 +20,12 @@ LoadOptions scene_load_options(const ArgParser& p) {
     return o;
 }
 
+void apply_model_override(Scene& scene, const std::string& m) {
+    if (m != "kajiya" && m != "marschner" && m != "zinke" && m != "chiang")
+        throw UsageError("unknown fibre model '" + m + "' (kajiya, marschner, zinke or chiang)");
+    for (auto& mat : scene.materials) mat.model = m;
+}
+
 Vec3f parse_rgb(const std::string& opt, const std::string& s) {
     Vec3f v{};
     std::stringstream ss(s);

@@ -1,42 +1,5 @@
 // Host traversal in float, one thread: ns per ray on the shared microbenchmark scene.
-#include <benchmark/benchmark.h>
-
-// Before anything that includes kernels/compat.h: this TU's `real` is float.
+// HT_HOST_REAL must come before anything that includes kernels/compat.h: this TU's `real` is float.
 #define HT_HOST_REAL float
-#include "kernels/geometry/bvh_traverse.h"
-
-#include "trace_bench_scene.h"
-
-namespace {
-
-void closest(benchmark::State& state, bool incoherent) {
-    const auto& s = ht_bench::trace_scene();
-    const auto& rays = incoherent ? s.incoherent : s.primary;
-    size_t i = 0, hits = 0;
-    for (auto _ : state) {
-        HtHit h;
-        ht_trace_closest(s.geo.nodes.data(), s.geo.segments.data(), s.geo.points.data(), rays[i], &h);
-        hits += h.segment != HT_NO_HIT;
-        benchmark::DoNotOptimize(h);
-        i = (i + 1) % rays.size();
-    }
-    state.counters["hit_rate"] = benchmark::Counter((double)hits / state.iterations());
-    state.SetItemsProcessed(state.iterations());
-}
-
-void any(benchmark::State& state) {
-    const auto& s = ht_bench::trace_scene();
-    size_t i = 0;
-    for (auto _ : state) {
-        benchmark::DoNotOptimize(ht_trace_any(s.geo.nodes.data(), s.geo.segments.data(),
-                                              s.geo.points.data(), s.incoherent[i]));
-        i = (i + 1) % s.incoherent.size();
-    }
-    state.SetItemsProcessed(state.iterations());
-}
-
-}  // namespace
-
-BENCHMARK_CAPTURE(closest, float_primary, false);
-BENCHMARK_CAPTURE(closest, float_incoherent, true);
-BENCHMARK(any)->Name("any_float_incoherent");
+#define HT_BENCH_PRECISION "float"
+#include "trace_bench_body.h"
