@@ -1,10 +1,9 @@
 #include "fiber/afs_quadrature.h"
 
-#if __has_include(<OpenImageIO/imageoutput.h>)
-#include <OpenImageIO/imageoutput.h>
-#else
-#include <OpenImageIO/imageio.h>  // OIIO 2.x declares ImageOutput here
-#endif
+#include "io/plot.h"
+
+#include <array>
+#include <cstdio>
 
 #include <algorithm>
 #include <cmath>
@@ -95,64 +94,31 @@ void write_afs_csv(const std::string& path, const std::vector<AfsRow>& rows) {
     if (!f) throw std::runtime_error("error writing " + path);
 }
 
-namespace {
-struct Canvas {
-    int w, h;
-    std::vector<float> px;
-    Canvas(int w_, int h_) : w(w_), h(h_), px((size_t)w_ * h_ * 3, 1.0f) {}
-    void dot(int x, int y, const float* c) {
-        if (x < 0 || y < 0 || x >= w || y >= h) return;
-        float* p = &px[((size_t)y * w + x) * 3];
-        p[0] = c[0]; p[1] = c[1]; p[2] = c[2];
-    }
-    void line(double x0, double y0, double x1, double y1, const float* c, int thick = 1) {
-        int n = (int)std::ceil(std::max(std::fabs(x1 - x0), std::fabs(y1 - y0))) + 1;
-        for (int i = 0; i <= n; ++i) {
-            double t = (double)i / n;
-            int x = (int)std::lround(x0 + (x1 - x0) * t), y = (int)std::lround(y0 + (y1 - y0) * t);
-            for (int dx = -thick / 2; dx <= thick / 2; ++dx)
-                for (int dy = -thick / 2; dy <= thick / 2; ++dy) dot(x + dx, y + dy, c);
-        }
-    }
-};
-}  // namespace
-
 void write_afs_png(const std::string& path, const std::vector<AfsRow>& rows, double eta, double sigma_a) {
-    const int W = 800, H = 500, L = 60, Rm = 20, T = 20, B = 50;
-    Canvas cv(W, H);
-    double tmax = rows.empty() ? 90.0 : std::max(1.0, rows.back().theta_deg);
-    double ymax = 1.0;  // AFS values lie in [0, 1]
-    auto X = [&](double t) { return L + (W - L - Rm) * t / tmax; };
-    auto Y = [&](double v) { return H - B - (H - B - T) * std::min(v, ymax) / ymax; };
-    const float black[3] = {0, 0, 0}, grey[3] = {0.85f, 0.85f, 0.85f};
-    // grid every 10 degrees and 0.1, axes, ticks
-    for (double t = 0; t <= tmax + 1e-9; t += 10) {
-        cv.line(X(t), Y(0), X(t), Y(ymax), grey);
-        cv.line(X(t), Y(0), X(t), Y(0) + 8, black);
+    // Fig. 4's colours: R red, TT green, TRT blue (removal only), TRT with glints light blue,
+    // the averaged ray density factor magenta.
+    const char* names[5] = {"R", "TT", "TRT (caustic removed)", "TRT + glint", "ray density pi/8"};
+    const std::array<float, 3> colors[5] = {{0.85f, 0.1f, 0.1f}, {0.1f, 0.6f, 0.1f}, {0.1f, 0.1f, 0.9f},
+                                            {0.4f, 0.7f, 1.0f}, {0.8f, 0.1f, 0.8f}};
+    PlotSpec plot;
+    char title[128];
+    std::snprintf(title, sizeof title, "AFS^avg (Zinke 2004 Fig. 4), eta = %.3g, sigma_a = %.3g per radius", eta, sigma_a);
+    plot.title = title;
+    plot.xlabel = "theta (degrees)";
+    plot.ylabel = "AFS^avg";
+    for (int k = 0; k < 5; ++k) {
+        PlotSeries s;
+        s.label = names[k];
+        s.color = colors[k];
+        s.markers = false;
+        for (const AfsRow& r : rows) {
+            const double v[5] = {r.v.R, r.v.TT, r.v.TRT, r.v.TRT_glint, r.v.density};
+            s.x.push_back(r.theta_deg);
+            s.y.push_back(v[k]);
+        }
+        plot.series.push_back(s);
     }
-    for (double v = 0; v <= ymax + 1e-9; v += 0.1) {
-        cv.line(X(0), Y(v), X(tmax), Y(v), grey);
-        cv.line(X(0) - 8, Y(v), X(0), Y(v), black);
-    }
-    cv.line(X(0), Y(0), X(tmax), Y(0), black, 2);
-    cv.line(X(0), Y(0), X(0), Y(ymax), black, 2);
-    // curves: R red, TT green, TRT blue, TRT with glint light blue, ray density magenta (Fig. 4 colours)
-    const float cols[5][3] = {{0.85f, 0.1f, 0.1f}, {0.1f, 0.6f, 0.1f}, {0.1f, 0.1f, 0.9f}, {0.4f, 0.7f, 1.0f}, {0.8f, 0.1f, 0.8f}};
-    for (size_t i = 1; i < rows.size(); ++i) {
-        const AfsValues &a = rows[i - 1].v, &b = rows[i].v;
-        double va[5] = {a.R, a.TT, a.TRT, a.TRT_glint, a.density}, vb[5] = {b.R, b.TT, b.TRT, b.TRT_glint, b.density};
-        for (int k : {3, 0, 1, 2, 4})  // TRT over TRT+glint where they coincide
-            cv.line(X(rows[i - 1].theta_deg), Y(va[k]), X(rows[i].theta_deg), Y(vb[k]), cols[k], 3);
-    }
-    auto out = OIIO::ImageOutput::create(path);
-    if (!out) throw std::runtime_error("cannot create an image writer for " + path);
-    OIIO::ImageSpec spec(W, H, 3, OIIO::TypeDesc::UINT8);
-    spec.attribute("ImageDescription", "AFS^avg (Zinke 2004 Fig. 4): eta=" + std::to_string(eta) +
-                                           " sigma_a=" + std::to_string(sigma_a) +
-                                           "; x: theta 0..90 deg (ticks 10 deg), y: 0..1 (ticks 0.1); "
-                                           "red R, green TT, blue TRT, light blue TRT+glint, magenta density");
-    if (!out->open(path, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, cv.px.data()) || !out->close())
-        throw std::runtime_error("cannot write " + path + ": " + out->geterror());
+    write_plot_png(path, plot);
 }
 
 }  // namespace ht

@@ -68,7 +68,8 @@ struct Axis {
         double span = hi - lo, step = std::pow(10.0, std::floor(std::log10(span / 5)));
         if (span / step > 10) step *= 2;
         if (span / step > 10) step *= 2.5;
-        for (double v = std::ceil(lo / step) * step; v <= hi + 1e-9 * span; v += step) t.push_back(v);
+        for (double v = std::ceil(lo / step) * step; v <= hi + 1e-9 * span; v += step)
+            t.push_back(std::fabs(v) < 1e-9 * span ? 0.0 : v);  // no "-0" from accumulated rounding
         return t;
     }
 };
