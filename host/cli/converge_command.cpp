@@ -68,6 +68,41 @@ std::vector<int> parse_spp_list(const std::string& text) {
     return out;
 }
 
+PlotSpec error_plot(const std::string& scene_name) {
+    PlotSpec plot;
+    plot.title = "error against render time: " + scene_name;
+    plot.xlabel = "render seconds";
+    plot.ylabel = "RMSE";
+    plot.log_x = plot.log_y = true;
+    return plot;
+}
+
+int replot(const std::string& csv_path, const std::string& png, const std::string& scene_name) {
+    std::ifstream in(csv_path);
+    if (!in) throw UsageError("--replot: cannot read " + csv_path);
+    std::string line;
+    std::getline(in, line);  // header
+    PlotSpec plot = error_plot(scene_name);
+    while (std::getline(in, line)) {
+        // "config",spp,seconds,rmse,...
+        auto q = line.find('"', 1);
+        if (line.empty() || line[0] != '"' || q == std::string::npos) throw UsageError("--replot: malformed line: " + line);
+        std::string label = line.substr(1, q - 1);
+        auto fields = split(line.substr(q + 2), ',');
+        if (fields.size() < 3) throw UsageError("--replot: malformed line: " + line);
+        if (plot.series.empty() || plot.series.back().label != label) {
+            PlotSeries s;
+            s.label = label;
+            s.color = plot_color(plot.series.size());
+            plot.series.push_back(s);
+        }
+        plot.series.back().x.push_back(std::stod(fields[1]));
+        plot.series.back().y.push_back(std::stod(fields[2]));
+    }
+    write_plot_png(png, plot);
+    return kExitOk;
+}
+
 }  // namespace
 
 int cmd_converge(const std::vector<std::string>& args) {
@@ -81,11 +116,13 @@ int cmd_converge(const std::vector<std::string>& args) {
         .option("--seed", "S", "random seed", "1")
         .option("--csv", "FILE", "write config,spp,seconds,rmse,relmse,max_error,nonfinite rows", "converge.csv")
         .option("--png", "FILE", "log-log plot of RMSE against render time", "converge.png")
-        .option("--device", "I", "OpenCL device index");
+        .option("--device", "I", "OpenCL device index")
+        .option("--replot", "CSV", "only redraw --png from a CSV this command wrote earlier (no rendering)");
     add_scene_options(p);
     p.flag("--quiet", "no progress on stderr").flag("--help", "this help");
     p.parse(args);
     if (p.has("--help")) { std::cout << p.help(); return kExitOk; }
+    if (p.has("--replot")) return replot(p.get("--replot"), p.get("--png"), p.get("SCENE"));
     if (!p.has("--reference")) throw UsageError("converge: --reference REF.exr is required");
     auto configs = parse_configs(p.get("--configs"));
     auto spps = parse_spp_list(p.get("--spp"));
@@ -106,11 +143,7 @@ int cmd_converge(const std::vector<std::string>& args) {
     std::ofstream csv(p.get("--csv"));
     if (!csv) throw ImageError(p.get("--csv") + ": cannot write");
     csv << "config,spp,seconds,rmse,relmse,max_error,nonfinite\n";
-    PlotSpec plot;
-    plot.title = "error against render time: " + scene.source;
-    plot.xlabel = "render seconds";
-    plot.ylabel = "RMSE";
-    plot.log_x = plot.log_y = true;
+    PlotSpec plot = error_plot(scene.source);
     for (size_t ci = 0; ci < configs.size(); ++ci) {
         const ConvergeConfig& cfg = configs[ci];
         Scene s = scene;

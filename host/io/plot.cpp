@@ -110,7 +110,9 @@ std::array<float, 3> plot_color(size_t i) {
 
 void write_plot_png(const std::string& path, const PlotSpec& spec) {
     const int W = spec.width, H = spec.height;
-    const int left = 90, right = 220, top = 50, bottom = 70;
+    size_t longest = 0;
+    for (auto& ser : spec.series) longest = std::max(longest, ser.label.size());
+    const int left = 90, right = std::max(220, 60 + 8 * int(longest)), top = 50, bottom = 70;
     Canvas c(W, H);
     Axis ax = make_axis(spec.series, true, spec.log_x), ay = make_axis(spec.series, false, spec.log_y);
     auto px = [&](double x) { return left + ax.map(x) * (W - left - right); };
