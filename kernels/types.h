@@ -24,6 +24,12 @@ typedef struct {
  * consecutive HtPoint vertices (r unused), `segment` its global primitive id (segment_count +
  * triangle index) and `strand` the triangle index into the HtTriangleShading array. */
 #define HT_SEG_TRIANGLE 2u
+/* Triangle meshes compiled in.  The host defines it 0 for hair-only scenes
+ * (host/render/features.cpp) so the leaf loop and shade stay pure hair; code built without
+ * the option (tests, tools) gets both primitive kinds. */
+#ifndef HT_FEATURE_MESHES
+#define HT_FEATURE_MESHES 1
+#endif
 typedef struct {
     uint point;    /* index of the first point */
     uint segment;  /* global segment id (Embree primID order: strands back to back) */

@@ -25,13 +25,6 @@
 #include "triangle.h"
 #include "fiber_frame.h"
 
-/* Triangle meshes in the BVH.  The host defines it 0 for hair-only scenes
- * (host/render/features.cpp) so the leaf loop stays the pure capsule loop; portable code that
- * does not say gets both primitive kinds. */
-#ifndef HT_FEATURE_MESHES
-#define HT_FEATURE_MESHES 1
-#endif
-
 /* Stack entries; the builder caps the tree depth below this (host/bvh/bvh.h kMaxDepth). */
 #define HT_STACK_SIZE 64
 #define HT_T_FAR R(1e30)
