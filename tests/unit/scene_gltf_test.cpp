@@ -386,7 +386,7 @@ TEST(SceneGltf, BuiltinReferenceWithGltfMaterialCameraAndLight) {
 }
 
 TEST(SceneGltf, ShippedScenesLoad) {
-    for (const char* name : {"default.gltf", "ball.gltf", "strand_closeup.gltf"}) {
+    for (const char* name : {"default.gltf", "ball.gltf", "strand_closeup.gltf", "strand_on_floor.gltf"}) {
         SCOPED_TRACE(name);
         const Scene s = load_scene(std::string(HT_SOURCE_DIR "/scenes/") + name);
         EXPECT_TRUE(s.has_camera);
@@ -394,6 +394,13 @@ TEST(SceneGltf, ShippedScenesLoad) {
         EXPECT_GT(s.strands.segment_count(), 100000u);
         EXPECT_TRUE(s.warnings.empty()) << s.warnings[0];
     }
+    // The floor sits just under the strand's tips (y = -50.1).
+    const Scene s = load_scene(HT_SOURCE_DIR "/scenes/strand_on_floor.gltf");
+    ASSERT_EQ(s.meshes.size(), 1u);
+    EXPECT_EQ(s.meshes[0].triangle_count(), 2u);
+    EXPECT_EQ(s.meshes[0].normals.size(), 4u);
+    EXPECT_FLOAT_EQ(s.meshes[0].positions[0][1], -52.0f);
+    expect_vec_near(s.surface_materials.at(s.meshes[0].material).albedo, {0.6f, 0.6f, 0.6f});
 }
 
 }  // namespace
