@@ -20,6 +20,16 @@ typedef struct {
  * flags: HT_SEG_FIRST marks a strand's first segment, which owns its begin sphere; every other
  * joint sphere belongs to the segment that ends there (Embree's round linear curve rule). */
 #define HT_SEG_FIRST 1u
+/* A triangle, not a capsule (meshes share the BVH with the hair): `point` is the first of three
+ * consecutive HtPoint vertices (r unused), `segment` its global primitive id (segment_count +
+ * triangle index) and `strand` the triangle index into the HtTriangleShading array. */
+#define HT_SEG_TRIANGLE 2u
+/* Triangle meshes compiled in.  The host defines it 0 for hair-only scenes
+ * (host/render/features.cpp) so the leaf loop and shade stay pure hair; code built without
+ * the option (tests, tools) gets both primitive kinds. */
+#ifndef HT_FEATURE_MESHES
+#define HT_FEATURE_MESHES 1
+#endif
 typedef struct {
     uint point;    /* index of the first point */
     uint segment;  /* global segment id (Embree primID order: strands back to back) */
@@ -37,6 +47,13 @@ typedef struct {
     float hi[8];
 } HtBvhNode;
 
+/* Per-triangle shading data, indexed by HtSegment.strand of a triangle record.  64 bytes. */
+typedef struct {
+    float n0[4], n1[4], n2[4]; /* vertex shading normals xyz (w = 1 when present, 0: use the
+                                * geometric normal) */
+    float albedo[4];           /* Lambertian albedo rgb, w unused */
+} HtTriangleShading;
+
 /* ---------------------------------------------------------------- rays and hits */
 
 typedef struct {
@@ -44,9 +61,11 @@ typedef struct {
     float dx, dy, dz, tmax;
 } HtRay;
 
-/* Closest hit.  segment = HT_NO_HIT for a miss.  u = position along the segment [0,1],
- * h = signed offset across the fibre in units of the radius [-1,1] (MODEL_NOTES §1),
- * (tx,ty,tz) = unit tangent root->tip. */
+/* Closest hit.  segment = HT_NO_HIT for a miss.  For a hair segment: u = position along the
+ * segment [0,1], h = signed offset across the fibre in units of the radius [-1,1]
+ * (MODEL_NOTES §1), (tx,ty,tz) = unit tangent root->tip, radius > 0.  For a triangle
+ * (segs[segment].flags & HT_SEG_TRIANGLE; radius == 0): u, h = barycentrics of vertices 1 and 2,
+ * (tx,ty,tz) = unit geometric normal (counter-clockwise front, not flipped towards the ray). */
 #define HT_NO_HIT 0xFFFFFFFFu
 typedef struct {
     float t, u, h;

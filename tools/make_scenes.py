@@ -6,9 +6,11 @@ the scene extras key "hairtrace_builtin"), so the files hold only camera, lights
 stay small and readable.  Camera and light nodes are placed with a look-at rotation computed
 here, since glTF stores node orientations as quaternions.
 """
+import base64
 import json
 import math
 import os
+import struct
 
 
 def normalize(v):
@@ -61,6 +63,36 @@ WARM_BLOND = {
 }
 
 
+def add_floor(doc, height, half, albedo):
+    """Adds a square floor (two TRIANGLES, normals up, indexed) at y = height to a scene dict,
+    with a diffuse material; the vertex data is embedded as a base64 data URI."""
+    positions = [(-half, height, -half), (half, height, -half), (half, height, half), (-half, height, half)]
+    normals = [(0.0, 1.0, 0.0)] * 4
+    indices = [0, 2, 1, 0, 3, 2]  # counter-clockwise seen from above: front face up
+    blob = b"".join(struct.pack("<3f", *p) for p in positions)
+    blob += b"".join(struct.pack("<3f", *n) for n in normals)
+    blob += struct.pack("<6H", *indices)
+    doc["buffers"] = [{"byteLength": len(blob),
+                       "uri": "data:application/octet-stream;base64," + base64.b64encode(blob).decode()}]
+    doc["bufferViews"] = [{"buffer": 0, "byteOffset": 0, "byteLength": 48},
+                          {"buffer": 0, "byteOffset": 48, "byteLength": 48},
+                          {"buffer": 0, "byteOffset": 96, "byteLength": 12}]
+    doc["accessors"] = [
+        {"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3",
+         "min": [-half, height, -half], "max": [half, height, half]},
+        {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC3"},
+        {"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"}]
+    doc["materials"].append({"name": "floor",
+                             "pbrMetallicRoughness": {"baseColorFactor": list(albedo) + [1.0],
+                                                      "metallicFactor": 0.0, "roughnessFactor": 1.0}})
+    doc["meshes"] = [{"name": "floor", "primitives": [
+        {"mode": 4, "attributes": {"POSITION": 0, "NORMAL": 1}, "indices": 2,
+         "material": len(doc["materials"]) - 1}]}]
+    doc["nodes"].append({"name": "floor", "mesh": 0})
+    doc["scenes"][0]["nodes"].append(len(doc["nodes"]) - 1)
+    return doc
+
+
 def scene(builtin, eye, target, yfov_deg, aspect, lights, comment):
     """lights: list of (gltf light dict without intensity, position, aim, irradiance at aim)."""
     nodes = [{"name": "camera", "camera": 0, "translation": eye,
@@ -96,6 +128,9 @@ BACK_KEY = {"name": "back_key", "type": "spot", "color": [1.0, 0.96, 0.9],
             "spot": {"innerConeAngle": round(math.radians(18), 6),
                      "outerConeAngle": round(math.radians(26), 6)}}
 FRONT_FILL = {"name": "front_fill", "type": "point", "color": [0.9, 0.95, 1.0]}
+TOP_KEY = {"name": "top_key", "type": "spot", "color": [1.0, 0.97, 0.92],
+           "spot": {"innerConeAngle": round(math.radians(30), 6),
+                    "outerConeAngle": round(math.radians(40), 6)}}
 
 SCENES = {
     "default.gltf": scene(
@@ -108,6 +143,15 @@ SCENES = {
         lights=[(BACK_KEY, [50.0, 60.0, -70.0], [0.0, 20.0, 0.0], 2.0),
                 (FRONT_FILL, [-60.0, 40.0, 80.0], [0.0, 20.0, 0.0], 0.3)],
         comment="Close-up of the upper part of builtin:strand: individual fibres resolved."),
+    # builtin:strand ends at y = -50.1; the floor lies just below its tips.  A key spot from
+    # above and in front throws the strand's shadow behind it onto the floor.
+    "strand_on_floor.gltf": add_floor(scene(
+        "strand", eye=[0.0, 40.0, 230.0], target=[0.0, -20.0, 0.0], yfov_deg=35.0, aspect=0.75,
+        lights=[(TOP_KEY, [-40.0, 160.0, 90.0], [0.0, -52.0, 0.0], 2.0),
+                (BACK_KEY, [80.0, 90.0, -120.0], [0.0, 0.0, 0.0], 1.0),
+                (FRONT_FILL, [-100.0, 40.0, 150.0], [0.0, 0.0, 0.0], 0.2)],
+        comment="builtin:strand standing on a grey diffuse floor (a TRIANGLES quad): hair "
+                "shadows the floor."), height=-52.0, half=150.0, albedo=(0.6, 0.6, 0.6)),
     "ball.gltf": scene(
         "ball", eye=[65.6, 84.4, 187.5], target=[0.0, 0.0, 0.0], yfov_deg=30.0, aspect=1.0,
         lights=[(BACK_KEY, [120.0, 110.0, -140.0], [0.0, 0.0, 0.0], 2.0),

@@ -378,6 +378,18 @@ void build_bvh_from(const std::vector<HtSegment>& base, SceneGeometry& geo, cons
     std::vector<Ref> refs;
     refs.reserve(base.size());
     for (uint32_t i = 0; i < base.size(); ++i) {
+        if (base[i].flags & HT_SEG_TRIANGLE) {
+            // Triangles are never split: their boxes are tight already for mesh-like shapes.
+            Ref ref;
+            ref.seg = i;
+            for (uint32_t v = 0; v < 3; ++v) {
+                const HtPoint& p = geo.points[base[i].point + v];
+                const float pv[3] = {p.x, p.y, p.z};
+                ref.box.grow_point(pv, 0.0f);
+            }
+            refs.push_back(ref);
+            continue;
+        }
         const HtPoint& a = geo.points[base[i].point];
         const HtPoint& b = geo.points[base[i].point + 1];
         const float p0[3] = {a.x, a.y, a.z}, p1[3] = {b.x, b.y, b.z};
@@ -413,6 +425,14 @@ void build_bvh_from(const std::vector<HtSegment>& base, SceneGeometry& geo, cons
 }  // namespace
 
 SceneGeometry build_geometry(const Strands& strands, const BvhOptions& opt) {
+    static const std::vector<Mesh> kNoMeshes;
+    static const std::vector<SurfaceMaterialDesc> kNoMaterials;
+    return build_geometry(strands, kNoMeshes, kNoMaterials, opt);
+}
+
+SceneGeometry build_geometry(const Strands& strands, const std::vector<Mesh>& meshes,
+                             const std::vector<SurfaceMaterialDesc>& surface_materials,
+                             const BvhOptions& opt) {
     const auto t0 = std::chrono::steady_clock::now();
     SceneGeometry geo;
     geo.points.resize(strands.points.size());
@@ -434,6 +454,36 @@ SceneGeometry build_geometry(const Strands& strands, const BvhOptions& opt) {
         }
     }
     geo.segment_count = base.size();
+
+    // Triangles after the segments: 3 private vertices each (unindexed, so the traversal reads
+    // one contiguous 48-byte run and needs no index buffer).
+    for (const Mesh& m : meshes) {
+        const SurfaceMaterialDesc mat =
+            m.material < surface_materials.size() ? surface_materials[m.material] : SurfaceMaterialDesc{};
+        const bool has_normals = m.normals.size() == m.positions.size() && !m.normals.empty();
+        for (size_t t = 0; t + 2 < m.indices.size(); t += 3) {
+            HtSegment seg;
+            seg.point = (uint32_t)geo.points.size();
+            seg.segment = (uint32_t)base.size();
+            seg.strand = (uint32_t)geo.triangles.size();
+            seg.flags = HT_SEG_TRIANGLE;
+            base.push_back(seg);
+            HtTriangleShading sh{};
+            float* normals[3] = {sh.n0, sh.n1, sh.n2};
+            for (int v = 0; v < 3; ++v) {
+                const uint32_t idx = m.indices[t + v];
+                const Vec3f& p = m.positions[idx];
+                geo.points.push_back(HtPoint{p[0], p[1], p[2], 0.0f});
+                if (has_normals) {
+                    for (int k = 0; k < 3; ++k) normals[v][k] = m.normals[idx][k];
+                    normals[v][3] = 1.0f;
+                }
+            }
+            for (int k = 0; k < 3; ++k) sh.albedo[k] = mat.albedo[k];
+            geo.triangles.push_back(sh);
+        }
+    }
+    geo.triangle_count = geo.triangles.size();
     build_bvh_from(base, geo, opt);
     geo.stats.build_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -442,7 +492,7 @@ SceneGeometry build_geometry(const Strands& strands, const BvhOptions& opt) {
 
 void rebuild_bvh(SceneGeometry& geo, const BvhOptions& opt) {
     const auto t0 = std::chrono::steady_clock::now();
-    std::vector<HtSegment> base(geo.segment_count);
+    std::vector<HtSegment> base(geo.segment_count + geo.triangle_count);
     for (const HtSegment& s : geo.segments) base[s.segment] = s;
     build_bvh_from(base, geo, opt);
     geo.stats.build_ms =

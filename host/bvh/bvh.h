@@ -16,6 +16,7 @@ static_assert(sizeof(HtSegment) == 16, "HtSegment layout must match the kernels"
 static_assert(sizeof(HtBvhNode) == 64, "HtBvhNode layout must match the kernels");
 static_assert(sizeof(HtRay) == 32, "HtRay layout must match the kernels");
 static_assert(sizeof(HtHit) == 32, "HtHit layout must match the kernels");
+static_assert(sizeof(HtTriangleShading) == 64, "HtTriangleShading layout must match the kernels");
 
 // The traversal's private stack holds HT_STACK_SIZE (64) entries and pushes at most one per
 // level, so the builder turns any node deeper than this into a leaf.
@@ -56,16 +57,30 @@ struct BvhStats {
 };
 
 struct SceneGeometry {
-    std::vector<HtPoint> points;      // all strand points, strands back to back
-    std::vector<HtSegment> segments;  // leaf order; .segment = global id (Embree primID)
+    // All strand points, strands back to back, then 3 vertices per triangle (r = 0).
+    std::vector<HtPoint> points;
+    // Leaf order.  Capsules: .segment = global id (Embree primID).  Triangles (HT_SEG_TRIANGLE):
+    // .segment = segment_count + triangle index, .strand = triangle index.
+    std::vector<HtSegment> segments;
     std::vector<HtBvhNode> nodes;     // node 0 = root; never empty
+    std::vector<HtTriangleShading> triangles;  // per triangle, meshes back to back
     BvhStats stats;
-    size_t segment_count = 0;         // distinct segments of the scene
+    size_t segment_count = 0;         // distinct hair segments of the scene
+    size_t triangle_count = 0;        // triangles (also the size of `triangles`)
 };
 
 // Builds points, segments and the BVH for all strands.  Strands with fewer than 2 points have
 // no segments.  An empty scene yields a single root with two empty slots.
 SceneGeometry build_geometry(const Strands& strands, const BvhOptions& opt = {});
+// The same with triangle meshes in the same BVH (one traversal finds both kinds).  Mesh
+// indices must be in range (the loaders check); albedo comes from surface_materials[material]
+// (a missing material is grey 0.8).
+SceneGeometry build_geometry(const Strands& strands, const std::vector<Mesh>& meshes,
+                             const std::vector<SurfaceMaterialDesc>& surface_materials,
+                             const BvhOptions& opt = {});
+inline SceneGeometry build_geometry(const Scene& scene, const BvhOptions& opt = {}) {
+    return build_geometry(scene.strands, scene.meshes, scene.surface_materials, opt);
+}
 
 // Rebuilds only the BVH (and the leaf order) of an existing geometry with other options.
 void rebuild_bvh(SceneGeometry& geo, const BvhOptions& opt);

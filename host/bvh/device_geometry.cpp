@@ -50,13 +50,19 @@ DeviceGeometry upload_geometry(ClContext& cl, const SceneGeometry& geo) {
     d.nodes = make_buffer(cl, "BVH node", geo.nodes.data(), nb);
     d.segments = make_buffer(cl, "segment", geo.segments.data(), sb);
     d.points = make_buffer(cl, "point", geo.points.data(), pb);
-    d.bytes = nb + sb + pb;
+    const size_t tb = geo.triangles.size() * sizeof(HtTriangleShading);
+    d.triangles = make_buffer(cl, "triangle shading", geo.triangles.data(), tb);
+    d.triangle_count = geo.triangles.size();
+    d.bytes = nb + sb + pb + tb;
     return d;
 }
 
 DeviceTracer::DeviceTracer(ClContext& cl, const DeviceGeometry& geo, const std::string& options)
     : cl_(cl), geo_(geo) {
-    program_ = cl.build("stages/intersect.cl", options);  // throws DeviceError with the log
+    std::string opts = options;
+    if (opts.find("HT_FEATURE_MESHES") == std::string::npos)
+        opts += geo.triangle_count ? " -DHT_FEATURE_MESHES=1" : " -DHT_FEATURE_MESHES=0";
+    program_ = cl.build("stages/intersect.cl", opts);  // throws DeviceError with the log
     build_ms_ = cl.last_build_ms();
     build_cached_ = cl.last_build_cached();
     device_step("creating the intersection kernels", [&] {

@@ -10,6 +10,8 @@ namespace ht {
 
 struct DeviceGeometry {
     cl::Buffer nodes, segments, points;
+    cl::Buffer triangles;       // HtTriangleShading per triangle (one dummy element when none)
+    size_t triangle_count = 0;  // decides HT_FEATURE_MESHES for DeviceTracer
     size_t bytes = 0;
 };
 
@@ -19,7 +21,9 @@ DeviceGeometry upload_geometry(ClContext& cl, const SceneGeometry& geo);
 
 // Owns a program with the intersect_closest / intersect_shadow stages (kernels/stages/
 // intersect.cl) and traces ray arrays against one uploaded geometry.  Ray and result buffers
-// are kept between calls and grown when needed.
+// are kept between calls and grown when needed.  Unless `options` says otherwise, the program
+// is built with HT_FEATURE_MESHES = (the geometry has triangles), so hair-only geometry runs
+// the pure capsule leaf loop.
 class DeviceTracer {
 public:
     static constexpr size_t kLocalSize = 64;  // POCL_FINDINGS: 32-256 equal, must be explicit

@@ -18,7 +18,7 @@ int cmd_info(const std::vector<std::string>& args) {
     p.parse(args);
     if (p.has("--help")) { std::cout << p.help(); return kExitOk; }
     Scene scene = load_scene(p.get("SCENE"), scene_load_options(p));
-    SceneGeometry g = build_geometry(scene.strands);
+    SceneGeometry g = build_geometry(scene);
     Bounds b = scene_bounds(scene);
     nlohmann::json j;
     j["scene"] = scene.source;
@@ -26,6 +26,11 @@ int cmd_info(const std::vector<std::string>& args) {
     j["points"] = scene.strands.point_count();
     j["segments"] = scene.strands.segment_count();
     j["bounds"] = {{"min", {b.lo[0], b.lo[1], b.lo[2]}}, {"max", {b.hi[0], b.hi[1], b.hi[2]}}};
+    j["meshes"] = scene.meshes.size();
+    j["triangles"] = g.triangle_count;
+    j["surface_materials"] = nlohmann::json::array();
+    for (auto& m : scene.surface_materials)
+        j["surface_materials"].push_back({{"name", m.name}, {"albedo", {m.albedo[0], m.albedo[1], m.albedo[2]}}});
     j["materials"] = nlohmann::json::array();
     for (auto& m : scene.materials) j["materials"].push_back({{"name", m.name}, {"model", m.model}});
     j["lights"] = scene.lights.size();
@@ -43,6 +48,10 @@ int cmd_info(const std::vector<std::string>& args) {
                 scene.strands.point_count(), scene.strands.segment_count());
     std::printf("bounds     (%g, %g, %g) .. (%g, %g, %g)\n", b.lo[0], b.lo[1], b.lo[2], b.hi[0], b.hi[1], b.hi[2]);
     for (auto& m : scene.materials) std::printf("material   %s (%s)\n", m.name.c_str(), m.model.c_str());
+    if (!scene.meshes.empty())
+        std::printf("meshes     %zu (%zu triangles)\n", scene.meshes.size(), size_t(g.triangle_count));
+    for (auto& m : scene.surface_materials)
+        std::printf("surface    %s (diffuse %g, %g, %g)\n", m.name.c_str(), m.albedo[0], m.albedo[1], m.albedo[2]);
     std::printf("lights     %zu\ncamera     %s\n", scene.lights.size(), scene.has_camera ? "from scene" : "automatic");
     std::printf("bvh        %zu nodes, %zu leaves, depth %d, SAH cost %.2f, %.1f bytes/segment, built in %.1f ms\n",
                 size_t(g.stats.nodes), size_t(g.stats.leaves), int(g.stats.max_depth), double(g.stats.sah_cost),

@@ -18,6 +18,7 @@ int model_index(const std::string& name) {
 KernelFeatures scene_features(const Scene& scene, uint32_t fiber_field, bool indirect_afs) {
     KernelFeatures f;
     f.indirect_afs = indirect_afs;
+    for (const Mesh& m : scene.meshes) f.meshes = f.meshes || m.triangle_count() > 0;
     for (const Light& l : scene.lights) {
         switch (l.type) {
         case LightType::Point: f.light_point = true; break;
@@ -51,6 +52,7 @@ std::string kernel_build_options(const Scene& scene, uint32_t fiber_field, bool 
     def("HT_FEATURE_MODEL_ZINKE", f.model[HT_MODEL_ZINKE]);
     def("HT_FEATURE_MODEL_CHIANG", f.model[HT_MODEL_CHIANG]);
     def("HT_FEATURE_INDIRECT_AFS", f.indirect_afs);
+    def("HT_FEATURE_MESHES", f.meshes);
     return o;
 }
 
@@ -63,6 +65,7 @@ std::vector<std::string> describe_features(const KernelFeatures& f) {
     add("sphere lights", f.light_sphere);
     for (int i = 0; i < 4; ++i) add((std::string("model ") + kModelNames[i]).c_str(), f.model[i]);
     add("translucent AFS shadow rays", f.indirect_afs);
+    add("triangle meshes", f.meshes);
     return out;
 }
 

@@ -14,6 +14,7 @@ struct KernelFeatures {
     bool light_point = false, light_spot = false, light_directional = false, light_sphere = false;
     bool model[4] = {false, false, false, false};  // indexed by HT_MODEL_*
     bool indirect_afs = false;                      // translucent AFS shadow rays (--indirect afs)
+    bool meshes = false;                            // triangle surfaces in the BVH and in shade
 };
 
 // fiber_field (HT_FIELD_*): anything but "the material's model" may swap marschner and zinke.

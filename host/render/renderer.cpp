@@ -63,7 +63,7 @@ struct Renderer::Impl {
     cl::Buffer transmittance;                        // --indirect afs: per shadow slot, rgb
 
     Impl(ClContext& c, const Scene& scene, const RenderSettings& s) : cl(c), settings(s) {
-        geometry = build_geometry(scene.strands);
+        geometry = build_geometry(scene);
         device_geometry = upload_geometry(cl, geometry);
         std::vector<uint32_t> mat_of_strand(scene.strands.material.begin(), scene.strands.material.end());
         strand_material = device_array(cl.context(), mat_of_strand);
@@ -156,6 +156,7 @@ struct Renderer::Impl {
         int a = 0;
         k_shade.setArg(a++, device_geometry.segments);
         k_shade.setArg(a++, device_geometry.points);
+        k_shade.setArg(a++, device_geometry.triangles);
         k_shade.setArg(a++, strand_material);
         k_shade.setArg(a++, materials);
         k_shade.setArg(a++, lights);

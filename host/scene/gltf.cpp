@@ -14,8 +14,13 @@
 //     +Y up.  Further and orthographic cameras are ignored with a warning.
 //   * KHR_lights_punctual point, spot (inner/outer cone) and directional lights: colour and
 //     intensity as stated (range is ignored); position = node origin, direction = node -Z.
-//   * triangle, point and line-loop primitives are ignored, counted in a warning (triangle
-//     meshes come with the path tracer).
+//   * surfaces: TRIANGLES (4), TRIANGLE_STRIP (5) and TRIANGLE_FAN (6) primitives, indexed or
+//     not, become Scene::meshes in world space: POSITION, optional NORMAL (transformed with the
+//     inverse transpose), a diffuse SurfaceMaterialDesc from pbrMetallicRoughness.
+//     baseColorFactor (rgb; no material = grey 0.8).  Non-finite positions are a SceneError;
+//     degenerate (zero-area) triangles are dropped with a counted warning; base colour textures
+//     are not read (counted in a warning; the factor alone is used).
+//   * point and line-loop primitives are ignored, counted in a warning.
 //   * `"hairtrace_builtin": "strand"` (any make_builtin spec, e.g. "ball?hairs=500") in the
 //     scene's or the asset's extras adds that built-in hair; `"hairtrace_material"` (a material
 //     index or name) gives it a glTF material, otherwise it keeps its own.  The built-in's camera
@@ -136,8 +141,8 @@ public:
         if (scene_.strands.strand_count() == 0)
             scene_fail(file_, "no hair: the file holds no LINES or LINE_STRIP primitives",
                        triangle_primitives_ > 0
-                           ? str_cat(" (", triangle_primitives_,
-                                     " triangle primitives are not rendered yet)")
+                           ? str_cat(" (only ", triangle_primitives_,
+                                     " triangle primitives; a scene needs hair)")
                            : std::string());
         auto namer = [this](size_t strand) {
             auto it = std::upper_bound(labels_.begin(), labels_.end(), strand,
@@ -339,10 +344,134 @@ private:
             } else if (mode == TINYGLTF_MODE_TRIANGLES || mode == TINYGLTF_MODE_TRIANGLE_STRIP ||
                        mode == TINYGLTF_MODE_TRIANGLE_FAN) {
                 ++triangle_primitives_;
+                const std::string label =
+                    mesh.name.empty() ? str_cat("mesh ", mesh_index, " primitive ", p)
+                                      : str_cat("mesh ", mesh_index, " \"", mesh.name, "\" primitive ", p);
+                add_triangle_primitive(prim, mode, label, world);
             } else {
                 ++other_primitives_;  // POINTS, LINE_LOOP, or an invalid mode
             }
         }
+    }
+
+    uint32_t surface_material_index(int gltf_material) {
+        if (gltf_material < 0) {
+            if (default_surface_material_ < 0) {
+                default_surface_material_ = static_cast<int>(scene_.surface_materials.size());
+                scene_.surface_materials.push_back(SurfaceMaterialDesc{});
+            }
+            return static_cast<uint32_t>(default_surface_material_);
+        }
+        if (static_cast<size_t>(gltf_material) >= model_.materials.size())
+            scene_fail(file_, "material ", gltf_material, " does not exist");
+        const auto it = surface_material_map_.find(gltf_material);
+        if (it != surface_material_map_.end()) return it->second;
+        const tinygltf::Material& gm = model_.materials[gltf_material];
+        SurfaceMaterialDesc m;
+        m.name = gm.name.empty() ? str_cat("material ", gltf_material) : gm.name;
+        const std::vector<double>& f = gm.pbrMetallicRoughness.baseColorFactor;
+        if (f.size() < 3)
+            scene_fail(file_, "material ", gltf_material, ": baseColorFactor needs 4 numbers");
+        for (int c = 0; c < 3; ++c) {
+            // An albedo above 1 creates energy; refuse it rather than render a glowing surface.
+            if (!(f[c] >= 0.0 && f[c] <= 1.0))
+                scene_fail(file_, "material ", gltf_material, ": baseColorFactor ", f[c],
+                           " is outside [0, 1]");
+            m.albedo[c] = static_cast<float>(f[c]);
+        }
+        if (gm.pbrMetallicRoughness.baseColorTexture.index >= 0) ++ignored_textures_;
+        const uint32_t index = static_cast<uint32_t>(scene_.surface_materials.size());
+        scene_.surface_materials.push_back(m);
+        surface_material_map_[gltf_material] = index;
+        return index;
+    }
+
+    void add_triangle_primitive(const tinygltf::Primitive& prim, int mode, const std::string& label,
+                                const glm::dmat4& world) {
+        const auto pos_it = prim.attributes.find("POSITION");
+        if (pos_it == prim.attributes.end()) scene_fail(file_, label, ": no POSITION attribute");
+        const std::vector<Vec3f> positions =
+            read_float_vec3_accessor(model_, pos_it->second, file_, label + " POSITION");
+        std::vector<Vec3f> normals;
+        const auto nrm_it = prim.attributes.find("NORMAL");
+        if (nrm_it != prim.attributes.end()) {
+            normals = read_float_vec3_accessor(model_, nrm_it->second, file_, label + " NORMAL");
+            if (normals.size() != positions.size())
+                scene_fail(file_, label, ": NORMAL has ", normals.size(), " values for ",
+                           positions.size(), " positions");
+        }
+        std::vector<uint32_t> order;  // vertex sequence: indices, or 0..n-1
+        if (prim.indices >= 0) {
+            order = read_index_accessor(model_, prim.indices, positions.size(), file_,
+                                        label + " indices");
+        } else {
+            order.resize(positions.size());
+            for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<uint32_t>(i);
+        }
+        // Strips and fans to a plain triangle list (glTF winding rules, spec §3.7.2.1).
+        std::vector<uint32_t> tris;
+        if (mode == TINYGLTF_MODE_TRIANGLES) {
+            if (order.size() % 3 != 0)
+                scene_fail(file_, label, ": TRIANGLES needs a multiple of 3 vertices (got ",
+                           order.size(), ")");
+            tris = order;
+        } else {
+            for (size_t i = 2; i < order.size(); ++i) {
+                if (mode == TINYGLTF_MODE_TRIANGLE_FAN)
+                    tris.insert(tris.end(), {order[0], order[i - 1], order[i]});
+                else if (i % 2 == 0)
+                    tris.insert(tris.end(), {order[i - 2], order[i - 1], order[i]});
+                else
+                    tris.insert(tris.end(), {order[i - 1], order[i - 2], order[i]});
+            }
+        }
+
+        Mesh mesh;
+        mesh.material = surface_material_index(prim.material);
+        mesh.positions.reserve(positions.size());
+        for (size_t v = 0; v < positions.size(); ++v) {
+            const Vec3f& p = positions[v];
+            const Vec3f w = to_vec3f(glm::dvec3(world * glm::dvec4(p[0], p[1], p[2], 1.0)));
+            if (!(std::isfinite(w[0]) && std::isfinite(w[1]) && std::isfinite(w[2])))
+                scene_fail(file_, label, ": vertex ", v, " is not finite");
+            mesh.positions.push_back(w);
+        }
+        if (!normals.empty()) {
+            // Normals transform with the inverse transpose (non-uniform scale, mirroring).
+            const glm::dmat3 nmat = glm::transpose(glm::inverse(glm::dmat3(world)));
+            bool usable = true;
+            mesh.normals.reserve(normals.size());
+            for (const Vec3f& n : normals) {
+                const glm::dvec3 w = nmat * glm::dvec3(n[0], n[1], n[2]);
+                const double len = glm::length(w);
+                if (!(len > 0.0 && std::isfinite(len))) {
+                    usable = false;
+                    break;
+                }
+                mesh.normals.push_back(to_vec3f(w / len));
+            }
+            if (!usable) {
+                // A zero or non-finite normal has no direction to interpolate: fall back to the
+                // geometric normal for the whole primitive rather than render a black seam.
+                mesh.normals.clear();
+                ++bad_normal_primitives_;
+            }
+        }
+        mesh.indices.reserve(tris.size());
+        for (size_t t = 0; t + 2 < tris.size(); t += 3) {
+            const Vec3f& a = mesh.positions[tris[t]];
+            const Vec3f& b = mesh.positions[tris[t + 1]];
+            const Vec3f& c = mesh.positions[tris[t + 2]];
+            const glm::dvec3 e1(b[0] - a[0], b[1] - a[1], b[2] - a[2]);
+            const glm::dvec3 e2(c[0] - a[0], c[1] - a[1], c[2] - a[2]);
+            // Zero area (repeated vertices, collinear points): no surface to hit or shade.
+            if (!(glm::length(glm::cross(e1, e2)) > 0.0)) {
+                ++degenerate_triangles_;
+                continue;
+            }
+            mesh.indices.insert(mesh.indices.end(), {tris[t], tris[t + 1], tris[t + 2]});
+        }
+        if (!mesh.indices.empty()) scene_.meshes.push_back(std::move(mesh));
     }
 
     void add_hair_primitive(const tinygltf::Primitive& prim, int mode, const std::string& label,
@@ -512,9 +641,17 @@ private:
 
     void finish_warnings() {
         std::vector<std::string>& w = scene_.warnings;
-        if (triangle_primitives_ > 0)
-            w.push_back(str_cat(file_, ": ignored ", triangle_primitives_,
-                                " triangle primitives (triangle meshes are not rendered yet)"));
+        if (degenerate_triangles_ > 0)
+            w.push_back(str_cat(file_, ": dropped ", degenerate_triangles_,
+                                " degenerate (zero-area) triangles"));
+        if (bad_normal_primitives_ > 0)
+            w.push_back(str_cat(file_, ": ", bad_normal_primitives_,
+                                " triangle primitives have zero or non-finite normals: using "
+                                "geometric normals"));
+        if (ignored_textures_ > 0)
+            w.push_back(str_cat(file_, ": ", ignored_textures_,
+                                " base colour textures are not read: their materials use "
+                                "baseColorFactor alone"));
         if (other_primitives_ > 0)
             w.push_back(str_cat(file_, ": ignored ", other_primitives_,
                                 " POINTS / LINE_LOOP primitives"));
@@ -545,6 +682,9 @@ private:
     std::set<std::string> unknown_keys_;
     size_t triangle_primitives_ = 0, other_primitives_ = 0, ignored_cameras_ = 0;
     size_t nonuniform_hair_nodes_ = 0;
+    std::map<int, uint32_t> surface_material_map_;
+    int default_surface_material_ = -1;
+    size_t degenerate_triangles_ = 0, bad_normal_primitives_ = 0, ignored_textures_ = 0;
 };
 
 }  // namespace

@@ -30,6 +30,21 @@ void check_scene_invariants(const Scene& s) {
     for (uint32_t m : s.strands.material)
         if (m >= s.materials.size())
             scene_fail(s.source, "a strand refers to material ", m, " of ", s.materials.size());
+    for (size_t i = 0; i < s.meshes.size(); ++i) {
+        const Mesh& m = s.meshes[i];
+        if (m.indices.size() % 3 != 0)
+            scene_fail(s.source, "mesh ", i, ": ", m.indices.size(), " indices is not whole triangles");
+        if (m.material >= s.surface_materials.size())
+            scene_fail(s.source, "mesh ", i, " refers to surface material ", m.material, " of ",
+                       s.surface_materials.size());
+        if (!m.normals.empty() && m.normals.size() != m.positions.size())
+            scene_fail(s.source, "mesh ", i, ": ", m.normals.size(), " normals for ",
+                       m.positions.size(), " positions");
+        for (uint32_t v : m.indices)
+            if (v >= m.positions.size())
+                scene_fail(s.source, "mesh ", i, ": index ", v, " out of range (", m.positions.size(),
+                           " positions)");
+    }
     // Camera and lights feed ray generation and light sampling directly: one non-finite value
     // would turn the whole image into NaN, so refuse it here for every loader (found by fuzzing).
     auto finite3 = [](const Vec3f& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); };

@@ -28,6 +28,26 @@ struct Strands {
     size_t segment_count() const;  // sum over strands of (points - 1)
 };
 
+// Diffuse (Lambertian) surface material of a triangle mesh.
+struct SurfaceMaterialDesc {
+    std::string name = "surface";
+    Vec3f albedo{0.8f, 0.8f, 0.8f};  // glTF baseColorFactor rgb, each in [0, 1]
+    std::string base_color_texture;  // image path (resolved against the scene file), optional
+};
+
+// A triangle mesh in world space (node transforms applied by the loader).  Triangle k is
+// positions[indices[3k + 0..2]], counter-clockwise front face (glTF).  normals and uvs are
+// per vertex, empty when the file has none (the geometric normal is used then).
+struct Mesh {
+    std::vector<Vec3f> positions;
+    std::vector<uint32_t> indices;
+    std::vector<Vec3f> normals;                  // optional, unit length
+    std::vector<std::array<float, 2>> uvs;       // optional
+    uint32_t material = 0;                       // index into Scene::surface_materials
+
+    size_t triangle_count() const { return indices.size() / 3; }
+};
+
 struct Camera {
     Vec3f eye{0, 0, 10};
     Vec3f target{0, 0, 0};
@@ -85,6 +105,8 @@ struct Scene {
     std::string source;  // file name or builtin:NAME, for messages and metadata
     Strands strands;
     std::vector<HairMaterialDesc> materials;  // at least one
+    std::vector<Mesh> meshes;                          // triangle surfaces (head, scalp, floor)
+    std::vector<SurfaceMaterialDesc> surface_materials;  // indexed by Mesh::material
     bool has_camera = false;
     Camera camera;
     std::vector<Light> lights;

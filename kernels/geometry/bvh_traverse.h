@@ -22,6 +22,7 @@
 
 #include "../types.h"
 #include "capsule.h"
+#include "triangle.h"
 #include "fiber_frame.h"
 
 /* Stack entries; the builder caps the tree depth below this (host/bvh/bvh.h kMaxDepth). */
@@ -45,6 +46,21 @@ HT_FN int ht_intersect_leaf(HT_CONST_GLOBAL HtSegment* segs, HT_CONST_GLOBAL HtP
     int found = 0;
     for (uint k = first; k < first + count; ++k) {
         const HtSegment s = segs[k];
+#if HT_FEATURE_MESHES
+        if (s.flags & HT_SEG_TRIANGLE) {
+            real b1, b2;
+            const real t = ht_triangle_intersect(o, d, ht_point_pos(points[s.point]),
+                                                 ht_point_pos(points[s.point + 1u]),
+                                                 ht_point_pos(points[s.point + 2u]), tmin, *tbest,
+                                                 &b1, &b2);
+            if (t < *tbest) {
+                *tbest = t;
+                *best = k;
+                found = 1;
+            }
+            continue;
+        }
+#endif
         const HtPoint a = points[s.point];
         const HtPoint b = points[s.point + 1];
         const real t = ht_capsule_intersect(o, d, ht_point_pos(a), ht_point_pos(b),
@@ -185,10 +201,29 @@ HT_FN void ht_trace_closest(HT_CONST_GLOBAL HtBvhNode* nodes, HT_CONST_GLOBAL Ht
         return;
     }
     const HtSegment s = segs[best];
-    const HtPoint a = points[s.point];
-    const HtPoint b = points[s.point + 1];
     const real3 o = make_real3(ray.ox, ray.oy, ray.oz);
     const real3 d = make_real3(ray.dx, ray.dy, ray.dz);
+#if HT_FEATURE_MESHES
+    if (s.flags & HT_SEG_TRIANGLE) {
+        const real3 p0 = ht_point_pos(points[s.point]);
+        const real3 p1 = ht_point_pos(points[s.point + 1u]);
+        const real3 p2 = ht_point_pos(points[s.point + 2u]);
+        /* The same arithmetic as in the traversal, so the same t and barycentrics come out. */
+        real b1 = R(0), b2 = R(0);
+        (void)ht_triangle_intersect(o, d, p0, p1, p2, ray.tmin, HT_T_FAR, &b1, &b2);
+        const real3 n = ht_triangle_normal(p0, p1, p2);
+        hit->t = (float)t;
+        hit->u = (float)b1;
+        hit->h = (float)b2;
+        hit->tx = (float)n.x;
+        hit->ty = (float)n.y;
+        hit->tz = (float)n.z;
+        hit->radius = 0.0f;
+        return;
+    }
+#endif
+    const HtPoint a = points[s.point];
+    const HtPoint b = points[s.point + 1];
     real3 tangent;
     real u;
     const real3 off = ht_capsule_hit_offset(o, d, ht_point_pos(a), ht_point_pos(b), t, &tangent, &u);

@@ -7,7 +7,8 @@
  * (closest hit, then on from beyond that fibre) and transmittance[j] = prod AFS_TT per crossing.
  * Crossings stop counting once the transmittance is negligible or after HT_AFS_MAX_CROSSINGS.
  * Approximation kept: at a strand joint the next segment may be entered from inside and counted
- * as a second crossing (slightly too dark where rays run along a strand). */
+ * as a second crossing (slightly too dark where rays run along a strand).  Triangles (meshes)
+ * block the ray completely. */
 #include "../types.h"
 #include "../geometry/bvh_traverse.h"
 #include "../fiber/afs.h"
@@ -44,6 +45,13 @@ __kernel void intersect_shadow_afs(__global const HtBvhNode* nodes, __global con
         ht_trace_closest(nodes, segs, points, ray, &hit);
         if (hit.segment == HT_NO_HIT || hit.t >= ray.tmax) break;
         HtSegment s = segs[hit.segment];
+#if HT_FEATURE_MESHES
+        /* surfaces are opaque: only hair is translucent */
+        if (s.flags & HT_SEG_TRIANGLE) {
+            T = (float3)(0.0f);
+            break;
+        }
+#endif
         HtMaterial m = materials[strand_material[s.strand]];
         float3 t = (float3)(hit.tx, hit.ty, hit.tz);
         float theta = asin(clamp(fabs(dot(d, t)), 0.0f, 1.0f));

@@ -7,6 +7,9 @@
  *                fibre's scattering function evaluated for it, and a shadow ray queued carrying
  *                the unoccluded contribution; then, below max_depth, the fibre model is sampled
  *                for the extension ray (Russian roulette from HT_RR_START_BOUNCE bounces on).
+ *   triangle  -> (HT_FEATURE_MESHES) a Lambertian surface: the same light pick and MIS, shadow
+ *                and extension rays spawned a small offset off the surface on their side of the
+ *                geometric normal, cosine-weighted sampling (kernels/surface/lambert.h).
  * Outputs stay in the slot of the shaded ray: shadow_rays[k] (tmax < 0: none) with
  * shadow_contrib[k], and the extension ray in stage_rays[k] with stage_path[k] = path (or
  * HT_NO_PATH); compact.cl then packs the extension queue in a thread-independent order.
@@ -18,6 +21,9 @@
 #include "../queue.h"
 #include "../geometry/fiber_frame.h"
 #include "../fiber/bcsdf.h"
+#if HT_FEATURE_MESHES
+#include "../surface/lambert.h"
+#endif
 
 #ifndef HT_RR_START_BOUNCE
 #define HT_RR_START_BOUNCE 3u
@@ -43,7 +49,51 @@ HT_FN float3 ht_spawn_origin(float3 axis_point, float3 t, float3 fallback_side, 
     return axis_point + side * (radius * 1.01f);
 }
 
+/* Next-event light pick shared by hair and surfaces: one of the lights or the environment,
+ * uniformly; returns 0 when the chosen light gives nothing at p. */
+HT_FN int ht_nee_sample(__global const HtLight* lights, uint light_count, const HtEnvironment* env,
+                        __global const float* env_texels, __global const float* env_marginal,
+                        __global const float* env_conditional, uint nee_count, uint seed,
+                        uint pixel, uint sample, uint bounce, float3 p, HtLightSample* ls) {
+    float ul = ht_uniform(seed, pixel, sample, ht_dim(bounce, HT_DIM_LIGHT_PICK));
+    uint li = min((uint)(ul * (float)nee_count), nee_count - 1u);
+    float u = ht_uniform(seed, pixel, sample, ht_dim(bounce, HT_DIM_LIGHT_U));
+    float v = ht_uniform(seed, pixel, sample, ht_dim(bounce, HT_DIM_LIGHT_V));
+    if (li < light_count) {
+        HtLight light = lights[li];
+        return ht_sample_light(&light, p, u, v, ls);
+    }
+    float3 le;
+    float pdf_env;
+    int ok = ht_env_sample(env, env_texels, env_marginal, env_conditional, u, v, &ls->wi, &le,
+                           &pdf_env);
+    ls->distance = HT_REAL_MAX;
+    ls->pdf = pdf_env;
+    ls->li_over_pdf = ok ? le / pdf_env : (float3)(0.0f);
+    return ok;
+}
+
+/* Russian roulette on the throughput's largest channel from HT_RR_START_BOUNCE on. */
+HT_FN float3 ht_roulette(float3 nthr, uint seed, uint pixel, uint sample, uint bounce) {
+    if (bounce + 1u < HT_RR_START_BOUNCE) return nthr;
+    float q = min(max(nthr.x, max(nthr.y, nthr.z)), 0.95f);
+    float ur = ht_uniform(seed, pixel, sample, ht_dim(bounce, HT_DIM_RR));
+    return ur < q ? nthr / q : (float3)(0.0f);
+}
+
+#if HT_FEATURE_MESHES
+/* Offset of ray origins off a surface: the hit point carries rounding of a few ulps of its
+ * coordinates and of the ray's t, so the offset scales with both; 1e-5 relative is ~80 float
+ * ulps, far below any modelled detail (a fibre radius is >= 1e-4 of the scene in practice). */
+HT_FN float3 ht_surface_spawn(float3 p, float t, float3 ng, float3 w) {
+    float scale = max(max(fabs(p.x), fabs(p.y)), max(fabs(p.z), t));
+    float eps = 1e-5f * scale + 1e-7f;
+    return p + ng * (dot(ng, w) > 0.0f ? eps : -eps);
+}
+#endif
+
 __kernel void shade(__global const HtSegment* segs, __global const HtPoint* points,
+                    __global const HtTriangleShading* tri_shading,
                     __global const uint* strand_material, __global const HtMaterial* materials,
                     __global const HtLight* lights, uint light_count, HtEnvironment env,
                     __global const float* env_texels, __global const float* env_marginal,
@@ -86,6 +136,71 @@ __kernel void shade(__global const HtSegment* segs, __global const HtPoint* poin
             }
         } else {
             HtSegment seg = segs[hit.segment];
+#if HT_FEATURE_MESHES
+          if (seg.flags & HT_SEG_TRIANGLE) {
+            /* ---- Lambertian surface */
+            HtTriangleShading ts = tri_shading[seg.strand];
+            float3 wo = -dir;
+            float3 p_hit = (float3)(ray.ox, ray.oy, ray.oz) + dir * hit.t;
+            float3 ng = (float3)(hit.tx, hit.ty, hit.tz);
+            float b0 = 1.0f - hit.u - hit.h;
+            float3 ns = ts.n0[3] > 0.0f
+                            ? (float3)(ts.n0[0], ts.n0[1], ts.n0[2]) * b0 +
+                                  (float3)(ts.n1[0], ts.n1[1], ts.n1[2]) * hit.u +
+                                  (float3)(ts.n2[0], ts.n2[1], ts.n2[2]) * hit.h
+                            : ng;
+            ht_lambert_face_forward(wo, &ng, &ns);
+            float3 albedo = (float3)(ts.albedo[0], ts.albedo[1], ts.albedo[2]);
+
+            if (nee_count > 0u) {
+                HtLightSample ls;
+                if (ht_nee_sample(lights, light_count, &env, env_texels, env_marginal,
+                                  env_conditional, nee_count, seed, st.pixel, sample, bounce,
+                                  p_hit, &ls)) {
+                    float pdf_bsdf = 0.0f;
+                    float f = ht_lambert_eval(ns, ng, ls.wi, &pdf_bsdf);
+                    float w = ls.pdf > 0.0f ? ht_mis_power(ls.pdf / (float)nee_count, pdf_bsdf) : 1.0f;
+                    float3 c = thr * albedo * (f * (float)nee_count * w) * ls.li_over_pdf;
+                    if (!ht_finite3(c)) {
+                        atomic_inc(&counters[HT_COUNTER_NAN]);
+                    } else if (c.x + c.y + c.z > 0.0f) {
+                        float3 o = ht_surface_spawn(p_hit, hit.t, ng, ls.wi);
+                        shadow_ray.ox = o.x; shadow_ray.oy = o.y; shadow_ray.oz = o.z;
+                        shadow_ray.dx = ls.wi.x; shadow_ray.dy = ls.wi.y; shadow_ray.dz = ls.wi.z;
+                        shadow_ray.tmin = 0.0f;
+                        /* stop short of the light's own surface (sphere lights) */
+                        shadow_ray.tmax = min(ls.distance * 0.9999f, 1e30f);
+                        shadow_value = c;
+                        want_shadow = shadow_ray.tmax > 0.0f;
+                    }
+                }
+            }
+            if (bounce + 1u < max_depth) {
+                float u0 = ht_uniform(seed, st.pixel, sample, ht_dim(bounce, HT_DIM_BSDF_0));
+                float u1 = ht_uniform(seed, st.pixel, sample, ht_dim(bounce, HT_DIM_BSDF_0 + 1u));
+                float3 wi;
+                float pdf = 0.0f;
+                if (ht_lambert_sample(ns, ng, u0, u1, &wi, &pdf)) {
+                    float3 nthr = ht_roulette(thr * albedo, seed, st.pixel, sample, bounce);
+                    if (ht_finite3(nthr) && nthr.x + nthr.y + nthr.z > 0.0f) {
+                        float3 o = ht_surface_spawn(p_hit, hit.t, ng, wi);
+                        next_ray.ox = o.x; next_ray.oy = o.y; next_ray.oz = o.z;
+                        next_ray.dx = wi.x; next_ray.dy = wi.y; next_ray.dz = wi.z;
+                        next_ray.tmin = 0.0f;
+                        next_ray.tmax = 1e30f;
+                        st.throughput[0] = nthr.x; st.throughput[1] = nthr.y; st.throughput[2] = nthr.z;
+                        st.last_pdf = pdf;
+                        st.flags &= ~HT_PATH_FROM_CAMERA;
+                        want_next = 1;
+                    } else if (!ht_finite3(nthr)) {
+                        atomic_inc(&counters[HT_COUNTER_NAN]);
+                    }
+                }
+            }
+          } else
+#endif
+          {
+            /* ---- hair fibre */
             HtMaterial mat = materials[strand_material[seg.strand]];
             if (field_mode != HT_FIELD_MATERIAL &&
                 (mat.model == HT_MODEL_MARSCHNER || mat.model == HT_MODEL_ZINKE)) {
@@ -111,25 +226,10 @@ __kernel void shade(__global const HtSegment* segs, __global const HtPoint* poin
 
             /* next-event estimation */
             if (nee_count > 0u) {
-                float ul = ht_uniform(seed, st.pixel, sample, ht_dim(bounce, HT_DIM_LIGHT_PICK));
-                uint li = min((uint)(ul * (float)nee_count), nee_count - 1u);
-                float u = ht_uniform(seed, st.pixel, sample, ht_dim(bounce, HT_DIM_LIGHT_U));
-                float v = ht_uniform(seed, st.pixel, sample, ht_dim(bounce, HT_DIM_LIGHT_V));
                 HtLightSample ls;
-                int ok;
-                if (li < light_count) {
-                    HtLight light = lights[li];
-                    ok = ht_sample_light(&light, p_hit, u, v, &ls);
-                } else {
-                    float3 le;
-                    float pdf_env;
-                    ok = ht_env_sample(&env, env_texels, env_marginal, env_conditional, u, v, &ls.wi, &le,
-                                       &pdf_env);
-                    ls.distance = HT_REAL_MAX;
-                    ls.pdf = pdf_env;
-                    ls.li_over_pdf = ok ? le / pdf_env : (float3)(0.0f);
-                }
-                if (ok) {
+                if (ht_nee_sample(lights, light_count, &env, env_texels, env_marginal,
+                                  env_conditional, nee_count, seed, st.pixel, sample, bounce,
+                                  p_hit, &ls)) {
                     float3 value = (float3)(0.0f);
                     float pdf_bsdf = 0.0f;
                     ht_bcsdf_eval(&mat, wo_l, ht_to_fiber_local(ls.wi, fx, fy, fz), h, &value, &pdf_bsdf);
@@ -160,13 +260,7 @@ __kernel void shade(__global const HtSegment* segs, __global const HtPoint* poin
                 float u2 = ht_uniform(seed, st.pixel, sample, ht_dim(bounce, HT_DIM_BSDF_0 + 2u));
                 float u3 = ht_uniform(seed, st.pixel, sample, ht_dim(bounce, HT_DIM_BSDF_0 + 3u));
                 if (ht_bcsdf_sample(&mat, wo_l, h, u0, u1, u2, u3, &wi_l, &weight, &pdf)) {
-                    float3 nthr = thr * weight;
-                    if (bounce + 1u >= HT_RR_START_BOUNCE) {
-                        /* Russian roulette on the throughput's largest channel */
-                        float q = min(max(nthr.x, max(nthr.y, nthr.z)), 0.95f);
-                        float ur = ht_uniform(seed, st.pixel, sample, ht_dim(bounce, HT_DIM_RR));
-                        nthr = ur < q ? nthr / q : (float3)(0.0f);
-                    }
+                    float3 nthr = ht_roulette(thr * weight, seed, st.pixel, sample, bounce);
                     if (ht_finite3(nthr) && nthr.x + nthr.y + nthr.z > 0.0f) {
                         float3 wi = fx * wi_l.x + fy * wi_l.y + fz * wi_l.z;
                         float3 o = ht_spawn_origin(axis_point, t, fz, hit.radius, wi);
@@ -183,6 +277,7 @@ __kernel void shade(__global const HtSegment* segs, __global const HtPoint* poin
                     }
                 }
             }
+          }
         }
         paths[p] = st;
     }

@@ -184,19 +184,99 @@ TEST(SceneGltf, MaterialExtrasAndDefaultRadius) {
     EXPECT_TRUE(contains(msg, "unknown hair model \"phong\"")) << msg;
 }
 
-TEST(SceneGltf, TrianglesAreIgnoredAndCounted) {
+TEST(SceneGltf, TrianglesWithoutHairAreRefused) {
     test::GltfBuilder g;
     const int tri = g.add_mesh(kTriangles, g.add_vec3({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}));
     g.add_node({{"mesh", tri}});
     test::TempDir dir;
-    std::string msg = scene_error_of([&] { load_scene(write_gltf(dir, g)); });
+    const std::string msg = scene_error_of([&] { load_scene(write_gltf(dir, g)); });
     EXPECT_TRUE(contains(msg, "no hair")) << msg;
     EXPECT_TRUE(contains(msg, "1 triangle primitives")) << msg;
+}
 
+// A floor quad (indexed, with normals and a material) under a strand, behind a node transform.
+TEST(SceneGltf, TriangleFloorUnderAStrandLoads) {
+    test::GltfBuilder g;
+    g.doc["materials"] = json::array(
+        {{{"name", "floor"}, {"pbrMetallicRoughness", {{"baseColorFactor", {0.5, 0.25, 1.0, 1.0}}}}}});
+    const int pos = g.add_vec3({{-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}});
+    const int idx = g.add_indices({0, 2, 1, 0, 3, 2, 0, 0, 1});  // the last one is degenerate
+    const int floor = g.add_mesh(kTriangles, pos, -1, idx, 0);
+    g.doc["meshes"][floor]["primitives"][0]["attributes"]["NORMAL"] =
+        g.add_vec3({{0, 1, 0}, {0, 1, 0}, {0, 1, 0}, {0, 1, 0}});
+    // Non-uniform scale and a lift: positions scale, normals stay unit and up.
+    g.add_node({{"mesh", floor}, {"scale", {3, 1, 2}}, {"translation", {0, -2, 0}}});
+    // An unindexed triangle without a material.
+    g.add_node({{"mesh", g.add_mesh(kTriangles, g.add_vec3({{0, 0, 5}, {1, 0, 5}, {0, 1, 5}}))}});
     g.add_node({{"mesh", g.add_mesh(kLineStrip, g.add_vec3({{0, 0, 0}, {0, 1, 0}}), g.add_scalar({1, 1}))}});
+    test::TempDir dir;
     const Scene s = load_scene(write_gltf(dir, g));
     EXPECT_EQ(s.strands.strand_count(), 1u);
-    EXPECT_TRUE(test::any_warning_contains(s, "ignored 1 triangle primitives"));
+    ASSERT_EQ(s.meshes.size(), 2u);
+    const ht::Mesh& m = s.meshes[0];
+    EXPECT_EQ(m.triangle_count(), 2u);
+    ASSERT_EQ(m.positions.size(), 4u);
+    expect_vec_near(m.positions[2], {3, -2, 2});
+    ASSERT_EQ(m.normals.size(), 4u);
+    expect_vec_near(m.normals[1], {0, 1, 0});
+    ASSERT_EQ(s.surface_materials.size(), 2u);
+    EXPECT_EQ(s.surface_materials[m.material].name, "floor");
+    expect_vec_near(s.surface_materials[m.material].albedo, {0.5f, 0.25f, 1.0f});
+    EXPECT_EQ(s.meshes[1].triangle_count(), 1u);
+    EXPECT_TRUE(s.meshes[1].normals.empty());
+    expect_vec_near(s.surface_materials[s.meshes[1].material].albedo, {0.8f, 0.8f, 0.8f});
+    EXPECT_TRUE(test::any_warning_contains(s, "dropped 1 degenerate"));
+}
+
+TEST(SceneGltf, RotatedNormalsUseTheInverseTranspose) {
+    test::GltfBuilder g;
+    const int tri = g.add_mesh(kTriangles, g.add_vec3({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}));
+    g.doc["meshes"][tri]["primitives"][0]["attributes"]["NORMAL"] =
+        g.add_vec3({{1, 1, 0}, {0, 0, 1}, {0, 0, 1}});
+    // Scale x by 4: a 45-degree normal (1,1,0) leans towards y, (1/4, 1, 0) normalized.
+    g.add_node({{"mesh", tri}, {"scale", {4, 1, 1}}});
+    g.add_node({{"mesh", g.add_mesh(kLineStrip, g.add_vec3({{0, 0, 0}, {0, 1, 0}}), g.add_scalar({1, 1}))}});
+    test::TempDir dir;
+    const Scene s = load_scene(write_gltf(dir, g));
+    ASSERT_EQ(s.meshes.size(), 1u);
+    const float l = std::sqrt(1.0f / 16.0f + 1.0f);
+    expect_vec_near(s.meshes[0].normals[0], {0.25f / l, 1.0f / l, 0.0f});
+}
+
+TEST(SceneGltf, BadTrianglesAreRefused) {
+    test::TempDir dir;
+    auto with_hair = [](test::GltfBuilder& g) {
+        g.add_node({{"mesh", g.add_mesh(kLineStrip, g.add_vec3({{0, 0, 0}, {0, 1, 0}}), g.add_scalar({1, 1}))}});
+    };
+    {
+        test::GltfBuilder g;
+        const float nan = std::nanf("");
+        g.add_node({{"mesh", g.add_mesh(kTriangles, g.add_vec3({{0, 0, 0}, {nan, 0, 0}, {0, 1, 0}}))}});
+        with_hair(g);
+        const std::string path = write_gltf(dir, g, "nan.gltf");
+        const std::string msg = scene_error_of([&] { load_scene(path); });
+        test::expect_one_line_naming(msg, path);
+        EXPECT_TRUE(contains(msg, "not finite")) << msg;
+    }
+    {
+        test::GltfBuilder g;
+        const int pos = g.add_vec3({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
+        g.add_node({{"mesh", g.add_mesh(kTriangles, pos, -1, g.add_indices({0, 1, 7}))}});
+        with_hair(g);
+        const std::string path = write_gltf(dir, g, "range.gltf");
+        const std::string msg = scene_error_of([&] { load_scene(path); });
+        test::expect_one_line_naming(msg, path);
+    }
+    {
+        test::GltfBuilder g;
+        const int pos = g.add_vec3({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}});
+        g.add_node({{"mesh", g.add_mesh(kTriangles, pos)}});
+        with_hair(g);
+        const std::string path = write_gltf(dir, g, "count.gltf");
+        const std::string msg = scene_error_of([&] { load_scene(path); });
+        test::expect_one_line_naming(msg, path);
+        EXPECT_TRUE(contains(msg, "multiple of 3")) << msg;
+    }
 }
 
 TEST(SceneGltf, MalformedFilesAreRefused) {
@@ -306,7 +386,7 @@ TEST(SceneGltf, BuiltinReferenceWithGltfMaterialCameraAndLight) {
 }
 
 TEST(SceneGltf, ShippedScenesLoad) {
-    for (const char* name : {"default.gltf", "ball.gltf", "strand_closeup.gltf"}) {
+    for (const char* name : {"default.gltf", "ball.gltf", "strand_closeup.gltf", "strand_on_floor.gltf"}) {
         SCOPED_TRACE(name);
         const Scene s = load_scene(std::string(HT_SOURCE_DIR "/scenes/") + name);
         EXPECT_TRUE(s.has_camera);
@@ -314,6 +394,13 @@ TEST(SceneGltf, ShippedScenesLoad) {
         EXPECT_GT(s.strands.segment_count(), 100000u);
         EXPECT_TRUE(s.warnings.empty()) << s.warnings[0];
     }
+    // The floor sits just under the strand's tips (y = -50.1).
+    const Scene s = load_scene(HT_SOURCE_DIR "/scenes/strand_on_floor.gltf");
+    ASSERT_EQ(s.meshes.size(), 1u);
+    EXPECT_EQ(s.meshes[0].triangle_count(), 2u);
+    EXPECT_EQ(s.meshes[0].normals.size(), 4u);
+    EXPECT_FLOAT_EQ(s.meshes[0].positions[0][1], -52.0f);
+    expect_vec_near(s.surface_materials.at(s.meshes[0].material).albedo, {0.6f, 0.6f, 0.6f});
 }
 
 }  // namespace

@@ -1,0 +1,230 @@
+// Triangles and hair capsules in one BVH: host (double) traversal and the OpenCL kernels (float)
+// against brute force over every primitive of both kinds.
+// gtest first: kernels/compat.h defines the macro R(), which clashes with gtest template names.
+#include <gtest/gtest.h>
+
+#include "bvh/bvh.h"
+#include "bvh/device_geometry.h"
+#include "kernels/geometry/bvh_traverse.h"
+
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <random>
+
+namespace {
+
+using ht::Mesh;
+using ht::SceneGeometry;
+using ht::Strands;
+
+Strands random_strands(uint32_t seed, int ns, int nseg, double seg_len, double r) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(-1, 1);
+    Strands s;
+    s.first_point.push_back(0);
+    for (int i = 0; i < ns; ++i) {
+        double p[3] = {u(rng), u(rng), u(rng)};
+        double d[3] = {u(rng), u(rng), u(rng)};
+        for (int j = 0; j <= nseg; ++j) {
+            s.points.push_back({(float)p[0], (float)p[1], (float)p[2]});
+            s.radius.push_back((float)r);
+            const double n = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+            for (int k = 0; k < 3; ++k) p[k] += d[k] / n * seg_len;
+            for (int k = 0; k < 3; ++k) d[k] = d[k] / n + 0.3 * u(rng);
+        }
+        s.first_point.push_back((uint32_t)s.points.size());
+        s.material.push_back(0);
+    }
+    return s;
+}
+
+// A floor grid (shared vertices, indexed) plus a cloud of random small triangles.
+std::vector<Mesh> random_meshes(uint32_t seed, int ntri) {
+    std::vector<Mesh> out(2);
+    Mesh& floor = out[0];
+    const int n = 8;
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i)
+            floor.positions.push_back({-1.5f + 3.0f * i / n, -1.2f, -1.5f + 3.0f * j / n});
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const uint32_t a = j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
+            floor.indices.insert(floor.indices.end(), {a, c, b, b, c, d});
+        }
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(-1, 1);
+    Mesh& cloud = out[1];
+    cloud.material = 1;
+    for (int t = 0; t < ntri; ++t) {
+        const double c[3] = {u(rng), u(rng), u(rng)};
+        for (int v = 0; v < 3; ++v) {
+            cloud.positions.push_back({(float)(c[0] + 0.08 * u(rng)), (float)(c[1] + 0.08 * u(rng)),
+                                       (float)(c[2] + 0.08 * u(rng))});
+            cloud.indices.push_back((uint32_t)cloud.positions.size() - 1);
+        }
+    }
+    return out;
+}
+
+std::vector<HtRay> random_rays(uint32_t seed, size_t n) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(-1, 1);
+    std::normal_distribution<double> g;
+    std::vector<HtRay> rays(n);
+    for (HtRay& r : rays) {
+        double d[3] = {g(rng), g(rng), g(rng)};
+        const double l = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        r = HtRay{(float)(u(rng) * 1.5), (float)(u(rng) * 1.5), (float)(u(rng) * 1.5), 0.0f,
+                  (float)(d[0] / l), (float)(d[1] / l), (float)(d[2] / l), INFINITY};
+    }
+    return rays;
+}
+
+struct Brute {
+    uint32_t prim = HT_NO_HIT;  // global primitive id (HtSegment.segment)
+    double t = 1e30;
+};
+
+// Every primitive of both kinds in global order.
+Brute brute_force(const SceneGeometry& g, const HtRay& ray) {
+    Brute b;
+    b.t = std::min<double>(ray.tmax, 1e30);
+    const real3 o = make_real3(ray.ox, ray.oy, ray.oz), d = make_real3(ray.dx, ray.dy, ray.dz);
+    std::vector<HtSegment> base(g.segment_count + g.triangle_count);
+    for (const HtSegment& s : g.segments) base[s.segment] = s;
+    for (const HtSegment& s : base) {
+        double t;
+        if (s.flags & HT_SEG_TRIANGLE) {
+            real b1, b2;
+            t = ht_triangle_intersect(o, d, ht_point_pos(g.points[s.point]),
+                                      ht_point_pos(g.points[s.point + 1]),
+                                      ht_point_pos(g.points[s.point + 2]), ray.tmin, b.t, &b1, &b2);
+        } else {
+            const HtPoint& a = g.points[s.point];
+            const HtPoint& c = g.points[s.point + 1];
+            t = ht_capsule_intersect(o, d, ht_point_pos(a), ht_point_pos(c), ht_hit_radius(a, c),
+                                     s.flags & HT_SEG_FIRST, ray.tmin, b.t);
+        }
+        if (t < b.t) {
+            b.t = t;
+            b.prim = s.segment;
+        }
+    }
+    return b;
+}
+
+ht::ClContext& cl() {
+    static std::unique_ptr<ht::ClContext> ctx(new ht::ClContext());
+    return *ctx;
+}
+
+SceneGeometry mixed_scene() {
+    std::vector<ht::SurfaceMaterialDesc> mats(2);
+    mats[1].albedo = {0.2f, 0.4f, 0.6f};
+    return ht::build_geometry(random_strands(4, 300, 16, 0.08, 0.006), random_meshes(7, 400),
+                              mats);
+}
+
+TEST(MeshBvh, LayoutAndShadingData) {
+    const SceneGeometry g = mixed_scene();
+    EXPECT_EQ(g.segment_count, 300u * 16u);
+    EXPECT_EQ(g.triangle_count, 128u + 400u);
+    ASSERT_EQ(g.triangles.size(), g.triangle_count);
+    EXPECT_EQ(g.segments.size(), g.segment_count + g.triangle_count);
+    size_t tris = 0;
+    for (const HtSegment& s : g.segments) {
+        if (!(s.flags & HT_SEG_TRIANGLE)) continue;
+        ++tris;
+        EXPECT_GE(s.segment, g.segment_count);
+        EXPECT_EQ(s.strand, s.segment - g.segment_count);
+        ASSERT_LE(s.point + 3, g.points.size());
+    }
+    EXPECT_EQ(tris, g.triangle_count);
+    EXPECT_FLOAT_EQ(g.triangles[0].albedo[0], 0.8f);     // floor: default material 0
+    EXPECT_FLOAT_EQ(g.triangles.back().albedo[2], 0.6f);  // cloud: material 1
+}
+
+TEST(MeshBvh, HostTraversalMatchesBruteForce) {
+    const SceneGeometry g = mixed_scene();
+    const auto rays = random_rays(5, 4000);
+    size_t tri_hits = 0, hair_hits = 0;
+    for (const HtRay& r : rays) {
+        const Brute b = brute_force(g, r);
+        HtHit h;
+        ht_trace_closest(g.nodes.data(), g.segments.data(), g.points.data(), r, &h);
+        ASSERT_EQ(h.segment == HT_NO_HIT, b.prim == HT_NO_HIT);
+        if (b.prim == HT_NO_HIT) continue;
+        const HtSegment& s = g.segments[h.segment];
+        EXPECT_EQ(s.segment, b.prim);
+        EXPECT_NEAR(h.t, b.t, 1e-5 * std::max(1.0, b.t));
+        if (s.flags & HT_SEG_TRIANGLE) {
+            ++tri_hits;
+            EXPECT_EQ(h.radius, 0.0f);
+            // barycentrics reconstruct the hit point; the normal is unit length
+            const real3 p = make_real3(r.ox, r.oy, r.oz) + make_real3(r.dx, r.dy, r.dz) * h.t;
+            const real3 q = ht_point_pos(g.points[s.point]) * (1.0 - h.u - h.h) +
+                            ht_point_pos(g.points[s.point + 1]) * h.u +
+                            ht_point_pos(g.points[s.point + 2]) * h.h;
+            EXPECT_NEAR(length(p - q), 0.0, 1e-5);
+            EXPECT_NEAR(length(make_real3(h.tx, h.ty, h.tz)), 1.0, 1e-6);
+        } else {
+            ++hair_hits;
+            EXPECT_GT(h.radius, 0.0f);
+        }
+        EXPECT_EQ(ht_trace_any(g.nodes.data(), g.segments.data(), g.points.data(), r), 1u);
+    }
+    std::printf("[host vs brute] %zu triangle hits, %zu hair hits\n", tri_hits, hair_hits);
+    EXPECT_GT(tri_hits, 500u);
+    EXPECT_GT(hair_hits, 200u);
+}
+
+TEST(MeshBvhKernel, ClosestHitMatchesBruteForce) {
+    const SceneGeometry g = mixed_scene();
+    ht::DeviceGeometry dg = ht::upload_geometry(cl(), g);
+    ht::DeviceTracer tracer(cl(), dg);
+    const auto rays = random_rays(9, 20000);
+    const auto hits = tracer.trace_closest(rays);
+    const auto occ = tracer.trace_shadow(rays);
+    size_t n_hits = 0, tri = 0, same = 0, hitmiss = 0, t_ok = 0, occ_ok = 0;
+    for (size_t i = 0; i < rays.size(); ++i) {
+        const Brute b = brute_force(g, rays[i]);
+        const bool dh = hits[i].segment != HT_NO_HIT;
+        hitmiss += dh == (b.prim != HT_NO_HIT);
+        occ_ok += occ[i] == (dh ? 1u : 0u);
+        if (!dh || b.prim == HT_NO_HIT) continue;
+        ++n_hits;
+        const HtSegment& s = g.segments[hits[i].segment];
+        tri += (s.flags & HT_SEG_TRIANGLE) != 0;
+        same += s.segment == b.prim;
+        t_ok += std::fabs(hits[i].t - b.t) <= 1e-4 * std::max(1.0, b.t);
+    }
+    std::printf("[kernel vs brute] %zu rays, %zu hits (%zu triangles): hit/miss %zu, prim %zu, "
+                "t %zu, shadow %zu\n",
+                rays.size(), n_hits, tri, hitmiss, same, t_ok, occ_ok);
+    EXPECT_GT(tri, 2000u);
+    EXPECT_GT(n_hits - tri, 1000u);
+    // float vs double may flip grazing rays and near-ties only
+    EXPECT_GE(hitmiss, rays.size() - rays.size() / 2000);
+    EXPECT_GE(same, n_hits - n_hits / 500);
+    EXPECT_GE(t_ok, n_hits - n_hits / 500);
+    EXPECT_GE(occ_ok, rays.size() - rays.size() / 2000);
+}
+
+TEST(MeshBvh, RebuildKeepsTriangles) {
+    SceneGeometry g = mixed_scene();
+    ht::rebuild_bvh(g, ht::BvhOptions::compact());
+    EXPECT_EQ(g.segments.size(), g.segment_count + g.triangle_count);
+    const auto rays = random_rays(13, 500);
+    for (const HtRay& r : rays) {
+        const Brute b = brute_force(g, r);
+        HtHit h;
+        ht_trace_closest(g.nodes.data(), g.segments.data(), g.points.data(), r, &h);
+        ASSERT_EQ(h.segment == HT_NO_HIT, b.prim == HT_NO_HIT);
+        if (b.prim != HT_NO_HIT) {
+            EXPECT_EQ(g.segments[h.segment].segment, b.prim);
+        }
+    }
+}
+
+}  // namespace
