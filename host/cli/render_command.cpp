@@ -295,8 +295,11 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
     const int done_before = acc.samples();
     bool stopped_by_limit = false;
     ChunkRunHooks hooks;
-    hooks.progress = [&](int n) {
-        if (!quiet) print_progress(done_before + n, my_range.count(), since(t0));
+    int last_reported = -1;
+    hooks.progress = [&](int n) {  // polled every 50 ms; print only when a sample finished
+        if (quiet || n == last_reported) return;
+        last_reported = n;
+        print_progress(done_before + n, my_range.count(), since(t0));
     };
     // Periodic checkpoints are taken when a chunk finishes (the device threads are not paused
     // for them); on a stop every unfinished chunk is saved too, so a signal loses nothing.
@@ -317,6 +320,7 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
     const double render_seconds = since(t0);
     const int my_done = acc.samples();
     const double reduce_seconds = reduce_to_rank0(dist, acc);
+    const double total_seconds = since(t0);
     if (!root) return g_stop_signal ? 128 + int(g_stop_signal) : kExitOk;
     const int done = acc.samples();
     const Film film = acc.compose();
@@ -338,8 +342,9 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
                 std::fprintf(stderr, "device %s: %d chunks, %d samples, %.2f samples/s\n", sh.name.c_str(), sh.chunks,
                              sh.samples, sh.busy_seconds > 0 ? sh.samples / sh.busy_seconds : 0.0);
         if (dist.ranks > 1)
-            std::fprintf(stderr, "MPI: %d ranks; rank 0 rendered %d samples in %.2f s; reduction %.3f s\n", dist.ranks,
-                         my_done, render_seconds, reduce_seconds);
+            std::fprintf(stderr, "MPI: %d ranks; rank 0 rendered %d samples in %.2f s; all ranks done after %.2f s; "
+                                 "reduction %.3f s\n", dist.ranks, my_done, render_seconds, total_seconds - reduce_seconds,
+                         reduce_seconds);
         std::fprintf(stderr, "done: %d spp in %.2f s; %llu camera + %llu extension + %llu shadow rays; kernel build %.0f ms%s\n",
                      done, render_seconds, (unsigned long long)st.camera_rays, (unsigned long long)st.extension_rays,
                      (unsigned long long)st.shadow_rays, st.build_ms, st.build_cached ? " (cached)" : "");

@@ -100,6 +100,9 @@ std::vector<FilmSegment> recv_segments(int from, int width, int height) {
 
 double reduce_to_rank0(const DistContext& d, SampleAccumulator& acc) {
     if (d.ranks == 1) return 0;
+    // Wait for the slowest rank first, so the time returned is the reduction alone and not the
+    // load imbalance of the render (which the caller sees in its own render time).
+    MPI_Barrier(MPI_COMM_WORLD);
     const auto t0 = std::chrono::steady_clock::now();
     const Film shape = acc.compose();
     // A chain rather than a tree: folding chunk films onto a prefix is only exact in sample
