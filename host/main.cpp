@@ -25,6 +25,7 @@ const char* kTopHelp =
     "\n"
     "commands:\n"
     "  render SCENE -o OUT ...   render a scene to images (.exr linear, .png sRGB; -o repeatable)\n"
+    "  merge PARTS... -o OUT     combine `render --sample-range A:B` parts exactly (render farms)\n"
     "  info SCENE [--json]       strands, points, segments, bounds, materials, BVH statistics\n"
     "  devices [--json]          list OpenCL platforms and devices (indices for --device)\n"
     "  bench [...]               BVH build and ray throughput benchmark (validated hits)\n"
@@ -49,6 +50,7 @@ Command find_command(const std::string& name) {
     if (name == "info") return cmd_info;
     if (name == "devices") return cmd_devices;
     if (name == "converge") return cmd_converge;
+    if (name == "merge") return cmd_merge;
     if (name == "bench")
         return [](const std::vector<std::string>& a) {
             return bench_main(a, [](const std::string& scene) { return load_scene(scene).strands; });

@@ -2,6 +2,10 @@
 #include "cl/device.h"
 #include "cl/kernel_source.h"
 #include "cli/commands.h"
+#include "dist/accumulation.h"
+#include "dist/chunk_scheduler.h"
+#include "dist/distributed.h"
+#include "dist/partial_image.h"
 #include "io/image_io.h"
 #include "render/checkpoint.h"
 #include "render/depth_choice.h"
@@ -16,6 +20,8 @@
 #include <csignal>
 #include <cstdio>
 #include <iostream>
+#include <memory>
+#include <sstream>
 
 namespace ht {
 
@@ -25,6 +31,14 @@ volatile std::sig_atomic_t g_stop_signal = 0;
 extern "C" void on_stop_signal(int sig) { g_stop_signal = sig; }
 
 using Clock = std::chrono::steady_clock;
+
+bool fs_ext_is_exr(const std::string& path) {
+    auto dot = path.rfind('.');
+    if (dot == std::string::npos) return false;
+    std::string e = path.substr(dot);
+    for (auto& ch : e) ch = char(std::tolower((unsigned char)ch));
+    return e == ".exr";
+}
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 void print_progress(int done, int total, double elapsed) {
@@ -35,8 +49,8 @@ void print_progress(int done, int total, double elapsed) {
 
 // Everything besides the sample count that shapes the image: a checkpoint from another
 // render must not be continued by this one.
-uint64_t render_key(const Scene& scene, const RenderSettings& rs, const std::string& kernel_options) {
-    std::string k = scene.source + "|" + std::to_string(scene.strands.point_count()) + "|" +
+uint64_t render_key(const Scene& scene, const RenderSettings& rs, const std::string& kernel_options, int chunk) {
+    std::string k = "chunk " + std::to_string(chunk) + "|" + scene.source + "|" + std::to_string(scene.strands.point_count()) + "|" +
                     std::to_string(scene.strands.strand_count()) + "|" + kernel_options + "|" +
                     std::to_string(rs.width) + "x" + std::to_string(rs.height) + "|" + std::to_string(rs.seed) + "|" +
                     std::to_string(rs.max_depth) + "|" + std::to_string(int(rs.indirect)) + "|" + std::to_string(rs.fiber_field) + "|" + scene.environment.map_path + "|" +
@@ -46,9 +60,56 @@ uint64_t render_key(const Scene& scene, const RenderSettings& rs, const std::str
     return hash_text(k);
 }
 
+// --device: absent (the default device), an index, "all", or a comma list "0,2".
+std::vector<int> parse_devices(const ArgParser& p) {
+    if (!p.has("--device")) return {-1};
+    const std::string v = p.get("--device");
+    std::vector<int> out;
+    if (v == "all") {
+        for (size_t i = 0; i < list_devices().size(); ++i) out.push_back(int(i));
+        if (out.empty()) throw DeviceError("--device all: no OpenCL device found");
+        return out;
+    }
+    std::stringstream ss(v);
+    std::string item;
+    while (std::getline(ss, item, ',')) {
+        if (item.empty() || item.find_first_not_of("0123456789") != std::string::npos || item.size() > 4)
+            throw UsageError("--device must be an index, a list like 0,2, or all; got '" + v + "'");
+        int d = std::stoi(item);
+        for (int e : out)
+            if (e == d) throw UsageError("--device " + v + ": device " + item + " is listed twice");
+        out.push_back(d);
+    }
+    if (out.empty()) throw UsageError("--device must be an index, a list like 0,2, or all; got '" + v + "'");
+    return out;
+}
+
+int render_main(const std::vector<std::string>& args, DistContext& dist);
+
 }  // namespace
 
+// MPI wraps the whole command: every rank must reach MPI_Finalize, and an error on one rank must
+// end all of them (the others would wait forever in the reduction).
 int cmd_render(const std::vector<std::string>& args) {
+    DistContext dist = dist_init();
+    int code = 0;
+    try {
+        code = render_main(args, dist);
+    } catch (const std::exception& e) {
+        if (dist.ranks <= 1) {
+            dist_finalize(dist);
+            throw;
+        }
+        const bool bad_input = dynamic_cast<const UsageError*>(&e) || dynamic_cast<const SceneError*>(&e);
+        std::fprintf(stderr, "hairtrace (rank %d of %d): %s\n", dist.rank, dist.ranks, e.what());
+        dist_abort(dist, bad_input ? kExitUsage : kExitRuntime);
+    }
+    dist_finalize(dist);
+    return code;
+}
+
+namespace {
+int render_main(const std::vector<std::string>& args, DistContext& dist) {
     ArgParser p("render");
     p.positional("SCENE", "scene file or builtin:NAME");
     p.option("-o", "OUT", "output image; the extension picks the format (.exr linear float, .png sRGB 8-bit)", "", true)
@@ -69,8 +130,10 @@ int cmd_render(const std::vector<std::string>& args) {
         .option("--checkpoint-every", "SECONDS", "checkpoint interval", "60")
         .option("--resume", "FILE", "continue a render from a checkpoint (same scene, options and seed)")
         .option("--reference", "REF", "linear image to compare with: prints RMSE, relMSE, max error, NaN count")
-        .option("--device", "I", "OpenCL device index from `hairtrace devices` (default: first CPU/GPU)")
         .option("--max-memory", "SIZE", "upper bound for host memory while loading and for device memory while rendering, e.g. 512M or 8G; inputs that need more are refused before allocating, with the size named")
+        .option("--device", "I|I,J,..|all", "OpenCL device index from `hairtrace devices` (default: first CPU/GPU); several devices split the chunks between them (one host thread each, work stealing), with the same image")
+        .option("--chunk", "K", "samples per chunk: the image is the sum of K-sample chunk films added in chunk order, which every split (devices, MPI ranks, --sample-range parts) reproduces exactly; K >= spp is the plain sequential sum", "16")
+        .option("--sample-range", "A:B", "render-farm part: render samples [A, B) of --spp only (A, B multiples of --chunk or B = spp); the .exr output then holds the raw sums for `hairtrace merge`")
         .option("--kernel-dir", "DIR", "load kernel sources from DIR instead of the embedded copies");
     add_scene_options(p);
     p.flag("--verbose", "print the kernel features chosen for the scene and the build options")
@@ -99,6 +162,11 @@ int cmd_render(const std::vector<std::string>& args) {
     rs.height = p.get_int("--height", 1, 16384);
     rs.spp = p.get_int("--spp", 1, 1 << 24);
     rs.seed = uint32_t(p.get_int("--seed", 0, 2147483647));
+    const ChunkGrid grid{rs.spp, p.get_int("--chunk", 1, 1 << 24)};
+    const bool partial = p.has("--sample-range");
+    const SampleRange range = partial ? parse_sample_range(p.get("--sample-range"), grid) : SampleRange{0, rs.spp};
+    const SampleRange my_range = rank_range(range, grid, dist.rank, dist.ranks);
+    const bool root = dist.rank == 0;
     {
         std::string f = p.get("--fiber-field");
         if (f == "material") rs.fiber_field = HT_FIELD_MATERIAL;
@@ -111,9 +179,11 @@ int cmd_render(const std::vector<std::string>& args) {
     const double checkpoint_every = p.get_double("--checkpoint-every", 0.01, 1e9);
     const bool auto_expose = p.get("--exposure") == "auto";
     const float fixed_exposure = auto_expose ? 1.0f : float(p.get_double("--exposure", 0, 1e9));
-    const bool quiet = p.has("--quiet");
+    const bool quiet = p.has("--quiet") || !root;  // one progress report per job, from rank 0
     rs.profile_stages = p.has("--profile");
-    const std::string checkpoint_path = p.get("--checkpoint");
+    // Each rank keeps its own checkpoint; they resume together (same --resume FILE, same -np).
+    const std::string rank_suffix = dist.ranks > 1 ? ".rank" + std::to_string(dist.rank) : "";
+    const std::string checkpoint_path = p.has("--checkpoint") ? p.get("--checkpoint") + rank_suffix : "";
     if (p.has("--kernel-dir")) set_kernel_dir(p.get("--kernel-dir"));
 
     std::vector<float> reference;
@@ -159,11 +229,18 @@ int cmd_render(const std::vector<std::string>& args) {
     if (!quiet)
         for (auto& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
 
-    ClContext cl(p.has("--device") ? p.get_int("--device", 0, 1000) : -1);
+    std::vector<std::unique_ptr<ClContext>> contexts;
+    std::vector<std::string> device_names;
+    for (int d : parse_devices(p)) {
+        contexts.push_back(std::make_unique<ClContext>(d));
+        const ClContext& cl = *contexts.back();
+        device_names.push_back(cl.info().name + (d >= 0 ? " #" + std::to_string(d) : ""));
+        if (!quiet) std::fprintf(stderr, "device: %s (%s)\n", cl.info().name.c_str(), cl.info().platform.c_str());
+    }
+    const ClContext& cl = *contexts.front();
     if (!quiet)
-        std::fprintf(stderr, "device: %s (%s)\nscene: %s, %zu strands, %zu segments\n", cl.info().name.c_str(),
-                     cl.info().platform.c_str(), scene.source.c_str(), scene.strands.strand_count(),
-                     scene.strands.segment_count());
+        std::fprintf(stderr, "scene: %s, %zu strands, %zu segments\n", scene.source.c_str(),
+                     scene.strands.strand_count(), scene.strands.segment_count());
     if (p.has("--verbose")) {
         const bool afs = rs.indirect == RenderSettings::Indirect::Afs;
         for (auto& line : describe_features(scene_features(scene, rs.fiber_field, afs)))
@@ -171,70 +248,117 @@ int cmd_render(const std::vector<std::string>& args) {
         std::fprintf(stderr, "kernel options: %s\n", kernel_build_options(scene, rs.fiber_field, afs).c_str());
     }
 
-    Renderer renderer(cl, scene, rs);
-    const uint64_t key = render_key(scene, rs, renderer.kernel_options());
-    Film film;
-    film.width = rs.width;
-    film.height = rs.height;
-    film.rgba.assign(4 * size_t(rs.width) * rs.height, 0.0f);
-    int first_sample = 0;
-    if (p.has("--resume")) {
-        Checkpoint c = load_checkpoint(p.get("--resume"));
-        if (c.render_key != key || c.width != uint32_t(rs.width) || c.height != uint32_t(rs.height) ||
-            c.seed != rs.seed || c.max_depth != uint32_t(rs.max_depth))
-            throw UsageError("--resume " + p.get("--resume") +
-                             ": the checkpoint belongs to a different render (scene, size, seed, depth or options differ)");
-        film = std::move(c.film);
-        first_sample = int(c.samples_done);
-        if (!quiet) std::fprintf(stderr, "resuming at sample %d of %d\n", first_sample, rs.spp);
+    std::vector<std::unique_ptr<Renderer>> renderers;
+    std::vector<Renderer*> devices;
+    for (auto& c : contexts) {
+        renderers.push_back(std::make_unique<Renderer>(*c, scene, rs));
+        devices.push_back(renderers.back().get());
     }
-    renderer.upload_film(film);
+    const Renderer& renderer = *renderers.front();
+    const uint64_t key = render_key(scene, rs, renderer.kernel_options(), grid.chunk);
+    SampleAccumulator acc(grid, rs.width, rs.height);
+    if (p.has("--resume")) {
+        const std::string path = p.get("--resume") + rank_suffix;
+        Checkpoint c = load_checkpoint(path);
+        if (c.render_key != key || c.width != uint32_t(rs.width) || c.height != uint32_t(rs.height) ||
+            c.seed != rs.seed || c.max_depth != uint32_t(rs.max_depth) || c.chunk != uint32_t(grid.chunk))
+            throw UsageError("--resume " + path +
+                             ": the checkpoint belongs to a different render (scene, size, seed, depth, chunk or options differ)");
+        if (c.ranks != uint32_t(dist.ranks))
+            throw UsageError("--resume " + path + ": written by a run with " + std::to_string(c.ranks) +
+                             " MPI ranks; resume with the same number");
+        for (auto& seg : c.segments) {
+            if (seg.first < my_range.first || seg.first + seg.count > my_range.end)
+                throw UsageError("--resume " + path + ": it holds samples [" + std::to_string(seg.first) + ", " +
+                                 std::to_string(seg.first + seg.count) + ") outside the samples this run renders [" +
+                                 std::to_string(my_range.first) + ", " + std::to_string(my_range.end) + ")");
+            acc.add(std::move(seg));
+        }
+        if (!quiet) std::fprintf(stderr, "resuming with %d of %d samples done\n", acc.samples(), my_range.count());
+    }
 
-    auto save = [&](int samples_done) {
+    auto save = [&] {
         if (checkpoint_path.empty()) return;
         Checkpoint c;
         c.width = uint32_t(rs.width);
         c.height = uint32_t(rs.height);
         c.seed = rs.seed;
         c.max_depth = uint32_t(rs.max_depth);
-        c.samples_done = uint32_t(samples_done);
+        c.samples_done = uint32_t(acc.samples());
         c.spp_target = uint32_t(rs.spp);
+        c.chunk = uint32_t(grid.chunk);
+        c.range_first = uint32_t(my_range.first);
+        c.range_end = uint32_t(my_range.end);
+        c.rank = uint32_t(dist.rank);
+        c.ranks = uint32_t(dist.ranks);
         c.render_key = key;
-        renderer.download_film(c.film);
+        c.segments = acc.segments();
         save_checkpoint(checkpoint_path, c);
     };
 
     const auto t0 = Clock::now();
     auto last_checkpoint = t0;
-    int done = first_sample;
+    const int done_before = acc.samples();
     bool stopped_by_limit = false;
-    while (done < rs.spp && !g_stop_signal) {
-        renderer.render_sample(uint32_t(done));
-        ++done;
-        if (!quiet) print_progress(done, rs.spp, since(t0));
-        if (!checkpoint_path.empty() && since(last_checkpoint) >= checkpoint_every && done < rs.spp) {
-            save(done);
+    ChunkRunHooks hooks;
+    int last_reported = -1;
+    hooks.progress = [&](int n) {  // polled every 50 ms; print only when a sample finished
+        if (quiet || n == last_reported) return;
+        last_reported = n;
+        print_progress(done_before + n, my_range.count(), since(t0));
+    };
+    // Periodic checkpoints are taken when a chunk finishes (the device threads are not paused
+    // for them); on a stop every unfinished chunk is saved too, so a signal loses nothing.
+    hooks.chunk_finished = [&] {
+        if (!checkpoint_path.empty() && since(last_checkpoint) >= checkpoint_every) {
+            save();
             last_checkpoint = Clock::now();
         }
-        if (time_limit > 0 && since(t0) >= time_limit && done < rs.spp) {
-            stopped_by_limit = true;
-            break;
-        }
-    }
+    };
+    hooks.should_stop = [&] {
+        if (g_stop_signal) return true;
+        if (time_limit > 0 && since(t0) >= time_limit) return stopped_by_limit = true;
+        return false;
+    };
+    const auto shares = render_chunks(devices, device_names, acc, acc.pending_chunks(my_range), hooks);
     if (!quiet) std::fprintf(stderr, "\n");
-    save(done);
-    renderer.download_film(film);
+    save();
+    const double render_seconds = since(t0);
+    const int my_done = acc.samples();
+    const double reduce_seconds = reduce_to_rank0(dist, acc);
+    const double total_seconds = since(t0);
+    if (!root) return g_stop_signal ? 128 + int(g_stop_signal) : kExitOk;
+    const int done = acc.samples();
+    const Film film = acc.compose();
 
-    const RenderStats& st = renderer.stats();
+    RenderStats st;
+    for (auto* r : devices) {
+        const RenderStats& rst = r->stats();
+        st.camera_rays += rst.camera_rays;
+        st.extension_rays += rst.extension_rays;
+        st.shadow_rays += rst.shadow_rays;
+        st.nonfinite_caught += rst.nonfinite_caught;
+        st.build_ms += rst.build_ms;
+        st.build_cached = rst.build_cached;
+        for (auto& [name, sec] : rst.stage_seconds) st.stage_seconds.push_back({name, sec});
+    }
     if (!quiet) {
+        if (shares.size() > 1)
+            for (auto& sh : shares)
+                std::fprintf(stderr, "device %s: %d chunks, %d samples, %.2f samples/s\n", sh.name.c_str(), sh.chunks,
+                             sh.samples, sh.busy_seconds > 0 ? sh.samples / sh.busy_seconds : 0.0);
+        if (dist.ranks > 1)
+            std::fprintf(stderr, "MPI: %d ranks; rank 0 rendered %d samples in %.2f s; all ranks done after %.2f s; "
+                                 "reduction %.3f s\n", dist.ranks, my_done, render_seconds, total_seconds - reduce_seconds,
+                         reduce_seconds);
         std::fprintf(stderr, "done: %d spp in %.2f s; %llu camera + %llu extension + %llu shadow rays; kernel build %.0f ms%s\n",
-                     done, since(t0), (unsigned long long)st.camera_rays, (unsigned long long)st.extension_rays,
+                     done, render_seconds, (unsigned long long)st.camera_rays, (unsigned long long)st.extension_rays,
                      (unsigned long long)st.shadow_rays, st.build_ms, st.build_cached ? " (cached)" : "");
         for (auto& [name, sec] : st.stage_seconds)
             std::fprintf(stderr, "stage %-22s %8.3f s\n", name.c_str(), sec);
-        if (stopped_by_limit) std::fprintf(stderr, "stopped by --time-limit after %d of %d spp\n", done, rs.spp);
+        if (stopped_by_limit) std::fprintf(stderr, "stopped by --time-limit after %d of %d spp\n", done, range.count());
         if (g_stop_signal)
-            std::fprintf(stderr, "interrupted after %d of %d spp%s\n", done, rs.spp,
+            std::fprintf(stderr, "interrupted after %d of %d spp%s\n", done, range.count(),
                          checkpoint_path.empty() ? "" : "; continue with --resume");
     }
     if (st.nonfinite_caught && !quiet)
@@ -245,14 +369,29 @@ int cmd_render(const std::vector<std::string>& args) {
     meta.ints["hairtrace:spp"] = done;
     meta.ints["hairtrace:seed"] = int(rs.seed);
     meta.ints["hairtrace:max_depth"] = rs.max_depth;
+    meta.ints["hairtrace:chunk"] = grid.chunk;
     meta.floats["hairtrace:render_seconds"] = float(since(t0));
     meta.text["hairtrace:device"] = cl.info().name + " / " + cl.info().platform + " " + cl.info().driver;
     meta.text["hairtrace:version"] = HT_VERSION;
     meta.text["hairtrace:scene"] = scene.source;
     const float exposure = auto_expose ? auto_exposure(film) : fixed_exposure;
     if (auto_expose) meta.floats["hairtrace:exposure"] = exposure;
+    PartialImage part;
+    if (partial) {
+        part.width = rs.width;
+        part.height = rs.height;
+        part.spp_target = rs.spp;
+        part.chunk = grid.chunk;
+        part.max_depth = rs.max_depth;
+        part.seed = rs.seed;
+        part.render_key = key;
+        part.scene = scene.source;
+        part.segments = acc.segments();
+    }
     for (auto& o : outputs) {
-        write_image(o, film, meta, exposure);
+        // A part's .exr keeps the raw sums for the merge; other formats show its mean.
+        if (partial && fs_ext_is_exr(o)) write_partial_exr(o, part, meta);
+        else write_image(o, film, meta, exposure);
         if (!quiet) std::fprintf(stderr, "wrote %s\n", o.c_str());
     }
     if (!reference.empty()) {
@@ -264,5 +403,7 @@ int cmd_render(const std::vector<std::string>& args) {
     if (g_stop_signal) return 128 + int(g_stop_signal);
     return kExitOk;
 }
+
+}  // namespace
 
 }  // namespace ht

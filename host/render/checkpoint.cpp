@@ -12,7 +12,10 @@ namespace ht {
 
 namespace {
 constexpr char kMagic[4] = {'H', 'T', 'C', 'K'};
-constexpr uint32_t kVersion = 1;
+// 2: a list of film segments (chunked accumulation) instead of one film.  Version 1 files held
+// the plain sequential sum, which is not the chunked order once a render exceeds one chunk.
+constexpr uint32_t kVersion = 2;
+constexpr uint32_t kMaxSegments = 1u << 20;
 
 uint64_t fnv1a(const void* data, size_t n, uint64_t h = 1469598103934665603ull) {
     const unsigned char* p = static_cast<const unsigned char*>(data);
@@ -23,7 +26,12 @@ uint64_t fnv1a(const void* data, size_t n, uint64_t h = 1469598103934665603ull) 
 struct Header {
     char magic[4];
     uint32_t version, width, height, seed, max_depth, samples_done, spp_target;
+    uint32_t chunk, range_first, range_end, rank, ranks, segment_count;
     uint64_t render_key, payload_hash;
+};
+
+struct SegmentHeader {
+    uint32_t first, count;
 };
 }  // namespace
 
@@ -39,13 +47,29 @@ void save_checkpoint(const std::string& path, const Checkpoint& c) {
     h.max_depth = c.max_depth;
     h.samples_done = c.samples_done;
     h.spp_target = c.spp_target;
+    h.chunk = c.chunk;
+    h.range_first = c.range_first;
+    h.range_end = c.range_end;
+    h.rank = c.rank;
+    h.ranks = c.ranks;
+    h.segment_count = uint32_t(c.segments.size());
     h.render_key = c.render_key;
-    h.payload_hash = fnv1a(c.film.rgba.data(), c.film.rgba.size() * sizeof(float));
+    uint64_t hash = fnv1a(nullptr, 0);
+    for (auto& s : c.segments) {
+        SegmentHeader sh{uint32_t(s.first), uint32_t(s.count)};
+        hash = fnv1a(&sh, sizeof sh, hash);
+        hash = fnv1a(s.film.rgba.data(), s.film.rgba.size() * sizeof(float), hash);
+    }
+    h.payload_hash = hash;
     std::string tmp = path + ".tmp";
     FILE* f = std::fopen(tmp.c_str(), "wb");
     if (!f) throw ImageError(path + ": cannot write checkpoint: " + std::strerror(errno));
-    bool ok = std::fwrite(&h, sizeof h, 1, f) == 1 &&
-              std::fwrite(c.film.rgba.data(), sizeof(float), c.film.rgba.size(), f) == c.film.rgba.size();
+    bool ok = std::fwrite(&h, sizeof h, 1, f) == 1;
+    for (auto& s : c.segments) {
+        SegmentHeader sh{uint32_t(s.first), uint32_t(s.count)};
+        ok = ok && std::fwrite(&sh, sizeof sh, 1, f) == 1 &&
+             std::fwrite(s.film.rgba.data(), sizeof(float), s.film.rgba.size(), f) == s.film.rgba.size();
+    }
     ok = std::fflush(f) == 0 && ok;
     ok = ::fsync(fileno(f)) == 0 && ok;
     int err = errno;
@@ -61,12 +85,16 @@ Checkpoint load_checkpoint(const std::string& path) {
     std::ifstream f(path, std::ios::binary);
     if (!f) throw SceneError(path + ": cannot open checkpoint");
     Header h{};
-    if (!f.read(reinterpret_cast<char*>(&h), sizeof h)) throw SceneError(path + ": truncated checkpoint header");
+    if (!f.read(reinterpret_cast<char*>(&h), 8)) throw SceneError(path + ": truncated checkpoint header");
     if (std::memcmp(h.magic, kMagic, 4) != 0) throw SceneError(path + ": not a hairtrace checkpoint");
     if (h.version != kVersion)
-        throw SceneError(path + ": checkpoint version " + std::to_string(h.version) + " is not supported");
+        throw SceneError(path + ": checkpoint version " + std::to_string(h.version) +
+                         " is not supported (this build reads version " + std::to_string(kVersion) + ")");
+    if (!f.read(reinterpret_cast<char*>(&h) + 8, sizeof h - 8)) throw SceneError(path + ": truncated checkpoint header");
     if (h.width == 0 || h.height == 0 || h.width > 65536 || h.height > 65536)
         throw SceneError(path + ": checkpoint has an impossible image size");
+    if (h.chunk == 0 || h.segment_count > kMaxSegments || h.ranks == 0 || h.rank >= h.ranks)
+        throw SceneError(path + ": checkpoint header is corrupt");
     Checkpoint c;
     c.width = h.width;
     c.height = h.height;
@@ -74,14 +102,31 @@ Checkpoint load_checkpoint(const std::string& path) {
     c.max_depth = h.max_depth;
     c.samples_done = h.samples_done;
     c.spp_target = h.spp_target;
+    c.chunk = h.chunk;
+    c.range_first = h.range_first;
+    c.range_end = h.range_end;
+    c.rank = h.rank;
+    c.ranks = h.ranks;
     c.render_key = h.render_key;
-    c.film.width = int(h.width);
-    c.film.height = int(h.height);
-    c.film.rgba.resize(4 * size_t(h.width) * h.height);
-    if (!f.read(reinterpret_cast<char*>(c.film.rgba.data()), c.film.rgba.size() * sizeof(float)))
-        throw SceneError(path + ": truncated checkpoint (film data missing)");
-    if (fnv1a(c.film.rgba.data(), c.film.rgba.size() * sizeof(float)) != h.payload_hash)
-        throw SceneError(path + ": checkpoint is corrupt (film checksum mismatch)");
+    uint64_t hash = fnv1a(nullptr, 0);
+    const size_t floats = 4 * size_t(h.width) * h.height;
+    for (uint32_t i = 0; i < h.segment_count; ++i) {
+        SegmentHeader sh{};
+        if (!f.read(reinterpret_cast<char*>(&sh), sizeof sh))
+            throw SceneError(path + ": truncated checkpoint (segment " + std::to_string(i) + " missing)");
+        FilmSegment s;
+        s.first = int(sh.first);
+        s.count = int(sh.count);
+        s.film.width = int(h.width);
+        s.film.height = int(h.height);
+        s.film.rgba.resize(floats);
+        if (!f.read(reinterpret_cast<char*>(s.film.rgba.data()), floats * sizeof(float)))
+            throw SceneError(path + ": truncated checkpoint (film data missing)");
+        hash = fnv1a(&sh, sizeof sh, hash);
+        hash = fnv1a(s.film.rgba.data(), floats * sizeof(float), hash);
+        c.segments.push_back(std::move(s));
+    }
+    if (hash != h.payload_hash) throw SceneError(path + ": checkpoint is corrupt (film checksum mismatch)");
     return c;
 }
 

@@ -1,20 +1,26 @@
-// Checkpoints of a progressive render: the raw float film (sums, not means) plus what is needed
-// to continue it.  Because every sample's random numbers are a pure function of (seed, pixel,
-// sample), continuing from a checkpoint gives the same bits as never stopping.
+// Checkpoints of a progressive render: the raw float films (sums, not means) of the samples done
+// so far, in the canonical chunked order of dist/accumulation.h, plus what is needed to continue.
+// Because every sample's random numbers are a pure function of (seed, pixel, sample), continuing
+// from a checkpoint gives the same bits as never stopping.
 #pragma once
 
+#include "dist/accumulation.h"
 #include "render/renderer.h"
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace ht {
 
 struct Checkpoint {
     uint32_t width = 0, height = 0, seed = 0, max_depth = 0;
-    uint32_t samples_done = 0, spp_target = 0;
+    uint32_t samples_done = 0, spp_target = 0;  // samples held in `segments`; --spp of the render
+    uint32_t chunk = 0;                          // K of the chunk grid
+    uint32_t range_first = 0, range_end = 0;     // the samples this process was asked for
+    uint32_t rank = 0, ranks = 1;                // MPI: which rank wrote it, out of how many
     uint64_t render_key = 0;  // hash of everything else that shapes the image (scene, options)
-    Film film;
+    std::vector<FilmSegment> segments;  // sorted, disjoint; see SampleAccumulator
 };
 
 // Writes to PATH.tmp, flushes, then renames over PATH: a crash or full disk mid-write never

@@ -1,0 +1,125 @@
+// hairtrace merge: combine render-farm parts (render --sample-range A:B) into the final image.
+//
+// The parts' segments are folded in the canonical chunk order (dist/accumulation.h), so the
+// result is bit for bit the image one `hairtrace render` with the same --spp/--chunk/--seed would
+// have written.  The parts must come from the same render (same render key, size, seed, spp,
+// chunk), be disjoint and together cover [0, spp); anything else is reported and exits 2.
+#include "cli/commands.h"
+#include "dist/accumulation.h"
+#include "dist/partial_image.h"
+#include "io/image_io.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <iostream>
+
+namespace ht {
+
+namespace {
+struct Located {
+    FilmSegment seg;
+    std::string file;
+};
+}  // namespace
+
+int cmd_merge(const std::vector<std::string>& args) {
+    ArgParser p("merge");
+    p.option("-o", "OUT", "merged image; the extension picks the format (.exr linear float, .png sRGB 8-bit)", "", true)
+        .option("--exposure", "E|auto", "multiplier applied before tone mapping 8-bit outputs", "1")
+        .flag("--quiet", "no report on stderr")
+        .flag("--help", "this help");
+    // The parts are any number of positional arguments; ArgParser takes a fixed list, so split
+    // them off first (every option of this command but the flags takes one value).
+    std::vector<std::string> parts, rest;
+    for (size_t i = 0; i < args.size(); ++i) {
+        const std::string& a = args[i];
+        if (a == "-o" || a == "--exposure") {
+            rest.push_back(a);
+            if (i + 1 < args.size()) rest.push_back(args[++i]);
+        } else if (!a.empty() && a[0] == '-') {
+            rest.push_back(a);
+        } else {
+            parts.push_back(a);
+        }
+    }
+    p.parse(rest);
+    if (p.has("--help")) {
+        std::cout << "usage: hairtrace merge PART.exr... -o OUT.exr [-o OUT.png]\n"
+                  << "combines the partial renders of `hairtrace render --sample-range A:B` exactly\n\n"
+                  << p.help() << "exit codes: 0 ok, 2 parts missing, overlapping or from different renders, 3 write failure\n";
+        return kExitOk;
+    }
+    if (parts.empty()) throw UsageError("merge: no parts given (hairtrace merge PART.exr... -o OUT.exr)");
+    auto outputs = p.all("-o");
+    if (outputs.empty()) throw UsageError("merge: no output given (-o OUT.exr and/or -o OUT.png)");
+    const bool quiet = p.has("--quiet");
+
+    std::vector<Located> all;
+    PartialImage first;
+    for (size_t i = 0; i < parts.size(); ++i) {
+        PartialImage part = read_partial_exr(parts[i]);
+        if (i == 0) first = part;
+        auto differ = [&](const std::string& what, long long a, long long b) {
+            if (a != b)
+                throw SceneError("merge: " + parts[i] + " has " + what + " " + std::to_string(b) + ", but " + parts[0] +
+                                 " has " + std::to_string(a) + ": the parts belong to different renders");
+        };
+        differ("width", first.width, part.width);
+        differ("height", first.height, part.height);
+        differ("spp", first.spp_target, part.spp_target);
+        differ("chunk", first.chunk, part.chunk);
+        differ("seed", first.seed, part.seed);
+        differ("max depth", first.max_depth, part.max_depth);
+        if (part.render_key != first.render_key)
+            throw SceneError("merge: " + parts[i] + " has render key " + hex64(part.render_key) + ", " + parts[0] +
+                             " has " + hex64(first.render_key) +
+                             ": the parts belong to different renders (scene or options differ)");
+        for (auto& s : part.segments) all.push_back({std::move(s), parts[i]});
+    }
+    std::sort(all.begin(), all.end(), [](const Located& a, const Located& b) { return a.seg.first < b.seg.first; });
+
+    // Every problem at once: a farm operator wants the full list of jobs to rerun.
+    const ChunkGrid grid{first.spp_target, first.chunk};
+    std::vector<std::string> problems;
+    auto range = [](int a, int b) { return "[" + std::to_string(a) + ", " + std::to_string(b) + ")"; };
+    int next = 0;
+    for (size_t i = 0; i < all.size(); ++i) {
+        const FilmSegment& s = all[i].seg;
+        if (s.first > next) problems.push_back("samples " + range(next, s.first) + " are missing");
+        if (s.first < next)
+            problems.push_back(all[i].file + " and " + all[i - 1].file + " overlap on samples " +
+                               range(s.first, std::min(next, s.first + s.count)));
+        if (!grid.boundary(s.first + s.count))
+            problems.push_back(all[i].file + " holds an unfinished chunk " + range(s.first, s.first + s.count) +
+                               " (the part was interrupted; rerun it)");
+        next = std::max(next, s.first + s.count);
+    }
+    if (next < grid.spp) problems.push_back("samples " + range(next, grid.spp) + " are missing");
+    if (!problems.empty()) {
+        std::string msg = "merge: the parts do not make up samples [0, " + std::to_string(grid.spp) + ") exactly:";
+        for (auto& pr : problems) msg += "\n  " + pr;
+        throw SceneError(msg);
+    }
+
+    SampleAccumulator acc(grid, first.width, first.height);
+    for (auto& l : all) acc.add(std::move(l.seg));
+    const Film film = acc.compose();
+    ImageMetadata meta;
+    meta.ints["hairtrace:spp"] = grid.spp;
+    meta.ints["hairtrace:seed"] = int(first.seed);
+    meta.ints["hairtrace:max_depth"] = first.max_depth;
+    meta.ints["hairtrace:chunk"] = grid.chunk;
+    meta.ints["hairtrace:merged_parts"] = int(parts.size());
+    meta.text["hairtrace:version"] = HT_VERSION;
+    meta.text["hairtrace:scene"] = first.scene;
+    meta.text["hairtrace:render_key"] = hex64(first.render_key);
+    const bool auto_expose = p.get("--exposure") == "auto";
+    const float exposure = auto_expose ? auto_exposure(film) : float(p.get_double("--exposure", 0, 1e9));
+    for (auto& o : outputs) {
+        write_image(o, film, meta, exposure);
+        if (!quiet) std::fprintf(stderr, "wrote %s (%zu parts, %d spp)\n", o.c_str(), parts.size(), grid.spp);
+    }
+    return kExitOk;
+}
+
+}  // namespace ht

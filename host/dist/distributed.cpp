@@ -1,0 +1,141 @@
+#include "dist/distributed.h"
+
+#include "cli/args.h"
+
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+
+#ifdef HT_HAVE_MPI
+#include <mpi.h>
+#endif
+
+namespace ht {
+
+namespace {
+// Environment variables the common launchers set for every rank they start.
+int launcher_world_size() {
+    for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE", "MPI_LOCALNRANKS", "SLURM_NTASKS"}) {
+        // SLURM_NTASKS is set for plain sbatch scripts too; only trust it under srun (SLURM_STEP_ID).
+        if (std::strcmp(v, "SLURM_NTASKS") == 0 && !std::getenv("SLURM_STEP_ID")) continue;
+        if (const char* s = std::getenv(v)) return std::atoi(s);
+    }
+    return std::getenv("PMIX_RANK") ? 1 : 0;  // PMIx without a size: initialise, the size comes from MPI
+}
+}  // namespace
+
+SampleRange rank_range(const SampleRange& range, const ChunkGrid& grid, int rank, int ranks) {
+    const int c0 = grid.chunk_of(range.first);
+    const int c1 = grid.chunk_of(range.end - 1) + 1;  // chunks [c0, c1)
+    const long n = c1 - c0;
+    const int a = c0 + int(n * rank / ranks), b = c0 + int(n * (rank + 1) / ranks);
+    SampleRange r{std::max(range.first, grid.begin(a)), std::min(range.end, grid.begin(b))};
+    if (a == b) r = {range.end, range.end};  // more ranks than chunks: this rank idles
+    return r;
+}
+
+#ifdef HT_HAVE_MPI
+
+DistContext dist_init() {
+    DistContext d;
+    if (launcher_world_size() < 1) return d;
+    int provided = 0;
+    // Only the calling thread talks MPI; device threads never do.
+    MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
+    MPI_Comm_rank(MPI_COMM_WORLD, &d.rank);
+    MPI_Comm_size(MPI_COMM_WORLD, &d.ranks);
+    d.mpi = true;
+    return d;
+}
+
+void dist_finalize(const DistContext& d) {
+    if (d.mpi) MPI_Finalize();
+}
+
+void dist_abort(const DistContext& d, int code) {
+    if (d.mpi) MPI_Abort(MPI_COMM_WORLD, code);
+    std::exit(code);
+}
+
+bool dist_any(const DistContext& d, bool value) {
+    if (d.ranks == 1) return value;
+    int in = value ? 1 : 0, out = 0;
+    MPI_Allreduce(&in, &out, 1, MPI_INT, MPI_LOR, MPI_COMM_WORLD);
+    return out != 0;
+}
+
+namespace {
+constexpr int kTagCount = 17, kTagHeader = 18, kTagFilm = 19;
+
+void send_segments(const std::vector<FilmSegment>& segs, int to) {
+    int n = int(segs.size());
+    MPI_Send(&n, 1, MPI_INT, to, kTagCount, MPI_COMM_WORLD);
+    for (auto& s : segs) {
+        int h[2] = {s.first, s.count};
+        MPI_Send(h, 2, MPI_INT, to, kTagHeader, MPI_COMM_WORLD);
+        MPI_Send(s.film.rgba.data(), int(s.film.rgba.size()), MPI_FLOAT, to, kTagFilm, MPI_COMM_WORLD);
+    }
+}
+
+std::vector<FilmSegment> recv_segments(int from, int width, int height) {
+    int n = 0;
+    MPI_Recv(&n, 1, MPI_INT, from, kTagCount, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    std::vector<FilmSegment> out(size_t(std::max(n, 0)));
+    for (auto& s : out) {
+        int h[2];
+        MPI_Recv(h, 2, MPI_INT, from, kTagHeader, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+        s.first = h[0];
+        s.count = h[1];
+        s.film.width = width;
+        s.film.height = height;
+        s.film.rgba.resize(4 * size_t(width) * size_t(height));
+        MPI_Recv(s.film.rgba.data(), int(s.film.rgba.size()), MPI_FLOAT, from, kTagFilm, MPI_COMM_WORLD,
+                 MPI_STATUS_IGNORE);
+    }
+    return out;
+}
+}  // namespace
+
+double reduce_to_rank0(const DistContext& d, SampleAccumulator& acc) {
+    if (d.ranks == 1) return 0;
+    // Wait for the slowest rank first, so the time returned is the reduction alone and not the
+    // load imbalance of the render (which the caller sees in its own render time).
+    MPI_Barrier(MPI_COMM_WORLD);
+    const auto t0 = std::chrono::steady_clock::now();
+    const Film shape = acc.compose();
+    // A chain rather than a tree: folding chunk films onto a prefix is only exact in sample
+    // order, so rank r can add its chunks only after ranks 0..r-1 have added theirs.  Each rank
+    // still sends a single film when the render starts at sample 0 (its prefix), and the
+    // rendering itself ran fully in parallel before this.
+    if (d.rank == 0) {
+        send_segments(acc.segments(), 1);
+        SampleAccumulator all(acc.grid(), shape.width, shape.height);
+        for (auto& s : recv_segments(d.ranks - 1, shape.width, shape.height)) all.add(std::move(s));
+        acc = std::move(all);
+    } else {
+        SampleAccumulator merged(acc.grid(), shape.width, shape.height);
+        for (auto& s : recv_segments(d.rank - 1, shape.width, shape.height)) merged.add(std::move(s));
+        for (auto& s : acc.segments()) merged.add(s);
+        send_segments(merged.segments(), d.rank + 1 == d.ranks ? 0 : d.rank + 1);
+    }
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+#else  // no MPI in this build
+
+DistContext dist_init() {
+    if (launcher_world_size() > 1)
+        throw UsageError("this hairtrace was built without MPI, but it was started as one of several MPI ranks; "
+                         "rebuild with -DHT_MPI=ON (needs libopenmpi-dev) or run a single process");
+    return DistContext{};
+}
+void dist_finalize(const DistContext&) {}
+void dist_abort(const DistContext&, int code) { std::exit(code); }
+bool dist_any(const DistContext&, bool value) { return value; }
+double reduce_to_rank0(const DistContext&, SampleAccumulator&) { return 0; }
+
+#endif
+
+}  // namespace ht
