@@ -93,8 +93,9 @@ def add_floor(doc, height, half, albedo):
     return doc
 
 
-def scene(builtin, eye, target, yfov_deg, aspect, lights, comment):
+def scene(builtin, eye, target, yfov_deg, aspect, lights, comment, material=None):
     """lights: list of (gltf light dict without intensity, position, aim, irradiance at aim)."""
+    material = material or WARM_BLOND
     nodes = [{"name": "camera", "camera": 0, "translation": eye,
               "rotation": look_at_rotation(eye, target)}]
     gltf_lights = []
@@ -113,12 +114,13 @@ def scene(builtin, eye, target, yfov_deg, aspect, lights, comment):
         "extensions": {"KHR_lights_punctual": {"lights": gltf_lights}},
         "scene": 0,
         "scenes": [{"name": builtin, "nodes": list(range(len(nodes))),
-                    "extras": {"hairtrace_builtin": builtin, "hairtrace_material": "warm_blond"}}],
+                    "extras": {"hairtrace_builtin": builtin,
+                               "hairtrace_material": material["name"]}}],
         "nodes": nodes,
         "cameras": [{"type": "perspective",
                      "perspective": {"yfov": round(math.radians(yfov_deg), 6),
                                      "aspectRatio": aspect, "znear": 0.1}}],
-        "materials": [WARM_BLOND],
+        "materials": [material],
     }
 
 
@@ -158,6 +160,67 @@ SCENES = {
                 (FRONT_FILL, [-130.0, 50.0, 150.0], [0.0, 0.0, 0.0], 0.3)],
         comment="Curly hair ball (builtin:ball), back/side lit."),
 }
+
+
+# The paper's blond (Zinke et al. 2004): eta = 1.55, sigma_a about 0.1 per unit radius (the
+# paper's "very light hair" example, used for its 17% statement), caustic removal after
+# Marschner 2003 with w_c = 15 deg, k_G = 2.5, delta eta' = 0.3 (Fig. 4 caption).  A slight warm
+# tint: green is exactly 0.1, red a little lower, blue a little higher.  The model is the
+# near-field one; tools/reproduce-paper switches models with --model / --fiber-field.
+def paper_blond(scale=1.0, name="paper_blond"):
+    return {
+        "name": name,
+        "extras": {
+            "model": "zinke",
+            "sigma_a": [round(scale * s, 4) for s in (0.08, 0.10, 0.14)],
+            "eta": 1.55,
+            "alpha_r_deg": -7.5,
+            "beta_r_deg": 7.5,
+            "eccentricity": 0.9,
+            "caustic_wc_deg": 15.0,
+            "caustic_kg": 2.5,
+            "caustic_deta": 0.3,
+        },
+    }
+
+
+PAPER_BLOND = paper_blond()
+PAPER_BLOND_HALF = paper_blond(0.5, "paper_blond_half_sigma_a")
+
+BALL_LIGHTS = [(BACK_KEY, [120.0, 110.0, -140.0], [0.0, 0.0, 0.0], 2.0),
+               (FRONT_FILL, [-130.0, 50.0, 150.0], [0.0, 0.0, 0.0], 0.3)]
+
+# Scenes of tools/reproduce-paper (docs/PAPER.md).  Square images like the paper's 1280 x 1280.
+SCENES.update({
+    "paper_fig5_strand.gltf": scene(
+        "strand", eye=[0.0, 0.0, 200.0], target=[0.0, 0.0, 0.0], yfov_deg=30.0, aspect=1.0,
+        lights=[(BACK_KEY, [80.0, 90.0, -120.0], [0.0, 0.0, 0.0], 2.0),
+                (FRONT_FILL, [-100.0, 40.0, 150.0], [0.0, 0.0, 0.0], 0.3)],
+        comment="Paper Fig. 5 a/b: the whole blond strand (2,500 x 100), paper blond material "
+                "(sigma_a ~0.1 per radius, eta 1.55).", material=PAPER_BLOND),
+    "paper_fig5_closeup.gltf": scene(
+        "strand", eye=[0.0, 20.0, 45.0], target=[0.0, 20.0, 0.0], yfov_deg=30.0, aspect=1.0,
+        lights=[(BACK_KEY, [50.0, 60.0, -70.0], [0.0, 20.0, 0.0], 2.0),
+                (FRONT_FILL, [-60.0, 40.0, 80.0], [0.0, 20.0, 0.0], 0.3)],
+        comment="Paper Fig. 5 right: close-up of the strand, fibres about 2 pixels wide at 256^2.",
+        material=PAPER_BLOND),
+    "paper_fig6_ball.gltf": scene(
+        "ball", eye=[65.6, 84.4, 187.5], target=[0.0, 0.0, 0.0], yfov_deg=30.0, aspect=1.0,
+        lights=BALL_LIGHTS,
+        comment="Paper Fig. 6 a/b: hair ball (10,000 x 30), paper blond material.",
+        material=PAPER_BLOND),
+    "paper_fig6_ball_half_sigma.gltf": scene(
+        "ball", eye=[65.6, 84.4, 187.5], target=[0.0, 0.0, 0.0], yfov_deg=30.0, aspect=1.0,
+        lights=BALL_LIGHTS,
+        comment="Paper Fig. 6 c: the hair ball with the absorption coefficients halved.",
+        material=PAPER_BLOND_HALF),
+    "paper_fig7_strand.gltf": scene(
+        "strand", eye=[0.0, 10.0, 110.0], target=[0.0, 10.0, 0.0], yfov_deg=30.0, aspect=1.0,
+        lights=[(BACK_KEY, [80.0, 100.0, -120.0], [0.0, 10.0, 0.0], 2.0),
+                (FRONT_FILL, [-100.0, 50.0, 150.0], [0.0, 10.0, 0.0], 0.3)],
+        comment="Paper Fig. 7: upper half of the strand, rendered at recursion depths 1..5.",
+        material=PAPER_BLOND),
+})
 
 
 def main():
