@@ -386,7 +386,9 @@ TEST(SceneGltf, BuiltinReferenceWithGltfMaterialCameraAndLight) {
 }
 
 TEST(SceneGltf, ShippedScenesLoad) {
-    for (const char* name : {"default.gltf", "ball.gltf", "strand_closeup.gltf", "strand_on_floor.gltf"}) {
+    for (const char* name : {"default.gltf", "ball.gltf", "strand_closeup.gltf", "strand_on_floor.gltf",
+                             "paper_fig5_strand.gltf", "paper_fig5_closeup.gltf", "paper_fig6_ball.gltf",
+                             "paper_fig6_ball_half_sigma.gltf", "paper_fig7_strand.gltf"}) {
         SCOPED_TRACE(name);
         const Scene s = load_scene(std::string(HT_SOURCE_DIR "/scenes/") + name);
         EXPECT_TRUE(s.has_camera);
