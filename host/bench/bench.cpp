@@ -1,5 +1,7 @@
 #include "bench/bench.h"
 
+#include "cli/args.h"
+
 #include "bench/rays_file.h"
 #include "bvh/bvh.h"
 #include "bvh/device_geometry.h"
@@ -221,6 +223,25 @@ std::vector<std::string> sibling_rays(const std::string& hair) {
 
 }  // namespace
 
+namespace {
+const char* kBenchHelp =
+    "usage: hairtrace bench [--hair FILE.hair | --scene SCENE]... [--rays FILE.rays]... [options]\n"
+    "BVH build and OpenCL intersection throughput.  With ray files (the Embree anchor's format) every\n"
+    "ray's hit is checked against Embree's stored answer before any rate is printed.\n"
+    "  --hair FILE / --scene SCENE   scenes to measure (default: builtin:strand builtin:ball)\n"
+    "  --rays FILE.rays              ray set for the scene named before it (repeatable); without any,\n"
+    "                                <stem>.{primary,incoherent,shadow}.rays beside a .hair file are\n"
+    "                                used if present, else rays are generated from a framing camera\n"
+    "  --res N                       generated primary rays: N x N (default 1024)\n"
+    "  --reps N                      timed passes per case, median reported (default 5)\n"
+    "  --json                        machine-readable report\n"
+    "  --device I                    OpenCL device index\n"
+    "  --compact                     the memory-lean BVH preset (leaves <= 8)\n"
+    "  --leaf N, --bins N, --cisect X, --split R, --split-depth N   BVH builder parameters\n"
+    "  --options \"...\"              OpenCL build options for the trace kernels\n"
+    "exit codes: 0 ok, 1 hits disagree with the ray file, 2 usage, 3 device failure\n";
+}  // namespace
+
 int bench_main(const std::vector<std::string>& args, const SceneSource& source_in) {
     SceneSource source = source_in ? source_in : SceneSource([](const std::string& name) {
         if (name.size() > 5 && name.compare(name.size() - 5, 5, ".hair") == 0)
@@ -236,12 +257,16 @@ int bench_main(const std::vector<std::string>& args, const SceneSource& source_i
     for (size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
         auto value = [&]() -> std::string {
-            if (i + 1 >= args.size()) throw std::runtime_error("bench: " + a + " needs a value");
+            if (i + 1 >= args.size()) throw UsageError("bench: " + a + " needs a value");
             return args[++i];
         };
+        if (a == "--help" || a == "-h") {
+            std::printf("%s", kBenchHelp);
+            return 0;
+        }
         if (a == "--hair" || a == "--scene") scenes.push_back({value(), {}});
         else if (a == "--rays") {
-            if (scenes.empty()) throw std::runtime_error("bench: --rays must follow --hair/--scene");
+            if (scenes.empty()) throw UsageError("bench: --rays must follow --hair/--scene");
             scenes.back().rays.push_back(value());
         } else if (a == "--reps") reps = std::max(1, std::stoi(value()));
         else if (a == "--json") json_out = true;
@@ -254,7 +279,7 @@ int bench_main(const std::vector<std::string>& args, const SceneSource& source_i
         else if (a == "--cisect") bopt.c_isect = std::stof(value());
         else if (a == "--split") bopt.split_ratio = std::stof(value());
         else if (a == "--options") options = value();
-        else throw std::runtime_error("bench: unknown option '" + a + "'");
+        else throw UsageError("bench: unknown option '" + a + "' (see hairtrace bench --help)");
     }
     if (scenes.empty()) scenes = {{"builtin:strand", {}}, {"builtin:ball", {}}};
 
