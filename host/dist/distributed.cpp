@@ -104,21 +104,22 @@ double reduce_to_rank0(const DistContext& d, SampleAccumulator& acc) {
     // load imbalance of the render (which the caller sees in its own render time).
     MPI_Barrier(MPI_COMM_WORLD);
     const auto t0 = std::chrono::steady_clock::now();
-    const Film shape = acc.compose();
+    const int w = acc.width(), h = acc.height();
     // A chain rather than a tree: folding chunk films onto a prefix is only exact in sample
     // order, so rank r can add its chunks only after ranks 0..r-1 have added theirs.  Each rank
     // still sends a single film when the render starts at sample 0 (its prefix), and the
     // rendering itself ran fully in parallel before this.
     if (d.rank == 0) {
         send_segments(acc.segments(), 1);
-        SampleAccumulator all(acc.grid(), shape.width, shape.height);
-        for (auto& s : recv_segments(d.ranks - 1, shape.width, shape.height)) all.add(std::move(s));
+        SampleAccumulator all(acc.grid(), w, h);
+        for (auto& s : recv_segments(d.ranks - 1, w, h)) all.add(std::move(s));
         acc = std::move(all);
     } else {
-        SampleAccumulator merged(acc.grid(), shape.width, shape.height);
-        for (auto& s : recv_segments(d.rank - 1, shape.width, shape.height)) merged.add(std::move(s));
-        for (auto& s : acc.segments()) merged.add(s);
+        SampleAccumulator merged(acc.grid(), w, h);
+        for (auto& s : recv_segments(d.rank - 1, w, h)) merged.add(std::move(s));
+        for (auto& s : acc.release()) merged.add(std::move(s));
         send_segments(merged.segments(), d.rank + 1 == d.ranks ? 0 : d.rank + 1);
+        acc = std::move(merged);
     }
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
