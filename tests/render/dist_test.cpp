@@ -165,6 +165,7 @@ TEST(RenderFarm, SampleRangeIsValidated) {
     EXPECT_EQ(run(kRender + " --spp 16 --chunk 4 --sample-range 0:20" + o), 2);
     EXPECT_EQ(run(kRender + " --spp 16 --chunk 4 --sample-range 0:3" + o), 2);
     EXPECT_EQ(run(kRender + " --spp 16 --chunk 4 --sample-range 4-8" + o), 2);
+    EXPECT_EQ(run(kRender + " --spp 16 --chunk 4 --sample-range 0:4 -o " + (d / "x.png") + " 2>/dev/null"), 2);  // no .exr
 }
 
 TEST(RenderFarm, ResumeAcrossChunksEqualsUninterrupted) {
