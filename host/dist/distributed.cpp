@@ -59,13 +59,6 @@ void dist_abort(const DistContext& d, int code) {
     std::exit(code);
 }
 
-bool dist_any(const DistContext& d, bool value) {
-    if (d.ranks == 1) return value;
-    int in = value ? 1 : 0, out = 0;
-    MPI_Allreduce(&in, &out, 1, MPI_INT, MPI_LOR, MPI_COMM_WORLD);
-    return out != 0;
-}
-
 namespace {
 constexpr int kTagCount = 17, kTagHeader = 18, kTagFilm = 19;
 
@@ -134,7 +127,6 @@ DistContext dist_init() {
 }
 void dist_finalize(const DistContext&) {}
 void dist_abort(const DistContext&, int code) { std::exit(code); }
-bool dist_any(const DistContext&, bool value) { return value; }
 double reduce_to_rank0(const DistContext&, SampleAccumulator&) { return 0; }
 
 #endif

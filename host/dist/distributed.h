@@ -35,7 +35,4 @@ SampleRange rank_range(const SampleRange& range, const ChunkGrid& grid, int rank
 // the chain itself (after a barrier that absorbs the ranks' different render times).
 double reduce_to_rank0(const DistContext& d, SampleAccumulator& acc);
 
-// Logical OR over the ranks (everybody stops when one rank was interrupted).
-bool dist_any(const DistContext& d, bool value);
-
 }  // namespace ht
