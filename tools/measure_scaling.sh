@@ -1,7 +1,8 @@
 #!/bin/sh
 # Strong-scaling measurements for docs/SCALING.md: one render split over 1 and 2 workers
 # (PoCL threads, OpenCL devices, MPI ranks).  Usage: tools/measure_scaling.sh [BUILD_DIR]
-# Prints "config seconds" lines (best of two runs: other jobs share the machine).
+# Prints "config seconds" lines (best of two wall-clock runs; on a shared machine also compare
+# CPU times with /usr/bin/time, as docs/SCALING.md does).
 set -eu
 B=${1:-build}/hairtrace
 SCENE=${SCENE:-scenes/default.gltf}
@@ -26,4 +27,4 @@ if command -v mpirun >/dev/null; then
     echo "mpi_np1_1thread $(POCL_MAX_PTHREAD_COUNT=1 best $MPI -np 1 $B $ARGS -o $OUT/e.exr)"
     echo "mpi_np2_1thread $(POCL_MAX_PTHREAD_COUNT=1 best $MPI -np 2 $B $ARGS -o $OUT/f.exr)"
 fi
-echo "startup_only $(best $B ${ARGS%%--spp*} --spp 1 --chunk 1 --width 8 --height 8 --quiet -o $OUT/g.exr)"
+echo "startup_only $(best $B render $SCENE --width 8 --height 8 --spp 1 --quiet -o $OUT/g.exr)"

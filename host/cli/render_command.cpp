@@ -15,6 +15,7 @@
 #include "render/renderer.h"
 #include "kernels/types.h"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <csignal>
@@ -166,6 +167,8 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
     const bool partial = p.has("--sample-range");
     const SampleRange range = partial ? parse_sample_range(p.get("--sample-range"), grid) : SampleRange{0, rs.spp};
     const SampleRange my_range = rank_range(range, grid, dist.rank, dist.ranks);
+    if (partial && std::none_of(outputs.begin(), outputs.end(), fs_ext_is_exr))
+        throw UsageError("--sample-range needs an .exr output: only it keeps the raw sums `hairtrace merge` combines");
     const bool root = dist.rank == 0;
     {
         std::string f = p.get("--fiber-field");

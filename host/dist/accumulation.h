@@ -25,6 +25,7 @@
 #include "render/renderer.h"
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace ht {
@@ -67,10 +68,14 @@ public:
     SampleAccumulator(ChunkGrid grid, int width, int height);
 
     const ChunkGrid& grid() const { return grid_; }
+    int width() const { return width_; }
+    int height() const { return height_; }
     // Adds a chunk (complete or not) or a prefix.  Throws std::invalid_argument for a segment
     // off the grid, of the wrong size, or overlapping one already held.
     void add(FilmSegment s);
     const std::vector<FilmSegment>& segments() const { return segments_; }
+    // Hands the segments over (sorted), leaving the accumulator empty.
+    std::vector<FilmSegment> release() { return std::exchange(segments_, {}); }
     int samples() const;
     // True when the chunk is entirely inside a held segment.
     bool chunk_done(int j) const;

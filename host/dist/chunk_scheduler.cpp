@@ -14,11 +14,10 @@ std::vector<DeviceShare> render_chunks(const std::vector<Renderer*>& devices, co
                                        SampleAccumulator& acc, const std::vector<int>& chunks,
                                        const ChunkRunHooks& hooks) {
     const ChunkGrid grid = acc.grid();
-    const Film zero = [&] {
-        Film z = acc.compose();  // right size; contents replaced below
-        std::fill(z.rgba.begin(), z.rgba.end(), 0.0f);
-        return z;
-    }();
+    Film zero;
+    zero.width = acc.width();
+    zero.height = acc.height();
+    zero.rgba.assign(4 * size_t(zero.width) * size_t(zero.height), 0.0f);
 
     // The work queue, in chunk order: lower chunks first keeps the prefix fold moving and
     // bounds how many finished-but-unfoldable chunks wait in memory.
@@ -82,23 +81,33 @@ std::vector<DeviceShare> render_chunks(const std::vector<Renderer*>& devices, co
     for (size_t d = 0; d < devices.size(); ++d) threads.emplace_back(worker, d);
 
     // The calling thread owns acc: it folds finished chunks, reports progress and decides stops.
+    // A failure here (a checkpoint that cannot be written) must still stop and join the device
+    // threads before it propagates: destroying a joinable std::thread terminates the process.
     std::unique_lock<std::mutex> lock(m);
-    for (;;) {
-        cv.wait_for(lock, std::chrono::milliseconds(50));
-        std::vector<FilmSegment> done;
-        done.swap(finished);
-        const bool all_done = running == 0;
-        lock.unlock();
-        bool any_complete = false;
-        for (auto& s : done) {
-            any_complete |= grid.boundary(s.first + s.count);
-            acc.add(std::move(s));
+    try {
+        for (;;) {
+            cv.wait_for(lock, std::chrono::milliseconds(50));
+            std::vector<FilmSegment> done;
+            done.swap(finished);
+            const bool all_done = running == 0;
+            const bool failed = failure != nullptr;
+            lock.unlock();
+            bool any_complete = false;
+            for (auto& s : done) {
+                any_complete |= grid.boundary(s.first + s.count);
+                acc.add(std::move(s));
+            }
+            if (hooks.progress) hooks.progress(samples.load());
+            if (any_complete && hooks.chunk_finished && !failed) hooks.chunk_finished();
+            if (!stop && hooks.should_stop && hooks.should_stop()) stop = true;
+            lock.lock();
+            if (all_done && finished.empty()) break;
         }
-        if (hooks.progress) hooks.progress(samples.load());
-        if (any_complete && hooks.chunk_finished && !failure) hooks.chunk_finished();
-        if (!stop && hooks.should_stop && hooks.should_stop()) stop = true;
-        lock.lock();
-        if (all_done && finished.empty()) break;
+    } catch (...) {
+        stop = true;
+        if (lock.owns_lock()) lock.unlock();
+        for (auto& t : threads) t.join();
+        throw;
     }
     lock.unlock();
     for (auto& t : threads) t.join();

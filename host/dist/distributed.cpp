@@ -59,13 +59,6 @@ void dist_abort(const DistContext& d, int code) {
     std::exit(code);
 }
 
-bool dist_any(const DistContext& d, bool value) {
-    if (d.ranks == 1) return value;
-    int in = value ? 1 : 0, out = 0;
-    MPI_Allreduce(&in, &out, 1, MPI_INT, MPI_LOR, MPI_COMM_WORLD);
-    return out != 0;
-}
-
 namespace {
 constexpr int kTagCount = 17, kTagHeader = 18, kTagFilm = 19;
 
@@ -104,21 +97,22 @@ double reduce_to_rank0(const DistContext& d, SampleAccumulator& acc) {
     // load imbalance of the render (which the caller sees in its own render time).
     MPI_Barrier(MPI_COMM_WORLD);
     const auto t0 = std::chrono::steady_clock::now();
-    const Film shape = acc.compose();
+    const int w = acc.width(), h = acc.height();
     // A chain rather than a tree: folding chunk films onto a prefix is only exact in sample
     // order, so rank r can add its chunks only after ranks 0..r-1 have added theirs.  Each rank
     // still sends a single film when the render starts at sample 0 (its prefix), and the
     // rendering itself ran fully in parallel before this.
     if (d.rank == 0) {
         send_segments(acc.segments(), 1);
-        SampleAccumulator all(acc.grid(), shape.width, shape.height);
-        for (auto& s : recv_segments(d.ranks - 1, shape.width, shape.height)) all.add(std::move(s));
+        SampleAccumulator all(acc.grid(), w, h);
+        for (auto& s : recv_segments(d.ranks - 1, w, h)) all.add(std::move(s));
         acc = std::move(all);
     } else {
-        SampleAccumulator merged(acc.grid(), shape.width, shape.height);
-        for (auto& s : recv_segments(d.rank - 1, shape.width, shape.height)) merged.add(std::move(s));
-        for (auto& s : acc.segments()) merged.add(s);
+        SampleAccumulator merged(acc.grid(), w, h);
+        for (auto& s : recv_segments(d.rank - 1, w, h)) merged.add(std::move(s));
+        for (auto& s : acc.release()) merged.add(std::move(s));
         send_segments(merged.segments(), d.rank + 1 == d.ranks ? 0 : d.rank + 1);
+        acc = std::move(merged);
     }
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -133,7 +127,6 @@ DistContext dist_init() {
 }
 void dist_finalize(const DistContext&) {}
 void dist_abort(const DistContext&, int code) { std::exit(code); }
-bool dist_any(const DistContext&, bool value) { return value; }
 double reduce_to_rank0(const DistContext&, SampleAccumulator&) { return 0; }
 
 #endif

@@ -31,11 +31,8 @@ void dist_finalize(const DistContext& d);
 SampleRange rank_range(const SampleRange& range, const ChunkGrid& grid, int rank, int ranks);
 
 // Chain reduction in rank order.  On return rank 0's acc holds every rank's segments, folded in
-// the canonical order; other ranks' acc are left as they were.  Returns the seconds spent in
+// the canonical order; rank r's holds ranks 0..r.  Returns the seconds spent in
 // the chain itself (after a barrier that absorbs the ranks' different render times).
 double reduce_to_rank0(const DistContext& d, SampleAccumulator& acc);
-
-// Logical OR over the ranks (everybody stops when one rank was interrupted).
-bool dist_any(const DistContext& d, bool value);
 
 }  // namespace ht

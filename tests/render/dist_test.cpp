@@ -165,6 +165,7 @@ TEST(RenderFarm, SampleRangeIsValidated) {
     EXPECT_EQ(run(kRender + " --spp 16 --chunk 4 --sample-range 0:20" + o), 2);
     EXPECT_EQ(run(kRender + " --spp 16 --chunk 4 --sample-range 0:3" + o), 2);
     EXPECT_EQ(run(kRender + " --spp 16 --chunk 4 --sample-range 4-8" + o), 2);
+    EXPECT_EQ(run(kRender + " --spp 16 --chunk 4 --sample-range 0:4 -o " + (d / "x.png") + " 2>/dev/null"), 2);  // no .exr
 }
 
 TEST(RenderFarm, ResumeAcrossChunksEqualsUninterrupted) {
@@ -186,6 +187,28 @@ TEST(MultiDevice, SplitAcrossDevicesEqualsOneDevice) {
     EXPECT_EQ(one, image(d / "two.exr"));
     EXPECT_EQ(one, image(d / "all.exr"));
     EXPECT_EQ(run(env + kRender + " --spp 2 --device 0,0 -o " + (d / "x.exr") + " 2>/dev/null"), 2);
+}
+
+// Work stealing: the devices together render every chunk exactly once.  (Which device takes how
+// many depends on timing; on a loaded machine one device may legitimately take them all.)
+TEST(MultiDevice, DevicesRenderEveryChunkOnce) {
+    TempDir d;
+    std::string cmd = "POCL_DEVICES='pthread basic' " + std::string(HT_BINARY) +
+                      " render 'builtin:strand?hairs=120&segments=12' --width 40 --height 32 --max-depth 3"
+                      " --seed 9 --spp 12 --chunk 2 --device all -o " + (d / "x.exr") + " 2>" + (d / "log.txt");
+    ASSERT_EQ(run(cmd), 0);
+    std::ifstream f(d / "log.txt");
+    std::string line;
+    std::vector<int> chunks;
+    while (std::getline(f, line)) {
+        auto at = line.find(" chunks, ");
+        if (line.rfind("device ", 0) == 0 && at != std::string::npos) {
+            auto colon = line.rfind(": ", at);
+            chunks.push_back(std::stoi(line.substr(colon + 2, at - colon - 2)));
+        }
+    }
+    ASSERT_EQ(chunks.size(), 2u);
+    EXPECT_EQ(chunks[0] + chunks[1], 6);
 }
 
 #ifdef HT_MPIEXEC
