@@ -130,3 +130,12 @@ TEST(RenderMesh, LambertianFurnace) {
         EXPECT_LT(worst, 0.25 * albedo) << "albedo " << albedo;
     }
 }
+
+// Hair-only scenes compile the mesh code out (the hot path stays the capsule-only loop).
+TEST(RenderMesh, MeshFeatureOnlyWithTriangles) {
+    Scene scene = load_scene("builtin:strand?hairs=10&segments=4");
+    EXPECT_FALSE(scene_features(scene).meshes);
+    EXPECT_NE(kernel_build_options(scene).find("-DHT_FEATURE_MESHES=0"), std::string::npos);
+    add_floor(scene, -60.0f, 10.0f, {0.5f, 0.5f, 0.5f});
+    EXPECT_NE(kernel_build_options(scene).find("-DHT_FEATURE_MESHES=1"), std::string::npos);
+}
