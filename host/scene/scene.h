@@ -28,11 +28,11 @@ struct Strands {
     size_t segment_count() const;  // sum over strands of (points - 1)
 };
 
-// Diffuse (Lambertian) surface material of a triangle mesh.
+// Diffuse (Lambertian) surface material of a triangle mesh.  Base colour textures are not read
+// yet (the glTF loader warns and uses baseColorFactor).
 struct SurfaceMaterialDesc {
     std::string name = "surface";
     Vec3f albedo{0.8f, 0.8f, 0.8f};  // glTF baseColorFactor rgb, each in [0, 1]
-    std::string base_color_texture;  // image path (resolved against the scene file), optional
 };
 
 // A triangle mesh in world space (node transforms applied by the loader).  Triangle k is

@@ -130,3 +130,45 @@ TEST(RenderMesh, LambertianFurnace) {
         EXPECT_LT(worst, 0.25 * albedo) << "albedo " << albedo;
     }
 }
+
+// Hair-only scenes compile the mesh code out (the hot path stays the capsule-only loop).
+TEST(RenderMesh, MeshFeatureOnlyWithTriangles) {
+    Scene scene = load_scene("builtin:strand?hairs=10&segments=4");
+    EXPECT_FALSE(scene_features(scene).meshes);
+    EXPECT_NE(kernel_build_options(scene).find("-DHT_FEATURE_MESHES=0"), std::string::npos);
+    add_floor(scene, -60.0f, 10.0f, {0.5f, 0.5f, 0.5f});
+    EXPECT_NE(kernel_build_options(scene).find("-DHT_FEATURE_MESHES=1"), std::string::npos);
+}
+
+// Surfaces occlude hair: seen from under the floor, the strand above it disappears (the floor's
+// underside faces away from the light and is black); without the floor the same camera sees it.
+TEST(RenderMesh, FloorHidesTheHairAboveIt) {
+    Scene scene = load_scene("builtin:strand?hairs=300&segments=10");
+    scene.lights.clear();
+    Light sun;
+    sun.type = LightType::Directional;
+    sun.direction = {0.2f, -1, 0.3f};  // from above: lights the hair and the floor's top side
+    sun.intensity = 2.0f;
+    scene.lights.push_back(sun);
+    scene.has_camera = true;
+    scene.camera.eye = {0, -200, 1};
+    scene.camera.target = {0, 0, 0};
+    scene.camera.yfov_deg = 30.0f;
+    RenderSettings rs;
+    rs.width = rs.height = 24;
+    rs.spp = 2;
+    auto total = [&](const Scene& s) {
+        Renderer r(test_context(), s, rs);
+        Film film;
+        r.render(film);
+        double sum = 0;
+        for (int y = 0; y < rs.height; ++y)
+            for (int x = 0; x < rs.width; ++x) sum += luminance(film, x, y);
+        return sum;
+    };
+    const double open = total(scene);
+    add_floor(scene, -60.0f, 1000.0f, {0.8f, 0.8f, 0.8f});
+    const double covered = total(scene);
+    EXPECT_GT(open, 0.0);
+    EXPECT_EQ(covered, 0.0) << "light reached the camera through the floor";
+}
