@@ -6,8 +6,8 @@
 
 HT_FN HtRay ht_camera_ray(const HtCamera* cam, uint px, uint py, real jx, real jy) {
     /* NDC in [-1, 1]; py = 0 is the top row */
-    real sx = R(2) * (((real)px + jx) / (real)cam->width) - R(1);
-    real sy = R(1) - R(2) * (((real)py + jy) / (real)cam->height);
+    real sx = HT_R(2) * (((real)px + jx) / (real)cam->width) - HT_R(1);
+    real sy = HT_R(1) - HT_R(2) * (((real)py + jy) / (real)cam->height);
     real3 f = make_real3(cam->forward[0], cam->forward[1], cam->forward[2]);
     real3 r = make_real3(cam->right[0], cam->right[1], cam->right[2]);
     real3 u = make_real3(cam->up[0], cam->up[1], cam->up[2]);

@@ -13,6 +13,8 @@
  *   ht_select(c, a, b)                 compare-select min/max friendly form (PoCL: faster than fmin)
  *   ht_as_uint / ht_as_float           bit casts
  *   HT_PI, HT_INV_PI, HT_REAL_MAX
+ *   HT_R(x)                            a literal or value in the working precision (namespaced:
+ *                                      a one-letter macro would clash with templates in host code)
  */
 #ifndef HT_COMPAT_H
 #define HT_COMPAT_H
@@ -31,7 +33,7 @@ typedef float3 real3;
 #define ht_as_float(u) as_float(u)
 #define HT_REAL_MAX 3.0e38f
 #define HT_REAL_EPS 1.1920929e-7f
-#define R(x) ((float)(x))
+#define HT_R(x) ((float)(x))
 
 #else
 /* ------------------------------------------------------------------ C++ host */
@@ -54,7 +56,7 @@ typedef std::uint64_t ulong;
 #define HT_PRIVATE
 #define HT_REAL_MAX 3.0e38
 #define HT_REAL_EPS 1.1920929e-7
-#define R(x) ((real)(x))
+#define HT_R(x) ((real)(x))
 
 using std::sqrt; using std::exp; using std::log; using std::fabs; using std::sin; using std::cos;
 using std::asin; using std::acos; using std::atan2; using std::floor; using std::pow; using std::tan;
@@ -83,16 +85,16 @@ HT_FN real3 cross(real3 a, real3 b) {
     return make_real3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
 }
 HT_FN real length(real3 a) { return std::sqrt(dot(a, a)); }
-HT_FN real3 normalize(real3 a) { return a * (R(1) / length(a)); }
+HT_FN real3 normalize(real3 a) { return a * (HT_R(1) / length(a)); }
 /* <cmath> already declares ::fmin/::fmax(double, double) extern; redefining them static fails. */
 using std::fmin; using std::fmax;
 HT_FN real clamp(real x, real lo, real hi) { return x < lo ? lo : (x > hi ? hi : x); }
 HT_FN real mix(real a, real b, real t) { return a + (b - a) * t; }
 HT_FN real native_exp(real x) { return std::exp(x); }
 HT_FN real native_sqrt(real x) { return std::sqrt(x); }
-HT_FN real native_recip(real x) { return R(1) / x; }
-HT_FN real rsqrt(real x) { return R(1) / std::sqrt(x); }
-HT_FN real sign(real x) { return x > 0 ? R(1) : (x < 0 ? R(-1) : R(0)); }
+HT_FN real native_recip(real x) { return HT_R(1) / x; }
+HT_FN real rsqrt(real x) { return HT_R(1) / std::sqrt(x); }
+HT_FN real sign(real x) { return x > 0 ? HT_R(1) : (x < 0 ? HT_R(-1) : HT_R(0)); }
 HT_FN real3 fabs3(real3 a) { return make_real3(std::fabs(a.x), std::fabs(a.y), std::fabs(a.z)); }
 HT_FN uint ht_as_uint(float f) { uint u; std::memcpy(&u, &f, 4); return u; }
 HT_FN float ht_as_float(uint u) { float f; std::memcpy(&f, &u, 4); return f; }
@@ -100,11 +102,11 @@ HT_FN uint mul_hi(uint a, uint b) { return (uint)(((ulong)a * (ulong)b) >> 32); 
 #endif
 
 /* ------------------------------------------------------------------ both */
-#define HT_PI R(3.14159265358979323846)
-#define HT_TWO_PI R(6.28318530717958647692)
-#define HT_INV_PI R(0.31830988618379067154)
-#define HT_INV_TWO_PI R(0.15915494309189533577)
-#define HT_INV_FOUR_PI R(0.07957747154594766788)
+#define HT_PI HT_R(3.14159265358979323846)
+#define HT_TWO_PI HT_R(6.28318530717958647692)
+#define HT_INV_PI HT_R(0.31830988618379067154)
+#define HT_INV_TWO_PI HT_R(0.15915494309189533577)
+#define HT_INV_FOUR_PI HT_R(0.07957747154594766788)
 
 #define ht_select(c, a, b) ((c) ? (a) : (b))
 HT_FN real ht_min(real a, real b) { return a < b ? a : b; }
@@ -112,9 +114,9 @@ HT_FN real ht_max(real a, real b) { return a > b ? a : b; }
 HT_FN real ht_clamp(real x, real lo, real hi) { return x < lo ? lo : (x > hi ? hi : x); }
 HT_FN real ht_sqr(real x) { return x * x; }
 /* sqrt that tolerates tiny negative arguments from rounding (1 - x*x with |x| = 1 + eps). */
-HT_FN real ht_safe_sqrt(real x) { return sqrt(ht_max(x, R(0))); }
-HT_FN real ht_safe_asin(real x) { return asin(ht_clamp(x, R(-1), R(1))); }
-HT_FN real ht_safe_acos(real x) { return acos(ht_clamp(x, R(-1), R(1))); }
+HT_FN real ht_safe_sqrt(real x) { return sqrt(ht_max(x, HT_R(0))); }
+HT_FN real ht_safe_asin(real x) { return asin(ht_clamp(x, HT_R(-1), HT_R(1))); }
+HT_FN real ht_safe_acos(real x) { return acos(ht_clamp(x, HT_R(-1), HT_R(1))); }
 
 /* Finite test that survives -cl-fast-relaxed-math (which lets the compiler assume no NaN/Inf and
  * fold isfinite() to true): look at the exponent bits instead. */

@@ -15,12 +15,12 @@ HT_FN real3 ht_env_texel(const HtEnvironment* e, HT_CONST_GLOBAL float* texels, 
 }
 
 HT_FN void ht_env_dir_to_pixel(const HtEnvironment* e, real3 d, uint* x, uint* y, real* sin_theta) {
-    real u = R(0.5) + atan2(d.x, -d.z) * HT_INV_TWO_PI;
-    real cos_t = ht_clamp(d.y, R(-1), R(1));
+    real u = HT_R(0.5) + atan2(d.x, -d.z) * HT_INV_TWO_PI;
+    real cos_t = ht_clamp(d.y, HT_R(-1), HT_R(1));
     real v = ht_safe_acos(cos_t) * HT_INV_PI;
-    *sin_theta = ht_safe_sqrt(R(1) - cos_t * cos_t);
-    uint xi = (uint)ht_max(R(0), floor(u * (real)e->width));
-    uint yi = (uint)ht_max(R(0), floor(v * (real)e->height));
+    *sin_theta = ht_safe_sqrt(HT_R(1) - cos_t * cos_t);
+    uint xi = (uint)ht_max(HT_R(0), floor(u * (real)e->width));
+    uint yi = (uint)ht_max(HT_R(0), floor(v * (real)e->height));
     *x = xi < e->width ? xi : e->width - 1u;
     *y = yi < e->height ? yi : e->height - 1u;
 }
@@ -47,16 +47,16 @@ HT_FN uint ht_cdf_find(HT_CONST_GLOBAL float* cdf, uint n, real u) {
 
 HT_FN real ht_env_pdf(const HtEnvironment* e, HT_CONST_GLOBAL float* marginal,
                       HT_CONST_GLOBAL float* conditional, real3 d) {
-    if (!e->enabled) return R(0);
+    if (!e->enabled) return HT_R(0);
     if (!e->has_map) return HT_INV_FOUR_PI;
     uint x, y;
     real st;
     ht_env_dir_to_pixel(e, d, &x, &y, &st);
-    if (!(st > R(1e-6))) return R(0);
+    if (!(st > HT_R(1e-6))) return HT_R(0);
     HT_CONST_GLOBAL float* row = conditional + y * (e->width + 1u);
     real p_row = (real)(marginal[y + 1u] - marginal[y]) * (real)e->height;
     real p_col = (real)(row[x + 1u] - row[x]) * (real)e->width;
-    return p_row * p_col / (R(2) * HT_PI * HT_PI * st);
+    return p_row * p_col / (HT_R(2) * HT_PI * HT_PI * st);
 }
 
 HT_FN int ht_env_sample(const HtEnvironment* e, HT_CONST_GLOBAL float* texels,
@@ -64,8 +64,8 @@ HT_FN int ht_env_sample(const HtEnvironment* e, HT_CONST_GLOBAL float* texels,
                         real u, real v, real3* wi, real3* le, real* pdf) {
     if (!e->enabled) return 0;
     if (!e->has_map) {
-        real z = R(1) - R(2) * u;
-        real r = ht_safe_sqrt(R(1) - z * z);
+        real z = HT_R(1) - HT_R(2) * u;
+        real r = ht_safe_sqrt(HT_R(1) - z * z);
         real phi = HT_TWO_PI * v;
         *wi = make_real3(r * cos(phi), z, r * sin(phi));
         *le = make_real3(e->scale[0], e->scale[1], e->scale[2]);
@@ -74,24 +74,24 @@ HT_FN int ht_env_sample(const HtEnvironment* e, HT_CONST_GLOBAL float* texels,
     }
     uint y = ht_cdf_find(marginal, e->height, v);
     real r0 = (real)marginal[y], r1 = (real)marginal[y + 1u];
-    real dv = r1 > r0 ? (v - r0) / (r1 - r0) : R(0.5);
+    real dv = r1 > r0 ? (v - r0) / (r1 - r0) : HT_R(0.5);
     HT_CONST_GLOBAL float* row = conditional + y * (e->width + 1u);
     uint x = ht_cdf_find(row, e->width, u);
     real c0 = (real)row[x], c1 = (real)row[x + 1u];
-    real du = c1 > c0 ? (u - c0) / (c1 - c0) : R(0.5);
+    real du = c1 > c0 ? (u - c0) / (c1 - c0) : HT_R(0.5);
     real fu = ((real)x + du) / (real)e->width;
     real fv = ((real)y + dv) / (real)e->height;
-    real phi = (fu - R(0.5)) * HT_TWO_PI;
+    real phi = (fu - HT_R(0.5)) * HT_TWO_PI;
     real theta = fv * HT_PI;
     real st = sin(theta);
-    if (!(st > R(1e-6))) return 0;
+    if (!(st > HT_R(1e-6))) return 0;
     /* inverse of u = 0.5 + atan2(d.x, -d.z) / 2pi */
     *wi = make_real3(st * sin(phi), cos(theta), -st * cos(phi));
     *le = ht_env_texel(e, texels, x, y);
     real p_row = (r1 - r0) * (real)e->height;
     real p_col = (c1 - c0) * (real)e->width;
-    *pdf = p_row * p_col / (R(2) * HT_PI * HT_PI * st);
-    return *pdf > R(0);
+    *pdf = p_row * p_col / (HT_R(2) * HT_PI * HT_PI * st);
+    return *pdf > HT_R(0);
 }
 
 #endif

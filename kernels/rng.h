@@ -38,7 +38,7 @@ HT_FN uint ht_hash4(uint a, uint b, uint c, uint d) {
 
 /* Uniform in [0, 1): the top 24 bits, so the float result is exact and never rounds to 1. */
 HT_FN real ht_uniform(uint seed, uint pixel, uint sample, uint dim) {
-    return (real)(ht_hash4(seed, pixel, sample, dim) >> 8) * R(5.9604644775390625e-8);
+    return (real)(ht_hash4(seed, pixel, sample, dim) >> 8) * HT_R(5.9604644775390625e-8);
 }
 
 HT_FN uint ht_dim(uint bounce, uint slot) { return bounce * HT_DIMS_PER_BOUNCE + slot; }

@@ -19,7 +19,6 @@
 
 #include <time.h>
 
-// Kernel headers last: compat.h defines the macro R().
 #include "kernels/geometry/capsule.h"
 
 namespace ht {

@@ -10,7 +10,6 @@
 #include <memory>
 #include <thread>
 
-// Kernel headers after the standard ones (compat.h defines the macro R()).
 #include "kernels/geometry/bvh_traverse.h"
 
 // The traversal pushes at most one entry per level, so the depth cap keeps the stack safe.

@@ -6,7 +6,6 @@
 #include <string>
 
 #include "scene/scene.h"
-// Last: compat.h defines the macro R(x) (kernel idiom), so third-party headers must come first.
 #include "kernels/types.h"
 
 namespace ht {

@@ -28,77 +28,77 @@ HT_FN void ht_afs_params(HtAfsParams* a, real eta, real sigma_a, real theta) {
     a->sigma_a = sigma_a;
     ht_sincos(theta, &a->sin_t, &a->cos_t);
     a->cos_t = fabs(a->cos_t);
-    a->wc = R(15) * HT_PI / R(180);
-    a->kg = R(2.5);
-    a->deta = R(0.3);
-    a->dhm = R(0.5);
+    a->wc = HT_R(15) * HT_PI / HT_R(180);
+    a->kg = HT_R(2.5);
+    a->deta = HT_R(0.3);
+    a->dhm = HT_R(0.5);
 }
 
 /* Integrand of AFS_p at h in [0, 1): p = 0 R, 1 TT, 2 TRT (removal), 3 TRT glint term only. */
 HT_FN real ht_afs_integrand(const HtAfsParams* a, int p, real h) {
     real eta = a->eta;
     real inv_ep = ht_inv_eta_prime(eta, a->sin_t, a->cos_t);
-    real f = ht_fresnel_dielectric(a->cos_t * ht_safe_sqrt(R(1) - h * h), eta);
+    real f = ht_fresnel_dielectric(a->cos_t * ht_safe_sqrt(HT_R(1) - h * h), eta);
     if (p == 0) return f * ht_inv_dphi_dh(0, h, inv_ep);
     real hq = h * inv_ep;
-    real cgt = ht_safe_sqrt(R(1) - hq * hq);
-    real T = exp(-a->sigma_a * R(2) * cgt / ht_cos_theta_t(eta, a->sin_t));
-    if (p == 1) return (R(1) - f) * (R(1) - f) * T * ht_inv_dphi_dh(1, h, inv_ep);
+    real cgt = ht_safe_sqrt(HT_R(1) - hq * hq);
+    real T = exp(-a->sigma_a * HT_R(2) * cgt / ht_cos_theta_t(eta, a->sin_t));
+    if (p == 1) return (HT_R(1) - f) * (HT_R(1) - f) * T * ht_inv_dphi_dh(1, h, inv_ep);
     /* caustic */
-    real ep2 = R(1) / ht_max(inv_ep * inv_ep, R(1e-30));
+    real ep2 = HT_R(1) / ht_max(inv_ep * inv_ep, HT_R(1e-30));
     real phi_c, dh, t, hc;
-    if (ep2 < R(4)) {
-        hc = sqrt((R(4) - ep2) / R(3));
+    if (ep2 < HT_R(4)) {
+        hc = sqrt((HT_R(4) - ep2) / HT_R(3));
         phi_c = fabs(ht_wrap_pi(ht_phi_path(2, ht_asin(hc), ht_asin(hc * inv_ep))));
-        real aa = ht_max(ep2 - hc * hc, R(1e-12)), bb = ht_max(R(1) - hc * hc, R(1e-12));
-        real d2 = R(4) * hc / (aa * sqrt(aa)) - R(2) * hc / (bb * sqrt(bb));
-        dh = ht_min(a->dhm, R(2) * sqrt(R(2) * a->wc / ht_max(fabs(d2), R(1e-12))));
-        t = R(1);
+        real aa = ht_max(ep2 - hc * hc, HT_R(1e-12)), bb = ht_max(HT_R(1) - hc * hc, HT_R(1e-12));
+        real d2 = HT_R(4) * hc / (aa * sqrt(aa)) - HT_R(2) * hc / (bb * sqrt(bb));
+        dh = ht_min(a->dhm, HT_R(2) * sqrt(HT_R(2) * a->wc / ht_max(fabs(d2), HT_R(1e-12))));
+        t = HT_R(1);
     } else {
-        real x = ht_clamp((sqrt(ep2) - R(2)) / a->deta, R(0), R(1));
-        hc = R(0); phi_c = R(0); dh = a->dhm;
-        t = R(1) - x * x * (R(3) - R(2) * x);
+        real x = ht_clamp((sqrt(ep2) - HT_R(2)) / a->deta, HT_R(0), HT_R(1));
+        hc = HT_R(0); phi_c = HT_R(0); dh = a->dhm;
+        t = HT_R(1) - x * x * (HT_R(3) - HT_R(2) * x);
     }
     real phi = ht_phi_path(2, ht_asin(h), ht_asin(hq));
     real d1 = ht_wrap_pi(phi - phi_c), d2 = ht_wrap_pi(phi + phi_c);
     if (p == 2) {
-        real r1 = exp(-R(0.5) * d1 * d1 / (a->wc * a->wc)), r2 = exp(-R(0.5) * d2 * d2 / (a->wc * a->wc));
-        real rem = (R(1) - t * r1) * (R(1) - t * r2);
+        real r1 = exp(-HT_R(0.5) * d1 * d1 / (a->wc * a->wc)), r2 = exp(-HT_R(0.5) * d2 * d2 / (a->wc * a->wc));
+        real rem = (HT_R(1) - t * r1) * (HT_R(1) - t * r2);
         /* S' diverges like 1/|h - h_c| where rem vanishes like (h - h_c)^4: evaluate S' unclamped */
-        real c = ht_safe_sqrt(R(1) - h * h), q = ht_safe_sqrt(ep2 - h * h);
-        real den = fabs(R(4) - ep2 - R(3) * h * h);
-        real sp = den > R(0) ? c * q * (R(2) * c + q) / (R(2) * den) : R(0);
-        real v = (R(1) - f) * (R(1) - f) * f * T * T * sp * rem;
-        return v == v ? v : R(0);
+        real c = ht_safe_sqrt(HT_R(1) - h * h), q = ht_safe_sqrt(ep2 - h * h);
+        real den = fabs(HT_R(4) - ep2 - HT_R(3) * h * h);
+        real sp = den > HT_R(0) ? c * q * (HT_R(2) * c + q) / (HT_R(2) * den) : HT_R(0);
+        real v = (HT_R(1) - f) * (HT_R(1) - f) * f * T * T * sp * rem;
+        return v == v ? v : HT_R(0);
     }
     /* glint term */
-    real fc = ht_fresnel_dielectric(a->cos_t * ht_safe_sqrt(R(1) - hc * hc), eta);
+    real fc = ht_fresnel_dielectric(a->cos_t * ht_safe_sqrt(HT_R(1) - hc * hc), eta);
     real hcq = hc * inv_ep;
-    real Tc = exp(-a->sigma_a * R(2) * ht_safe_sqrt(R(1) - hcq * hcq) / ht_cos_theta_t(eta, a->sin_t));
-    real atrt = (R(1) - fc) * (R(1) - fc) * fc * Tc * Tc;
-    return R(2) * t * a->kg * atrt * dh * (ht_gaussian(d1, a->wc) + ht_gaussian(d2, a->wc));
+    real Tc = exp(-a->sigma_a * HT_R(2) * ht_safe_sqrt(HT_R(1) - hcq * hcq) / ht_cos_theta_t(eta, a->sin_t));
+    real atrt = (HT_R(1) - fc) * (HT_R(1) - fc) * fc * Tc * Tc;
+    return HT_R(2) * t * a->kg * atrt * dh * (ht_gaussian(d1, a->wc) + ht_gaussian(d2, a->wc));
 }
 
 /* Upper limit in u = asin h of the first sub-interval: the caustic u_c, or pi/2 without one. */
 HT_FN real ht_afs_split(const HtAfsParams* a) {
     real inv_ep = ht_inv_eta_prime(a->eta, a->sin_t, a->cos_t);
-    real ep2 = R(1) / ht_max(inv_ep * inv_ep, R(1e-30));
-    return ep2 < R(4) ? ht_asin(sqrt((R(4) - ep2) / R(3))) : HT_HALF_PI;
+    real ep2 = HT_R(1) / ht_max(inv_ep * inv_ep, HT_R(1e-30));
+    return ep2 < HT_R(4) ? ht_asin(sqrt((HT_R(4) - ep2) / HT_R(3))) : HT_HALF_PI;
 }
 
 /* 16-point Gauss-Legendre on [lo, hi] of integrand(sin u) cos u. */
 HT_FN real ht_afs_gl16(const HtAfsParams* a, int p, real lo, real hi) {
-    const real x[8] = {R(0.0950125098376374), R(0.2816035507792589), R(0.4580167776572274), R(0.6178762444026438),
-                       R(0.7554044083550030), R(0.8656312023878318), R(0.9445750230732326), R(0.9894009349916499)};
-    const real w[8] = {R(0.1894506104550685), R(0.1826034150449236), R(0.1691565193950025), R(0.1495959888165767),
-                       R(0.1246289712555339), R(0.0951585116824928), R(0.0622535239386479), R(0.0271524594117541)};
-    real c = R(0.5) * (lo + hi), r = R(0.5) * (hi - lo), s = R(0);
+    const real x[8] = {HT_R(0.0950125098376374), HT_R(0.2816035507792589), HT_R(0.4580167776572274), HT_R(0.6178762444026438),
+                       HT_R(0.7554044083550030), HT_R(0.8656312023878318), HT_R(0.9445750230732326), HT_R(0.9894009349916499)};
+    const real w[8] = {HT_R(0.1894506104550685), HT_R(0.1826034150449236), HT_R(0.1691565193950025), HT_R(0.1495959888165767),
+                       HT_R(0.1246289712555339), HT_R(0.0951585116824928), HT_R(0.0622535239386479), HT_R(0.0271524594117541)};
+    real c = HT_R(0.5) * (lo + hi), r = HT_R(0.5) * (hi - lo), s = HT_R(0);
     for (int k = 0; k < 8; ++k)
         for (int sg = -1; sg <= 1; sg += 2) {
             real u = c + (real)sg * r * x[k];
             real su, cu;
             ht_sincos(u, &su, &cu);
-            s += w[k] * ht_afs_integrand(a, p, ht_clamp(su, R(0), R(1))) * cu;
+            s += w[k] * ht_afs_integrand(a, p, ht_clamp(su, HT_R(0), HT_R(1))) * cu;
         }
     return s * r;
 }
@@ -108,7 +108,7 @@ HT_FN real ht_afs_fast(real eta, real sigma_a, real theta, int p) {
     HtAfsParams a;
     ht_afs_params(&a, eta, sigma_a, theta);
     real uc = ht_afs_split(&a);
-    real s = ht_afs_gl16(&a, p, R(0), uc);
+    real s = ht_afs_gl16(&a, p, HT_R(0), uc);
     if (uc < HT_HALF_PI) s += ht_afs_gl16(&a, p, uc, HT_HALF_PI);
     return s;
 }

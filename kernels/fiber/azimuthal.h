@@ -9,28 +9,28 @@
 
 /* Exit azimuth of the path with p internal segments: 2p gamma_t - 2 gamma_i + p pi. */
 HT_FN real ht_phi_path(int p, real gamma_i, real gamma_t) {
-    return R(2) * (real)p * gamma_t - R(2) * gamma_i + (real)p * HT_PI;
+    return HT_R(2) * (real)p * gamma_t - HT_R(2) * gamma_i + (real)p * HT_PI;
 }
 
 /* 1/|dPhi/dh| in the cancellation-free forms of MODEL_NOTES §3 (inv_ep = 1/eta').
  * Clamped to 1e4 so that the TRT caustic (where it is infinite) stays finite. */
 HT_FN real ht_inv_dphi_dh_c(int p, real h, real c, real inv_ep) {
-    real ep2 = R(1) / ht_max(inv_ep * inv_ep, R(1e-30));
+    real ep2 = HT_R(1) / ht_max(inv_ep * inv_ep, HT_R(1e-30));
     real q = ht_safe_sqrt(ep2 - h * h);
     real r;
     if (p == 0) {
-        r = R(0.5) * c;
+        r = HT_R(0.5) * c;
     } else if (p == 1) {
-        r = c * q * (q + c) / (R(2) * ht_max(ep2 - R(1), R(1e-12)));
+        r = c * q * (q + c) / (HT_R(2) * ht_max(ep2 - HT_R(1), HT_R(1e-12)));
         /* ep2 huge (theta -> 90 deg): c q (q + c)/(2 ep2) -> c/2 ... bounded, fine */
     } else {
-        r = c * q * (R(2) * c + q) / (R(2) * ht_max(fabs(R(4) - ep2 - R(3) * h * h), R(1e-12)));
+        r = c * q * (HT_R(2) * c + q) / (HT_R(2) * ht_max(fabs(HT_R(4) - ep2 - HT_R(3) * h * h), HT_R(1e-12)));
     }
-    return ht_min(r, R(1e4));
+    return ht_min(r, HT_R(1e4));
 }
 /* c = sqrt(1 - h^2) = cos gamma; pass it when known from gamma (no cancellation as |h| -> 1). */
 HT_FN real ht_inv_dphi_dh(int p, real h, real inv_ep) {
-    return ht_inv_dphi_dh_c(p, h, ht_safe_sqrt(R(1) - h * h), inv_ep);
+    return ht_inv_dphi_dh_c(p, h, ht_safe_sqrt(HT_R(1) - h * h), inv_ep);
 }
 
 /* ---------------------------------------------------------------- logistic (Chiang 2016) */
@@ -38,22 +38,22 @@ HT_FN real ht_inv_dphi_dh(int p, real h, real inv_ep) {
 /* l(x; s) = e^{-|x|/s} / (s (1 + e^{-|x|/s})^2), evaluated with |x| so nothing overflows. */
 HT_FN real ht_logistic(real x, real s) {
     real e = exp(-fabs(x) / s);
-    real d = R(1) + e;
+    real d = HT_R(1) + e;
     return e / (s * d * d);
 }
 /* Logistic trimmed to [-pi, pi]: normaliser CDF(pi) - CDF(-pi) = tanh(pi/(2s)) = (1-e)/(1+e), e = e^{-pi/s}. */
 HT_FN real ht_trimmed_logistic(real x, real s) {
     real e = exp(-HT_PI / s);
-    real k = (R(1) - e) / (R(1) + e);
+    real k = (HT_R(1) - e) / (HT_R(1) + e);
     return ht_logistic(x, s) / k;
 }
 /* Inverse CDF of the trimmed logistic: y = CDF(-pi) + u k, x = s ln(y / (1 - y)), written around
  * u - 1/2 so that neither y nor 1 - y suffers cancellation (§14.6); clamped to [-pi, pi]. */
 HT_FN real ht_trimmed_logistic_sample(real u, real s) {
     real e = exp(-HT_PI / s);
-    real k = (R(1) - e) / (R(1) + e);
-    real d = (u - R(0.5)) * k;
-    real num = ht_max(R(0.5) + d, R(1e-30)), den = ht_max(R(0.5) - d, R(1e-30));
+    real k = (HT_R(1) - e) / (HT_R(1) + e);
+    real d = (u - HT_R(0.5)) * k;
+    real num = ht_max(HT_R(0.5) + d, HT_R(1e-30)), den = ht_max(HT_R(0.5) - d, HT_R(1e-30));
     real x = s * ht_log(num / den);
     return ht_clamp(x, -HT_PI, HT_PI);
 }
@@ -64,19 +64,19 @@ HT_FN real ht_trimmed_logistic_sample(real u, real s) {
  * k = -2..2 for sigma < 1.6 (truncation < 1e-20), Fourier series n <= 6 above (truncation < 1e-14). */
 HT_FN real ht_wrapped_gaussian(real x, real sigma) {
     x = ht_wrap_pi(x);
-    sigma = ht_max(sigma, R(1e-6));
-    if (sigma < R(1.6)) {
-        real g = R(0);
+    sigma = ht_max(sigma, HT_R(1e-6));
+    if (sigma < HT_R(1.6)) {
+        real g = HT_R(0);
         for (int k = -2; k <= 2; ++k) g += ht_gaussian(x + HT_TWO_PI * (real)k, sigma);
         return g;
     }
-    real sum = R(1);
+    real sum = HT_R(1);
     for (int n = 1; n <= 6; ++n) {
         real s, c;
         ht_sincos((real)n * x, &s, &c);
-        sum += R(2) * exp(-R(0.5) * (real)(n * n) * sigma * sigma) * c;
+        sum += HT_R(2) * exp(-HT_R(0.5) * (real)(n * n) * sigma * sigma) * c;
     }
-    return ht_max(sum, R(0)) * HT_INV_TWO_PI;
+    return ht_max(sum, HT_R(0)) * HT_INV_TWO_PI;
 }
 
 /* ---------------------------------------------------------------- Marschner root finding */
@@ -90,15 +90,15 @@ HT_FN real ht_phi_gamma(int p, real gamma, real inv_ep) {
 HT_FN real ht_dphi_dgamma(int p, real gamma, real inv_ep) {
     real sg, cg;
     ht_sincos(gamma, &sg, &cg);
-    real d = sqrt(ht_max(R(1) - sg * sg * inv_ep * inv_ep, R(1e-30)));
-    return R(2) * (real)p * cg * inv_ep / d - R(2);
+    real d = sqrt(ht_max(HT_R(1) - sg * sg * inv_ep * inv_ep, HT_R(1e-30)));
+    return HT_R(2) * (real)p * cg * inv_ep / d - HT_R(2);
 }
 
 /* Newton step size at which the root is accepted: ~4 ulp of the working precision. */
 #ifdef HT_HOST
-#define HT_ROOT_TOL R(1e-14)
+#define HT_ROOT_TOL HT_R(1e-14)
 #else
-#define HT_ROOT_TOL R(5e-7)
+#define HT_ROOT_TOL HT_R(5e-7)
 #endif
 
 /* Real roots of Marschner's cubic approximation (MODEL_NOTES §3)
@@ -106,28 +106,28 @@ HT_FN real ht_dphi_dgamma(int p, real gamma, real inv_ep) {
  * written as gamma^3 + P gamma + Q = 0 (trigonometric form for three roots, Cardano for one).
  * Returns the count (0..3).  Used only as Newton starting points. */
 HT_FN int ht_phi_cubic_roots(int p, real target, real inv_ep, real* g) {
-    if (p == 0) { g[0] = -R(0.5) * target; return 1; }
+    if (p == 0) { g[0] = -HT_R(0.5) * target; return 1; }
     real c = ht_asin(inv_ep);
-    real A = -R(8) * (real)p * c / (HT_PI * HT_PI * HT_PI);
-    real B = R(6) * (real)p * c / HT_PI - R(2);
+    real A = -HT_R(8) * (real)p * c / (HT_PI * HT_PI * HT_PI);
+    real B = HT_R(6) * (real)p * c / HT_PI - HT_R(2);
     real D = (real)p * HT_PI - target;
     real P = B / A, Q = D / A;
-    real disc = Q * Q * R(0.25) + P * P * P / R(27);
-    if (disc < R(0) && P < R(0)) {
-        real r = sqrt(-P / R(3));
-        real x = ht_clamp(-Q * R(0.5) / (r * r * r), R(-1), R(1)); /* cos(3 phi) */
-        real th = ht_atan2(ht_safe_sqrt(R(1) - x * x), x) / R(3);
+    real disc = Q * Q * HT_R(0.25) + P * P * P / HT_R(27);
+    if (disc < HT_R(0) && P < HT_R(0)) {
+        real r = sqrt(-P / HT_R(3));
+        real x = ht_clamp(-Q * HT_R(0.5) / (r * r * r), HT_R(-1), HT_R(1)); /* cos(3 phi) */
+        real th = ht_atan2(ht_safe_sqrt(HT_R(1) - x * x), x) / HT_R(3);
         for (int k = 0; k < 3; ++k) {
             real s, co;
-            ht_sincos(th - HT_TWO_PI * (real)k / R(3), &s, &co);
-            g[k] = R(2) * r * co;
+            ht_sincos(th - HT_TWO_PI * (real)k / HT_R(3), &s, &co);
+            g[k] = HT_R(2) * r * co;
         }
         return 3;
     }
-    real sq = sqrt(ht_max(disc, R(0)));
-    real a = -Q * R(0.5) + sq, b = -Q * R(0.5) - sq;
-    real ca = a >= R(0) ? ht_pow(a, R(1) / R(3)) : -ht_pow(-a, R(1) / R(3));
-    real cb = b >= R(0) ? ht_pow(b, R(1) / R(3)) : -ht_pow(-b, R(1) / R(3));
+    real sq = sqrt(ht_max(disc, HT_R(0)));
+    real a = -Q * HT_R(0.5) + sq, b = -Q * HT_R(0.5) - sq;
+    real ca = a >= HT_R(0) ? ht_pow(a, HT_R(1) / HT_R(3)) : -ht_pow(-a, HT_R(1) / HT_R(3));
+    real cb = b >= HT_R(0) ? ht_pow(b, HT_R(1) / HT_R(3)) : -ht_pow(-b, HT_R(1) / HT_R(3));
     g[0] = ca + cb;
     return 1;
 }
@@ -140,8 +140,8 @@ HT_FN int ht_phi_cubic_roots(int p, real target, real inv_ep, real* g) {
 HT_FN real ht_phi_root(int p, real target, real inv_ep, real a, real b, real phi_a, real phi_b) {
     real fa = phi_a - target; /* Phi(a), Phi(b) known to the caller */
     real fb = phi_b - target;
-    real x = R(0.5) * (a + b);
-    if (fabs(fb - fa) > R(1e-30)) x = ht_clamp(a - fa * (b - a) / (fb - fa), a, b);
+    real x = HT_R(0.5) * (a + b);
+    if (fabs(fb - fa) > HT_R(1e-30)) x = ht_clamp(a - fa * (b - a) / (fb - fa), a, b);
     real gc[3];
     int nc = ht_phi_cubic_roots(p, target, inv_ep, gc);
     real best = HT_REAL_MAX;
@@ -153,12 +153,12 @@ HT_FN real ht_phi_root(int p, real target, real inv_ep, real a, real b, real phi
     }
     for (int it = 0; it < 40; ++it) {
         real fx = ht_phi_gamma(p, x, inv_ep) - target;
-        if (fx == R(0)) break;
-        if ((fx < R(0)) == (fa < R(0))) { a = x; fa = fx; } else { b = x; }
+        if (fx == HT_R(0)) break;
+        if ((fx < HT_R(0)) == (fa < HT_R(0))) { a = x; fa = fx; } else { b = x; }
         real d = ht_dphi_dgamma(p, x, inv_ep);
-        real xn = fabs(d) > R(1e-12) ? x - fx / d : R(0.5) * (a + b);
-        if (!(xn > a && xn < b)) xn = R(0.5) * (a + b);
-        if (fabs(xn - x) < HT_ROOT_TOL * (R(1) + fabs(x))) { x = xn; break; }
+        real xn = fabs(d) > HT_R(1e-12) ? x - fx / d : HT_R(0.5) * (a + b);
+        if (!(xn > a && xn < b)) xn = HT_R(0.5) * (a + b);
+        if (fabs(xn - x) < HT_ROOT_TOL * (HT_R(1) + fabs(x))) { x = xn; break; }
         x = xn;
     }
     return x;
@@ -172,15 +172,15 @@ HT_FN int ht_phi_roots(int p, real phi, real inv_ep, real* hs, real* cs) {
     int pieces = 1;
     /* ends in closed form: Phi(p, +-pi/2) = +-(2 p c - pi) + p pi, c = asin(1/eta') */
     real c = ht_asin(inv_ep);
-    real pp = (real)p * HT_PI, e = R(2) * (real)p * c - HT_PI;
+    real pp = (real)p * HT_PI, e = HT_R(2) * (real)p * c - HT_PI;
     ga[0] = -HT_HALF_PI; gb[0] = HT_HALF_PI;
     pa[0] = pp - e; pb[0] = pp + e;
     if (p == 2) {
-        real ep2 = R(1) / ht_max(inv_ep * inv_ep, R(1e-30));
-        if (ep2 < R(4)) {
-            real hc = sqrt((R(4) - ep2) / R(3));
+        real ep2 = HT_R(1) / ht_max(inv_ep * inv_ep, HT_R(1e-30));
+        if (ep2 < HT_R(4)) {
+            real hc = sqrt((HT_R(4) - ep2) / HT_R(3));
             real gc = ht_asin(hc);
-            real fc = R(4) * ht_asin(hc * inv_ep) - R(2) * gc; /* Phi(2, gc) - 2 pi */
+            real fc = HT_R(4) * ht_asin(hc * inv_ep) - HT_R(2) * gc; /* Phi(2, gc) - 2 pi */
             ga[0] = -HT_HALF_PI; gb[0] = -gc; pb[0] = pp - fc;
             ga[1] = -gc; gb[1] = gc; pa[1] = pp - fc; pb[1] = pp + fc;
             ga[2] = gc; gb[2] = HT_HALF_PI; pa[2] = pp + fc; pb[2] = pp + e;
@@ -192,14 +192,14 @@ HT_FN int ht_phi_roots(int p, real phi, real inv_ep, real* hs, real* cs) {
         real fa = pa[i], fb = pb[i];
         real lo = ht_min(fa, fb), hi = ht_max(fa, fb);
         /* the range of one piece spans < 2 pi: at most one 2 pi-shift of phi lies in it */
-        real t = phi + HT_TWO_PI * floor((lo - phi) * HT_INV_TWO_PI + R(1));
+        real t = phi + HT_TWO_PI * floor((lo - phi) * HT_INV_TWO_PI + HT_R(1));
         if (t - HT_TWO_PI >= lo) t -= HT_TWO_PI;
         if (t < lo || t > hi) continue;
         real g = ht_phi_root(p, t, inv_ep, ga[i], gb[i], fa, fb);
         real sg, cg;
         ht_sincos(g, &sg, &cg);
         cs[n] = fabs(cg);
-        hs[n++] = ht_clamp(sg, R(-1), R(1));
+        hs[n++] = ht_clamp(sg, HT_R(-1), HT_R(1));
     }
     return n;
 }

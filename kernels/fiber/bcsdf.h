@@ -53,21 +53,21 @@
 /* Finite, non-zero direction (x - x == 0 exactly for finite x; NaN otherwise). */
 HT_FN int ht_valid_dir(real3 w) {
     real s = w.x * w.x + w.y * w.y + w.z * w.z;
-    return (s - s == R(0)) && s > R(1e-30) && (w.x - w.x == R(0)) && (w.y - w.y == R(0)) && (w.z - w.z == R(0));
+    return (s - s == HT_R(0)) && s > HT_R(1e-30) && (w.x - w.x == HT_R(0)) && (w.y - w.y == HT_R(0)) && (w.z - w.z == HT_R(0));
 }
-HT_FN real ht_sanitize_u(real u) { return (u == u) ? ht_clamp(u, R(0), R(0.99999994)) : R(0); }
+HT_FN real ht_sanitize_u(real u) { return (u == u) ? ht_clamp(u, HT_R(0), HT_R(0.99999994)) : HT_R(0); }
 
 /* Whether the model returns a delta/near-delta that next-event estimation cannot hit. */
 HT_FN int ht_bcsdf_is_delta(const HtMaterial* m) { return 0; }
 
 HT_FN void ht_bcsdf_eval_lobes(const HtMaterial* m, real3 wo, real3 wi, real h, real3* lobes, real3* value,
                                real* pdf) {
-    if (!(h == h)) h = R(0); /* NaN */
-    h = ht_clamp(h, R(-1), R(1));
+    if (!(h == h)) h = HT_R(0); /* NaN */
+    h = ht_clamp(h, HT_R(-1), HT_R(1));
     if (!ht_valid_dir(wo) || !ht_valid_dir(wi)) {
-        for (int p = 0; p < 4; ++p) lobes[p] = ht_splat(R(0));
-        *value = ht_splat(R(0));
-        *pdf = R(0);
+        for (int p = 0; p < 4; ++p) lobes[p] = ht_splat(HT_R(0));
+        *value = ht_splat(HT_R(0));
+        *pdf = HT_R(0);
         return;
     }
 #ifdef HT_FIBER_ONLY_MODEL
@@ -87,9 +87,9 @@ HT_FN void ht_bcsdf_eval_lobes(const HtMaterial* m, real3 wo, real3 wi, real h, 
     case HT_MODEL_CHIANG: ht_chiang_eval(m, wo, wi, h, lobes, value, pdf); break;
 #endif
     default:
-        for (int p = 0; p < 4; ++p) lobes[p] = ht_splat(R(0));
-        *value = ht_splat(R(0));
-        *pdf = R(0);
+        for (int p = 0; p < 4; ++p) lobes[p] = ht_splat(HT_R(0));
+        *value = ht_splat(HT_R(0));
+        *pdf = HT_R(0);
     }
 }
 
@@ -102,8 +102,8 @@ HT_FN void ht_bcsdf_eval(const HtMaterial* m, real3 wo, real3 wi, real h, real3*
 // u: 4 uniforms in [0,1). Returns 0 if no direction could be sampled. weight = value/pdf.
 HT_FN int ht_bcsdf_sample(const HtMaterial* m, real3 wo, real h, real u0, real u1, real u2, real u3, real3* wi,
                           real3* weight, real* pdf) {
-    if (!(h == h)) h = R(0);
-    h = ht_clamp(h, R(-1), R(1));
+    if (!(h == h)) h = HT_R(0);
+    h = ht_clamp(h, HT_R(-1), HT_R(1));
     u0 = ht_sanitize_u(u0);
     u1 = ht_sanitize_u(u1);
     u2 = ht_sanitize_u(u2);
@@ -126,9 +126,9 @@ HT_FN int ht_bcsdf_sample(const HtMaterial* m, real3 wo, real h, real u0, real u
     }
     if (ok && !ht_valid_dir(*wi)) ok = 0;
     if (!ok) {
-        *wi = make_real3(R(1), R(0), R(0));
-        *weight = ht_splat(R(0));
-        *pdf = R(0);
+        *wi = make_real3(HT_R(1), HT_R(0), HT_R(0));
+        *weight = ht_splat(HT_R(0));
+        *pdf = HT_R(0);
     }
     return ok;
 }

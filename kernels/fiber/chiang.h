@@ -21,28 +21,28 @@ typedef struct {
 
 HT_FN void ht_chiang_setup(const HtMaterial* m, real3 wo, real h, HtChiangSetup* c) {
     real eta = m->eta;
-    h = ht_clamp(h, R(-1), R(1));
+    h = ht_clamp(h, HT_R(-1), HT_R(1));
     ht_theta(wo, &c->sin_o, &c->cos_o);
     c->gamma_o = ht_asin(h);
     real sin_theta_t = c->sin_o / eta;
-    real cos_theta_t = ht_safe_sqrt(R(1) - sin_theta_t * sin_theta_t);
+    real cos_theta_t = ht_safe_sqrt(HT_R(1) - sin_theta_t * sin_theta_t);
     real sin_gamma_t = h * ht_inv_eta_prime(eta, c->sin_o, c->cos_o);
-    real cos_gamma_t = ht_safe_sqrt(R(1) - sin_gamma_t * sin_gamma_t);
+    real cos_gamma_t = ht_safe_sqrt(HT_R(1) - sin_gamma_t * sin_gamma_t);
     c->gamma_t = ht_asin(sin_gamma_t);
     real3 T = ht_chord_transmittance(ht_load3(m->sigma_a), cos_gamma_t, cos_theta_t);
-    real f = ht_fresnel_dielectric(c->cos_o * ht_safe_sqrt(R(1) - h * h), eta);
+    real f = ht_fresnel_dielectric(c->cos_o * ht_safe_sqrt(HT_R(1) - h * h), eta);
     c->ap[0] = ht_splat(f);
-    c->ap[1] = T * ((R(1) - f) * (R(1) - f));
+    c->ap[1] = T * ((HT_R(1) - f) * (HT_R(1) - f));
     c->ap[2] = c->ap[1] * T * f;
     /* residual: A_2 F T / (1 - F T); 0/0 at h = +-1 with sigma_a = 0 (§14.3) -> denominator floor */
     real3 tf = T * f;
-    c->ap[3] = ht_div3(c->ap[2] * tf, ht_max3s(ht_splat(R(1)) - tf, R(1e-7)));
-    real sum = R(0);
+    c->ap[3] = ht_div3(c->ap[2] * tf, ht_max3s(ht_splat(HT_R(1)) - tf, HT_R(1e-7)));
+    real sum = HT_R(0);
     for (int p = 0; p < 4; ++p) {
-        c->ap_pdf[p] = ht_max(ht_luminance(c->ap[p]), R(0));
+        c->ap_pdf[p] = ht_max(ht_luminance(c->ap[p]), HT_R(0));
         sum += c->ap_pdf[p];
     }
-    for (int p = 0; p < 4; ++p) c->ap_pdf[p] = sum > R(0) ? c->ap_pdf[p] / sum : R(0.25);
+    for (int p = 0; p < 4; ++p) c->ap_pdf[p] = sum > HT_R(0) ? c->ap_pdf[p] / sum : HT_R(0.25);
 }
 
 /* log normaliser of lobe p: exact from v on the host, precomputed (mp_c) in the float kernels. */
@@ -61,7 +61,7 @@ HT_FN void ht_chiang_tilt(const HtMaterial* m, int p, real sin_o, real cos_o, re
     else if (p == 1) { st = m->sin_tilt[0]; ct = m->cos_tilt[0]; s = sin_o * ct + cos_o * st; c = cos_o * ct - sin_o * st; }
     else if (p == 2) { st = m->sin_tilt[2]; ct = m->cos_tilt[2]; s = sin_o * ct + cos_o * st; c = cos_o * ct - sin_o * st; }
     else { s = sin_o; c = cos_o; }
-    *sp = ht_clamp(s, R(-1), R(1));
+    *sp = ht_clamp(s, HT_R(-1), HT_R(1));
     *cp = fabs(c);
 }
 
@@ -71,8 +71,8 @@ HT_FN void ht_chiang_eval_setup(const HtMaterial* m, const HtChiangSetup* c, rea
     real sin_i, cos_i;
     ht_theta(wi, &sin_i, &cos_i);
     real phi = ht_relative_phi(wo, wi);
-    real3 sum = ht_splat(R(0));
-    real pd = R(0);
+    real3 sum = ht_splat(HT_R(0));
+    real pd = HT_R(0);
     for (int p = 0; p < 3; ++p) {
         real sp, cp;
         ht_chiang_tilt(m, p, c->sin_o, c->cos_o, &sp, &cp);
@@ -102,7 +102,7 @@ HT_FN int ht_chiang_sample(const HtMaterial* m, real3 wo, real h, real u0, real 
     HtChiangSetup c;
     ht_chiang_setup(m, wo, h, &c);
     int p = 3;
-    real acc = R(0);
+    real acc = HT_R(0);
     for (int k = 0; k < 3; ++k) {
         acc += c.ap_pdf[k];
         if (u0 < acc) { p = k; break; }
@@ -112,7 +112,7 @@ HT_FN int ht_chiang_sample(const HtMaterial* m, real3 wo, real h, real u0, real 
     real sin_i, cos_i;
     ht_mp_sample(u1, u2, sp, cp, m->v[p], &sin_i, &cos_i);
     real dphi = p < 3 ? ht_phi_path(p, c.gamma_o, c.gamma_t) + ht_trimmed_logistic_sample(u3, m->s)
-                      : HT_TWO_PI * (u3 - R(0.5));
+                      : HT_TWO_PI * (u3 - HT_R(0.5));
     real3 w = ht_dir_from(wo, sin_i, cos_i, dphi);
     real3 lobes[4];
     real3 value;
@@ -120,8 +120,8 @@ HT_FN int ht_chiang_sample(const HtMaterial* m, real3 wo, real h, real u0, real 
     ht_chiang_eval_setup(m, &c, wo, w, lobes, &value, &pd);
     *wi = w;
     *pdf = pd;
-    if (!(pd > R(0))) {
-        *weight = ht_splat(R(0));
+    if (!(pd > HT_R(0))) {
+        *weight = ht_splat(HT_R(0));
         return 0;
     }
     *weight = ht_sanitize3(value / pd);

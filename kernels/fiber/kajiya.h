@@ -13,13 +13,13 @@
 #include "../types.h"
 #include "longitudinal.h"
 
-HT_FN real ht_kajiya_spec_v(const HtMaterial* m) { return R(1) / ht_max(m->ks_exponent, R(1e-3)); }
+HT_FN real ht_kajiya_spec_v(const HtMaterial* m) { return HT_R(1) / ht_max(m->ks_exponent, HT_R(1e-3)); }
 
 HT_FN void ht_kajiya_probs(const HtMaterial* m, real* pd, real* ps) {
-    real ld = ht_max(ht_luminance(ht_load3(m->kd)), R(0)), ls = ht_max(ht_luminance(ht_load3(m->ks)), R(0));
+    real ld = ht_max(ht_luminance(ht_load3(m->kd)), HT_R(0)), ls = ht_max(ht_luminance(ht_load3(m->ks)), HT_R(0));
     real t = ld + ls;
-    *pd = t > R(0) ? ld / t : R(1);
-    *ps = t > R(0) ? ls / t : R(0);
+    *pd = t > HT_R(0) ? ld / t : HT_R(1);
+    *ps = t > HT_R(0) ? ls / t : HT_R(0);
 }
 
 HT_FN void ht_kajiya_eval(const HtMaterial* m, real3 wo, real3 wi, real h, real3* lobes, real3* value, real* pdf) {
@@ -31,8 +31,8 @@ HT_FN void ht_kajiya_eval(const HtMaterial* m, real3 wo, real3 wi, real h, real3
     real sp = ht_pow(c, m->ks_exponent) * m->ks_norm;
     real3 spec = ht_load3(m->ks) * sp;
     lobes[0] = spec;
-    lobes[1] = ht_splat(R(0));
-    lobes[2] = ht_splat(R(0));
+    lobes[1] = ht_splat(HT_R(0));
+    lobes[2] = ht_splat(HT_R(0));
     lobes[3] = diff;
     *value = ht_sanitize3(diff + spec);
     real pd, ps;
@@ -50,22 +50,22 @@ HT_FN int ht_kajiya_sample(const HtMaterial* m, real3 wo, real h, real u0, real 
     if (u0 < pd) {
         real s, c;
         ht_sincos(HT_TWO_PI * u2, &s, &c);
-        sin_i = ht_clamp(sqrt(u1) * c, R(-1), R(1));
-        cos_i = ht_safe_sqrt(R(1) - sin_i * sin_i);
+        sin_i = ht_clamp(sqrt(u1) * c, HT_R(-1), HT_R(1));
+        cos_i = ht_safe_sqrt(HT_R(1) - sin_i * sin_i);
     } else {
         real sin_o, cos_o;
         ht_theta(wo, &sin_o, &cos_o);
         ht_mp_sample(u1, u2, sin_o, cos_o, ht_kajiya_spec_v(m), &sin_i, &cos_i);
     }
-    real3 w = ht_dir_from(wo, sin_i, cos_i, HT_TWO_PI * (u3 - R(0.5)));
+    real3 w = ht_dir_from(wo, sin_i, cos_i, HT_TWO_PI * (u3 - HT_R(0.5)));
     real3 lobes[4];
     real3 value;
     real pdv;
     ht_kajiya_eval(m, wo, w, h, lobes, &value, &pdv);
     *wi = w;
     *pdf = pdv;
-    if (!(pdv > R(0))) {
-        *weight = ht_splat(R(0));
+    if (!(pdv > HT_R(0))) {
+        *weight = ht_splat(HT_R(0));
         return 0;
     }
     *weight = ht_sanitize3(value / pdv);

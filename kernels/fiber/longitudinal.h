@@ -50,12 +50,12 @@ HT_FN real ht_log_i0(real x) { return ht_log(ht_i0e(x)) + fabs(x); }
 
 /* -log v - log1p(-e^{-2/v}): the log of M_p's normaliser 1/(2 v sinh(1/v)) without the e^{-1/v}. */
 HT_FN real ht_mp_log_norm(real v) {
-    v = ht_max(v, R(1e-7));
-    real e2 = exp(-R(2) / v);
+    v = ht_max(v, HT_R(1e-7));
+    real e2 = exp(-HT_R(2) / v);
 #ifdef HT_HOST
     return -log(v) - log1p(-e2);
 #else
-    return -ht_log(v) - ht_log(R(1) - e2);
+    return -ht_log(v) - ht_log(HT_R(1) - e2);
 #endif
 }
 
@@ -63,13 +63,13 @@ HT_FN real ht_mp_log_norm(real v) {
  *   M = i0e(a) exp((cos(theta_i + theta_o) - 1)/v + log_norm)   (no overflow: the exponent is <= log_norm).
  * Finite for v >= 1e-7. */
 HT_FN real ht_mp_n(real cos_i, real sin_i, real cos_o, real sin_o, real v, real log_norm) {
-    v = ht_max(v, R(1e-7));
-    real inv_v = R(1) / v;
+    v = ht_max(v, HT_R(1e-7));
+    real inv_v = HT_R(1) / v;
     real a = cos_i * cos_o * inv_v;
     real C = cos_i * cos_o - sin_i * sin_o; /* cos(theta_i + theta_o) */
     real S = sin_i * cos_o + cos_i * sin_o; /* sin(theta_i + theta_o) */
-    real cm1 = C > R(0) ? -S * S / (R(1) + C) : C - R(1); /* cos - 1 without cancellation */
-    return ht_i0e(a) * exp(ht_min(cm1 * inv_v + log_norm, R(80)));
+    real cm1 = C > HT_R(0) ? -S * S / (HT_R(1) + C) : C - HT_R(1); /* cos - 1 without cancellation */
+    return ht_i0e(a) * exp(ht_min(cm1 * inv_v + log_norm, HT_R(80)));
 }
 HT_FN real ht_mp(real cos_i, real sin_i, real cos_o, real sin_o, real v) {
     return ht_mp_n(cos_i, sin_i, cos_o, sin_o, v, ht_mp_log_norm(v));
@@ -81,38 +81,38 @@ HT_FN real ht_mp(real cos_i, real sin_i, real cos_o, real sin_o, real v) {
  * (v < 0.0027 double, 0.023 float): u1 is floored at 1e-30 (pbrt floors at 1e-5, which biases the
  * lowest 1e-5 of the cone-angle distribution). */
 HT_FN void ht_mp_sample(real u1, real u2, real sin_o, real cos_o, real v, real* sin_i, real* cos_i) {
-    v = ht_max(v, R(1e-7));
-    u1 = ht_max(u1, R(1e-30));
-    real cvt = R(1) + v * ht_log(u1 + (R(1) - u1) * exp(-R(2) / v));
-    cvt = ht_clamp(cvt, R(-1), R(1));
-    real svt = ht_safe_sqrt(R(1) - cvt * cvt);
+    v = ht_max(v, HT_R(1e-7));
+    u1 = ht_max(u1, HT_R(1e-30));
+    real cvt = HT_R(1) + v * ht_log(u1 + (HT_R(1) - u1) * exp(-HT_R(2) / v));
+    cvt = ht_clamp(cvt, HT_R(-1), HT_R(1));
+    real svt = ht_safe_sqrt(HT_R(1) - cvt * cvt);
     real s2, c2;
     ht_sincos(HT_TWO_PI * u2, &s2, &c2);
-    real si = ht_clamp(-cvt * sin_o + svt * c2 * cos_o, R(-1), R(1));
+    real si = ht_clamp(-cvt * sin_o + svt * c2 * cos_o, HT_R(-1), HT_R(1));
     *sin_i = si;
-    *cos_i = ht_safe_sqrt(R(1) - si * si);
+    *cos_i = ht_safe_sqrt(HT_R(1) - si * si);
 }
 
 /* Unit-area Gaussian with standard deviation sigma. */
 HT_FN real ht_gaussian(real x, real sigma) {
-    real is = R(1) / ht_max(sigma, R(1e-7));
-    return R(0.39894228040143267794) * is * exp(-R(0.5) * x * x * is * is);
+    real is = HT_R(1) / ht_max(sigma, HT_R(1e-7));
+    return HT_R(0.39894228040143267794) * is * exp(-HT_R(0.5) * x * x * is * is);
 }
 
 /* Standard normal deviate from two uniforms (Box-Muller). */
 HT_FN real ht_normal_from(real u1, real u2) {
-    u1 = ht_max(u1, R(1e-12));
+    u1 = ht_max(u1, HT_R(1e-12));
     real s, c;
     ht_sincos(HT_TWO_PI * u2, &s, &c);
-    return sqrt(-R(2) * ht_log(u1)) * c;
+    return sqrt(-HT_R(2) * ht_log(u1)) * c;
 }
 
 /* Two independent standard normal deviates from two uniforms (Box-Muller). */
 HT_FN void ht_normal_pair(real u1, real u2, real* n1, real* n2) {
-    u1 = ht_max(u1, R(1e-12));
+    u1 = ht_max(u1, HT_R(1e-12));
     real s, c;
     ht_sincos(HT_TWO_PI * u2, &s, &c);
-    real r = sqrt(-R(2) * ht_log(u1));
+    real r = sqrt(-HT_R(2) * ht_log(u1));
     *n1 = r * c;
     *n2 = r * s;
 }

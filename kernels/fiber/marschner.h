@@ -29,8 +29,8 @@ HT_FN void ht_marschner_angles(real3 wo, real3 wi, HtMarschnerAngles* a) {
     ht_theta(wi, &a->sin_i, &a->cos_i);
     a->theta_o = ht_asin(a->sin_o);
     a->theta_i = ht_asin(a->sin_i);
-    a->theta_h = R(0.5) * (a->theta_i + a->theta_o);
-    ht_sincos(R(0.5) * (a->theta_o - a->theta_i), &a->sin_d, &a->cos_d);
+    a->theta_h = HT_R(0.5) * (a->theta_i + a->theta_o);
+    ht_sincos(HT_R(0.5) * (a->theta_o - a->theta_i), &a->sin_d, &a->cos_d);
     a->cos_d = fabs(a->cos_d);
     a->phi = ht_relative_phi(wo, wi);
 }
@@ -43,10 +43,10 @@ HT_FN void ht_mz_tilt(const HtMaterial* m, int p, real sin_o, real cos_o, real* 
     real a = p == 0 ? m->alpha_r : (p == 1 ? m->alpha_tt : m->alpha_trt);
     real b = p == 0 ? m->beta_r : (p == 1 ? m->beta_tt : m->beta_trt);
     real s2, c2;
-    ht_sincos(R(2) * a, &s2, &c2);
-    *sp = ht_clamp(sin_o * c2 - cos_o * s2, R(-1), R(1));
+    ht_sincos(HT_R(2) * a, &s2, &c2);
+    *sp = ht_clamp(sin_o * c2 - cos_o * s2, HT_R(-1), HT_R(1));
     *cp = fabs(cos_o * c2 + sin_o * s2);
-    *v = R(4) * b * b;
+    *v = HT_R(4) * b * b;
 }
 HT_FN real ht_mz_theta_pdf(const HtMaterial* m, int p, real sin_o, real cos_o, real sin_i, real cos_i) {
     real sp, cp, v;
@@ -65,34 +65,34 @@ HT_FN real3 ht_marschner_ap_c(const HtMaterial* m, int p, real h, real c, real e
     real f = ht_fresnel_dielectric(cos_d * c, eta);
     if (p == 0) return ht_splat(f);
     real ht_ = h * ht_inv_eta_prime(eta, sin_d, cos_d);
-    real cgt = ht_safe_sqrt(R(1) - ht_ * ht_);
+    real cgt = ht_safe_sqrt(HT_R(1) - ht_ * ht_);
     real3 T = ht_chord_transmittance(ht_load3(m->sigma_a), cgt, ht_cos_theta_t(eta, sin_d));
-    real3 a = T * ((R(1) - f) * (R(1) - f));
+    real3 a = T * ((HT_R(1) - f) * (HT_R(1) - f));
     return p == 1 ? a : a * T * f;
 }
 HT_FN real3 ht_marschner_ap(const HtMaterial* m, int p, real h, real eta, real sin_d, real cos_d) {
-    return ht_marschner_ap_c(m, p, h, ht_safe_sqrt(R(1) - h * h), eta, sin_d, cos_d);
+    return ht_marschner_ap_c(m, p, h, ht_safe_sqrt(HT_R(1) - h * h), eta, sin_d, cos_d);
 }
 
 /* Caustic parameters of TRT at 1/eta' = inv_ep: centre phi_c, glint interval dh, fade t, h_c. */
 HT_FN void ht_marschner_caustic(const HtMaterial* m, real inv_ep, real* phi_c, real* dh, real* t, real* hc) {
-    real ep2 = R(1) / ht_max(inv_ep * inv_ep, R(1e-30));
-    if (ep2 < R(4)) {
-        real h = sqrt((R(4) - ep2) / R(3));
+    real ep2 = HT_R(1) / ht_max(inv_ep * inv_ep, HT_R(1e-30));
+    if (ep2 < HT_R(4)) {
+        real h = sqrt((HT_R(4) - ep2) / HT_R(3));
         real gi = ht_asin(h), gt = ht_asin(h * inv_ep);
         *phi_c = fabs(ht_wrap_pi(ht_phi_path(2, gi, gt)));
-        real a = ht_max(ep2 - h * h, R(1e-12)), b = ht_max(R(1) - h * h, R(1e-12));
-        real d2 = R(4) * h / (a * sqrt(a)) - R(2) * h / (b * sqrt(b));
-        *dh = ht_min(m->caustic_dhm, R(2) * sqrt(R(2) * m->caustic_wc / ht_max(fabs(d2), R(1e-12))));
-        *t = R(1);
+        real a = ht_max(ep2 - h * h, HT_R(1e-12)), b = ht_max(HT_R(1) - h * h, HT_R(1e-12));
+        real d2 = HT_R(4) * h / (a * sqrt(a)) - HT_R(2) * h / (b * sqrt(b));
+        *dh = ht_min(m->caustic_dhm, HT_R(2) * sqrt(HT_R(2) * m->caustic_wc / ht_max(fabs(d2), HT_R(1e-12))));
+        *t = HT_R(1);
         *hc = h;
     } else {
         real ep = sqrt(ep2);
-        real x = ht_clamp((ep - R(2)) / ht_max(m->caustic_deta, R(1e-6)), R(0), R(1));
-        *phi_c = R(0);
+        real x = ht_clamp((ep - HT_R(2)) / ht_max(m->caustic_deta, HT_R(1e-6)), HT_R(0), HT_R(1));
+        *phi_c = HT_R(0);
         *dh = m->caustic_dhm;
-        *t = R(1) - x * x * (R(3) - R(2) * x);
-        *hc = R(0);
+        *t = HT_R(1) - x * x * (HT_R(3) - HT_R(2) * x);
+        *hc = HT_R(0);
     }
 }
 
@@ -102,10 +102,10 @@ HT_FN void ht_marschner_np_raw(const HtMaterial* m, int p, real phi, real eta, r
     real inv_ep = ht_inv_eta_prime(eta, sin_d, cos_d);
     real hs[3], cs[3];
     int n = ht_phi_roots(p, phi, inv_ep, hs, cs);
-    real3 acc = ht_splat(R(0));
-    real dens = R(0);
+    real3 acc = ht_splat(HT_R(0));
+    real dens = HT_R(0);
     for (int k = 0; k < n; ++k) {
-        real s = R(0.5) * ht_inv_dphi_dh_c(p, hs[k], cs[k], inv_ep);
+        real s = HT_R(0.5) * ht_inv_dphi_dh_c(p, hs[k], cs[k], inv_ep);
         acc += ht_marschner_ap_c(m, p, hs[k], cs[k], eta, sin_d, cos_d) * s;
         dens += s;
     }
@@ -116,10 +116,10 @@ HT_FN void ht_marschner_np_raw(const HtMaterial* m, int p, real phi, real eta, r
 /* eta* for TRT (eccentricity a <= 1), cos2h = cos(2 phi_h). */
 HT_FN real ht_marschner_eta_star(const HtMaterial* m, real cos2h) {
     real a = m->eccentricity, eta = m->eta;
-    if (!(a < R(1))) return eta;
-    real e1 = R(2) * (eta - R(1)) * a * a - eta + R(2);
-    real e2 = R(2) * (eta - R(1)) / (a * a) - eta + R(2);
-    return ht_max(R(0.5) * ((e1 + e2) + cos2h * (e1 - e2)), R(1.0001));
+    if (!(a < HT_R(1))) return eta;
+    real e1 = HT_R(2) * (eta - HT_R(1)) * a * a - eta + HT_R(2);
+    real e2 = HT_R(2) * (eta - HT_R(1)) / (a * a) - eta + HT_R(2);
+    return ht_max(HT_R(0.5) * ((e1 + e2) + cos2h * (e1 - e2)), HT_R(1.0001));
 }
 
 /* N'_TRT with caustic removal and glints; *dens_out = h-uniform density of the raw roots. */
@@ -133,38 +133,38 @@ HT_FN real3 ht_marschner_ntrt(const HtMaterial* m, real phi, real eta, real sin_
     ht_marschner_caustic(m, inv_ep, &phi_c, &dh, &t, &hc);
     real wc = m->caustic_wc;
     real d1 = ht_wrap_pi(phi - phi_c), d2 = ht_wrap_pi(phi + phi_c);
-    real r1 = exp(-R(0.5) * d1 * d1 / (wc * wc)), r2 = exp(-R(0.5) * d2 * d2 / (wc * wc));
+    real r1 = exp(-HT_R(0.5) * d1 * d1 / (wc * wc)), r2 = exp(-HT_R(0.5) * d2 * d2 / (wc * wc));
     real3 glint = ht_marschner_ap(m, 2, hc, eta, sin_d, cos_d) *
                   (t * m->caustic_kg * dh * (ht_gaussian(d1, wc) + ht_gaussian(d2, wc)));
-    return n * ((R(1) - t * r1) * (R(1) - t * r2)) + glint;
+    return n * ((HT_R(1) - t * r1) * (HT_R(1) - t * r2)) + glint;
 }
 
 /* Lobe selection probabilities (depend on wo only). */
 HT_FN void ht_marschner_probs(const HtMaterial* m, real sin_o, real cos_o, real* pr) {
-    real s = R(0);
+    real s = HT_R(0);
     for (int p = 0; p < 3; ++p) {
-        pr[p] = ht_luminance(ht_marschner_ap(m, p, R(0.5), m->eta, sin_o, cos_o));
+        pr[p] = ht_luminance(ht_marschner_ap(m, p, HT_R(0.5), m->eta, sin_o, cos_o));
         s += pr[p];
     }
-    s = ht_max(s, R(1e-12));
-    real t = R(0);
-    for (int p = 0; p < 3; ++p) { pr[p] = ht_max(pr[p] / s, R(0.02)); t += pr[p]; }
+    s = ht_max(s, HT_R(1e-12));
+    real t = HT_R(0);
+    for (int p = 0; p < 3; ++p) { pr[p] = ht_max(pr[p] / s, HT_R(0.02)); t += pr[p]; }
     for (int p = 0; p < 3; ++p) pr[p] /= t;
 }
 
-#define HT_MARSCHNER_TRT_UNIFORM R(0.10)
-#define HT_MARSCHNER_TRT_GLINT R(0.15)
+#define HT_MARSCHNER_TRT_UNIFORM HT_R(0.10)
+#define HT_MARSCHNER_TRT_GLINT HT_R(0.15)
 
 /* Solid-angle pdf of ht_marschner_sample.  dens[p] >= 0: the h-uniform density of lobe p at a->phi
  * (index eta) already known to the caller; < 0: computed here. */
 HT_FN real ht_marschner_pdf(const HtMaterial* m, const HtMarschnerAngles* a, const real* dens_in) {
     real pr[3];
     ht_marschner_probs(m, a->sin_o, a->cos_o, pr);
-    real pd = R(0);
+    real pd = HT_R(0);
     for (int p = 0; p < 3; ++p) {
         real pth = ht_mz_theta_pdf(m, p, a->sin_o, a->cos_o, a->sin_i, a->cos_i); /* per solid angle / dphi */
         real dens = dens_in[p];
-        if (dens < R(0)) {
+        if (dens < HT_R(0)) {
             real3 np;
             ht_marschner_np_raw(m, p, a->phi, m->eta, a->sin_d, a->cos_d, &np, &dens);
         }
@@ -173,10 +173,10 @@ HT_FN real ht_marschner_pdf(const HtMaterial* m, const HtMarschnerAngles* a, con
             real inv_ep = ht_inv_eta_prime(m->eta, a->sin_d, a->cos_d);
             real phi_c, dh, t, hc;
             ht_marschner_caustic(m, inv_ep, &phi_c, &dh, &t, &hc);
-            real eg = t > R(0) ? HT_MARSCHNER_TRT_GLINT : R(0);
-            real g = R(0.5) * (ht_wrapped_gaussian(a->phi - phi_c, m->caustic_wc) +
+            real eg = t > HT_R(0) ? HT_MARSCHNER_TRT_GLINT : HT_R(0);
+            real g = HT_R(0.5) * (ht_wrapped_gaussian(a->phi - phi_c, m->caustic_wc) +
                                ht_wrapped_gaussian(a->phi + phi_c, m->caustic_wc));
-            pphi = (R(1) - eg - HT_MARSCHNER_TRT_UNIFORM) * dens + eg * g + HT_MARSCHNER_TRT_UNIFORM * HT_INV_TWO_PI;
+            pphi = (HT_R(1) - eg - HT_MARSCHNER_TRT_UNIFORM) * dens + eg * g + HT_MARSCHNER_TRT_UNIFORM * HT_INV_TWO_PI;
         }
         pd += pr[p] * pth * pphi;
     }
@@ -186,26 +186,26 @@ HT_FN real ht_marschner_pdf(const HtMaterial* m, const HtMarschnerAngles* a, con
 HT_FN void ht_marschner_eval(const HtMaterial* m, real3 wo, real3 wi, real h, real3* lobes, real3* value, real* pdf) {
     HtMarschnerAngles a;
     ht_marschner_angles(wo, wi, &a);
-    real geo = R(0.5) * a.cos_i / ht_max(a.cos_d * a.cos_d, R(1e-6));
+    real geo = HT_R(0.5) * a.cos_i / ht_max(a.cos_d * a.cos_d, HT_R(1e-6));
     real dens[3];
     real3 n0, n1;
     ht_marschner_np_raw(m, 0, a.phi, m->eta, a.sin_d, a.cos_d, &n0, &dens[0]);
     ht_marschner_np_raw(m, 1, a.phi, m->eta, a.sin_d, a.cos_d, &n1, &dens[1]);
     real eta_trt = m->eta;
-    if (m->eccentricity < R(1)) {
+    if (m->eccentricity < HT_R(1)) {
         /* cos(2 phi_h) = cos(2 phi_o + phi), phi_h = (phi_i + phi_o)/2 */
         real yy = wo.y * wo.y, zz = wo.z * wo.z, r2 = yy + zz;
-        real c2o = r2 > R(1e-24) ? (yy - zz) / r2 : R(1), s2o = r2 > R(1e-24) ? R(2) * wo.y * wo.z / r2 : R(0);
+        real c2o = r2 > HT_R(1e-24) ? (yy - zz) / r2 : HT_R(1), s2o = r2 > HT_R(1e-24) ? HT_R(2) * wo.y * wo.z / r2 : HT_R(0);
         real sp, cp;
         ht_sincos(a.phi, &sp, &cp);
         eta_trt = ht_marschner_eta_star(m, c2o * cp - s2o * sp);
     }
     real3 n2 = ht_marschner_ntrt(m, a.phi, eta_trt, a.sin_d, a.cos_d, &dens[2]);
-    if (eta_trt != m->eta) dens[2] = R(-1); /* the sampling proxy uses eta, not eta* */
+    if (eta_trt != m->eta) dens[2] = HT_R(-1); /* the sampling proxy uses eta, not eta* */
     lobes[0] = n0 * (geo * ht_gaussian(a.theta_h - m->alpha_r, m->beta_r));
     lobes[1] = n1 * (geo * ht_gaussian(a.theta_h - m->alpha_tt, m->beta_tt));
     lobes[2] = n2 * (geo * ht_gaussian(a.theta_h - m->alpha_trt, m->beta_trt));
-    lobes[3] = ht_splat(R(0));
+    lobes[3] = ht_splat(HT_R(0));
     for (int p = 0; p < 3; ++p) lobes[p] = ht_sanitize3(lobes[p]);
     *value = lobes[0] + lobes[1] + lobes[2];
     *pdf = ht_sanitize(ht_marschner_pdf(m, &a, dens));
@@ -219,28 +219,28 @@ HT_FN int ht_marschner_sample(const HtMaterial* m, real3 wo, real h, real u0, re
     ht_marschner_probs(m, sin_o, cos_o, pr);
     int p = u0 < pr[0] ? 0 : (u0 < pr[0] + pr[1] ? 1 : 2);
     real ur = p == 0 ? u0 / pr[0] : (p == 1 ? (u0 - pr[0]) / pr[1] : (u0 - pr[0] - pr[1]) / pr[2]);
-    ur = ht_clamp(ur, R(0), R(0.99999994));
+    ur = ht_clamp(ur, HT_R(0), HT_R(0.99999994));
     real sin_i, cos_i, sin_d, cos_d;
     ht_mz_theta_sample(m, p, sin_o, cos_o, u1, u2, &sin_i, &cos_i);
     real theta_o = ht_asin(sin_o), theta_i = ht_asin(sin_i);
-    ht_sincos(R(0.5) * (theta_o - theta_i), &sin_d, &cos_d);
+    ht_sincos(HT_R(0.5) * (theta_o - theta_i), &sin_d, &cos_d);
     cos_d = fabs(cos_d);
     real inv_ep = ht_inv_eta_prime(m->eta, sin_d, cos_d);
-    real hh = R(2) * u3 - R(1);
+    real hh = HT_R(2) * u3 - HT_R(1);
     real dphi;
     if (p < 2) {
         dphi = ht_phi_path(p, ht_asin(hh), ht_asin(hh * inv_ep));
     } else {
         real phi_c, dh, t, hc;
         ht_marschner_caustic(m, inv_ep, &phi_c, &dh, &t, &hc);
-        real eg = t > R(0) ? HT_MARSCHNER_TRT_GLINT : R(0);
+        real eg = t > HT_R(0) ? HT_MARSCHNER_TRT_GLINT : HT_R(0);
         if (ur < HT_MARSCHNER_TRT_UNIFORM) {
-            dphi = HT_TWO_PI * (u3 - R(0.5));
+            dphi = HT_TWO_PI * (u3 - HT_R(0.5));
         } else if (ur < HT_MARSCHNER_TRT_UNIFORM + eg) {
             /* glint: sign from the remapped lobe uniform, Gaussian from (u3, its remainder) */
             real ug = (ur - HT_MARSCHNER_TRT_UNIFORM) / eg;
-            real sg = ug < R(0.5) ? R(1) : R(-1);
-            real ug2 = ht_clamp(ug < R(0.5) ? R(2) * ug : R(2) * ug - R(1), R(0), R(0.99999994));
+            real sg = ug < HT_R(0.5) ? HT_R(1) : HT_R(-1);
+            real ug2 = ht_clamp(ug < HT_R(0.5) ? HT_R(2) * ug : HT_R(2) * ug - HT_R(1), HT_R(0), HT_R(0.99999994));
             real n1, n2;
             ht_normal_pair(u3, ug2, &n1, &n2);
             dphi = sg * phi_c + m->caustic_wc * n1;
@@ -255,7 +255,7 @@ HT_FN int ht_marschner_sample(const HtMaterial* m, real3 wo, real h, real u0, re
     ht_marschner_eval(m, wo, w, h, lobes, &value, &pd);
     *wi = w;
     *pdf = pd;
-    if (!(pd > R(0))) return 0;
+    if (!(pd > HT_R(0))) return 0;
     *weight = ht_sanitize3(value / pd);
     return 1;
 }

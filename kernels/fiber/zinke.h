@@ -33,21 +33,21 @@ HT_FN void ht_zinke_w(const HtMaterial* m, real h, real sin_d, real cos_d, real3
     ht_marschner_caustic(m, inv_ep, &phi_c, &dh, &t, &hc);
     real wc = m->caustic_wc;
     real d1 = ht_wrap_pi(phis[2] - phi_c), d2 = ht_wrap_pi(phis[2] + phi_c);
-    real r1 = exp(-R(0.5) * d1 * d1 / (wc * wc)), r2 = exp(-R(0.5) * d2 * d2 / (wc * wc));
+    real r1 = exp(-HT_R(0.5) * d1 * d1 / (wc * wc)), r2 = exp(-HT_R(0.5) * d2 * d2 / (wc * wc));
     real3 glint = ht_marschner_ap(m, 2, hc, eta, sin_d, cos_d) *
-                  (R(2) * t * m->caustic_kg * dh * (ht_gaussian(d1, wc) + ht_gaussian(d2, wc)));
-    w[2] = w[2] * ((R(1) - t * r1) * (R(1) - t * r2)) + glint;
+                  (HT_R(2) * t * m->caustic_kg * dh * (ht_gaussian(d1, wc) + ht_gaussian(d2, wc)));
+    w[2] = w[2] * ((HT_R(1) - t * r1) * (HT_R(1) - t * r2)) + glint;
 }
 
 HT_FN void ht_zinke_probs(const HtMaterial* m, real h, real sin_o, real cos_o, real* pr) {
     real3 w[3];
     real phis[3];
     ht_zinke_w(m, h, sin_o, cos_o, w, phis);
-    real s = R(0);
-    for (int p = 0; p < 3; ++p) { pr[p] = ht_max(ht_luminance(w[p]), R(0)); s += pr[p]; }
-    s = ht_max(s, R(1e-12));
-    real t = R(0);
-    for (int p = 0; p < 3; ++p) { pr[p] = ht_max(pr[p] / s, R(0.02)); t += pr[p]; }
+    real s = HT_R(0);
+    for (int p = 0; p < 3; ++p) { pr[p] = ht_max(ht_luminance(w[p]), HT_R(0)); s += pr[p]; }
+    s = ht_max(s, HT_R(1e-12));
+    real t = HT_R(0);
+    for (int p = 0; p < 3; ++p) { pr[p] = ht_max(pr[p] / s, HT_R(0.02)); t += pr[p]; }
     for (int p = 0; p < 3; ++p) pr[p] /= t;
 }
 
@@ -59,11 +59,11 @@ HT_FN void ht_zinke_eval(const HtMaterial* m, real3 wo, real3 wi, real h, real3*
     ht_zinke_w(m, h, a.sin_d, a.cos_d, w, phis);
     real pr[3];
     ht_zinke_probs(m, h, a.sin_o, a.cos_o, pr);
-    real geo = R(0.5) * a.cos_i / ht_max(a.cos_d * a.cos_d, R(1e-6));
+    real geo = HT_R(0.5) * a.cos_i / ht_max(a.cos_d * a.cos_d, HT_R(1e-6));
     real ab[3] = {m->alpha_r, m->alpha_tt, m->alpha_trt};
     real bb[3] = {m->beta_r, m->beta_tt, m->beta_trt};
-    real pd = R(0);
-    real3 sum = ht_splat(R(0));
+    real pd = HT_R(0);
+    real3 sum = ht_splat(HT_R(0));
     for (int p = 0; p < 3; ++p) {
         real g = ht_gaussian(a.theta_h - ab[p], bb[p]);
         real d = ht_wrapped_gaussian(a.phi - phis[p], m->azim_sigma);
@@ -71,7 +71,7 @@ HT_FN void ht_zinke_eval(const HtMaterial* m, real3 wo, real3 wi, real h, real3*
         sum += lobes[p];
         pd += pr[p] * ht_mz_theta_pdf(m, p, a.sin_o, a.cos_o, a.sin_i, a.cos_i) * d;
     }
-    lobes[3] = ht_splat(R(0));
+    lobes[3] = ht_splat(HT_R(0));
     *value = sum;
     *pdf = ht_sanitize(pd);
 }
@@ -84,11 +84,11 @@ HT_FN int ht_zinke_sample(const HtMaterial* m, real3 wo, real h, real u0, real u
     ht_zinke_probs(m, h, sin_o, cos_o, pr);
     int p = u0 < pr[0] ? 0 : (u0 < pr[0] + pr[1] ? 1 : 2);
     real ur = p == 0 ? u0 / pr[0] : (p == 1 ? (u0 - pr[0]) / pr[1] : (u0 - pr[0] - pr[1]) / pr[2]);
-    ur = ht_clamp(ur, R(0), R(0.99999994));
+    ur = ht_clamp(ur, HT_R(0), HT_R(0.99999994));
     real sin_i, cos_i, sin_d, cos_d;
     ht_mz_theta_sample(m, p, sin_o, cos_o, u1, u2, &sin_i, &cos_i);
     real theta_o = ht_asin(sin_o), theta_i = ht_asin(sin_i);
-    ht_sincos(R(0.5) * (theta_o - theta_i), &sin_d, &cos_d);
+    ht_sincos(HT_R(0.5) * (theta_o - theta_i), &sin_d, &cos_d);
     cos_d = fabs(cos_d);
     real n2, n3;
     ht_normal_pair(u3, ur, &n2, &n3);
@@ -101,7 +101,7 @@ HT_FN int ht_zinke_sample(const HtMaterial* m, real3 wo, real h, real u0, real u
     ht_zinke_eval(m, wo, w, h, lobes, &value, &pd);
     *wi = w;
     *pdf = pd;
-    if (!(pd > R(0))) return 0;
+    if (!(pd > HT_R(0))) return 0;
     *weight = ht_sanitize3(value / pd);
     return 1;
 }

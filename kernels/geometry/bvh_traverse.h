@@ -27,16 +27,16 @@
 
 /* Stack entries; the builder caps the tree depth below this (host/bvh/bvh.h kMaxDepth). */
 #define HT_STACK_SIZE 64
-#define HT_T_FAR R(1e30)
+#define HT_T_FAR HT_R(1e30)
 /* |d| components below this are replaced so 1/d stays finite (|1/d| <= 1e20; box extents
  * ~1e3 keep products far below float max). */
-#define HT_DIR_EPS R(1e-20)
+#define HT_DIR_EPS HT_R(1e-20)
 
 HT_FN real ht_safe_inv(real x) {
-    return R(1) / ht_select(fabs(x) < HT_DIR_EPS, ht_select(x < R(0), -HT_DIR_EPS, HT_DIR_EPS), x);
+    return HT_R(1) / ht_select(fabs(x) < HT_DIR_EPS, ht_select(x < HT_R(0), -HT_DIR_EPS, HT_DIR_EPS), x);
 }
 
-HT_FN real ht_hit_radius(HtPoint a, HtPoint b) { return R(0.5) * ((real)a.r + (real)b.r); }
+HT_FN real ht_hit_radius(HtPoint a, HtPoint b) { return HT_R(0.5) * ((real)a.r + (real)b.r); }
 
 /* Intersects the leaf [first, first + count) against the ray; updates *tbest / *best.
  * Returns 1 if something was hit (any-hit callers stop then). */
@@ -209,7 +209,7 @@ HT_FN void ht_trace_closest(HT_CONST_GLOBAL HtBvhNode* nodes, HT_CONST_GLOBAL Ht
         const real3 p1 = ht_point_pos(points[s.point + 1u]);
         const real3 p2 = ht_point_pos(points[s.point + 2u]);
         /* The same arithmetic as in the traversal, so the same t and barycentrics come out. */
-        real b1 = R(0), b2 = R(0);
+        real b1 = HT_R(0), b2 = HT_R(0);
         (void)ht_triangle_intersect(o, d, p0, p1, p2, ray.tmin, HT_T_FAR, &b1, &b2);
         const real3 n = ht_triangle_normal(p0, p1, p2);
         hit->t = (float)t;

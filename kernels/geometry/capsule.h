@@ -38,10 +38,10 @@
 
 #include "../types.h"
 
-#define HT_SURFACE_TOL_REL R(1e-3)
-#define HT_SURFACE_TOL_ULPS R(64)
+#define HT_SURFACE_TOL_REL HT_R(1e-3)
+#define HT_SURFACE_TOL_ULPS HT_R(64)
 /* |d_perp|^2 <= HT_PARALLEL_EPS * |d|^2 counts as parallel (angle below ~1e-6 rad). */
-#define HT_PARALLEL_EPS R(1e-12)
+#define HT_PARALLEL_EPS HT_R(1e-12)
 
 HT_FN real3 ht_point_pos(HtPoint p) { return make_real3(p.x, p.y, p.z); }
 
@@ -52,7 +52,7 @@ HT_FN real ht_capsule_intersect(real3 o, real3 d, real3 p0, real3 p1, real r, ui
                                 real tmin, real tmax) {
     const real3 a = p1 - p0;
     const real L2 = dot(a, a);
-    const real3 m = (p0 + p1) * R(0.5);
+    const real3 m = (p0 + p1) * HT_R(0.5);
     const real3 oc = o - m;
     const real dd = dot(d, d);
     const real t0 = -dot(oc, d) / dd;
@@ -61,14 +61,14 @@ HT_FN real ht_capsule_intersect(real3 o, real3 d, real3 p0, real3 p1, real r, ui
 
     /* Bounding sphere of the capsule around m, radius L/2 + r, tested without the square root:
      * |q|^2 > L^2/4 + r^2 + L r  <=>  e > 0 and e^2 > L^2 r^2.  Most leaf candidates end here. */
-    const real e = dot(q, q) - R(0.25) * L2 - r2;
-    if (e > R(0) && e * e > L2 * r2) return tmax;
+    const real e = dot(q, q) - HT_R(0.25) * L2 - r2;
+    if (e > HT_R(0) && e * e > L2 * r2) return tmax;
 
     const real L = sqrt(L2);
-    const real invL = ht_select(L > R(0), R(1) / L, R(0));
+    const real invL = ht_select(L > HT_R(0), HT_R(1) / L, HT_R(0));
     /* Degenerate segment (repeated point): any axis works, the cylinder has zero length. */
-    const real3 w = ht_select(L > R(0), a * invL, make_real3(R(1), R(0), R(0)));
-    const real hl = R(0.5) * L;
+    const real3 w = ht_select(L > HT_R(0), a * invL, make_real3(HT_R(1), HT_R(0), HT_R(0)));
+    const real hl = HT_R(0.5) * L;
 
     const real dw = dot(d, w);
     const real3 dp = d - w * dw;
@@ -81,7 +81,7 @@ HT_FN real ht_capsule_intersect(real3 o, real3 d, real3 p0, real3 p1, real r, ui
     const real ro2 = dot(ro, ro);
     const real omax = ht_max(ht_max(fabs(o.x), fabs(o.y)), fabs(o.z));
     const real band = ht_max(HT_SURFACE_TOL_REL * r, HT_SURFACE_TOL_ULPS * HT_REAL_EPS * omax);
-    const real rin = ht_max(r - band, R(0)), rout = r + band;
+    const real rin = ht_max(r - band, HT_R(0)), rout = r + band;
     if (ro2 > rin * rin && ro2 < rout * rout) return tmax;
 
     real best = tmax;
@@ -90,10 +90,10 @@ HT_FN real ht_capsule_intersect(real3 o, real3 d, real3 p0, real3 p1, real r, ui
     /* Cylinder: |q_perp + dt d_perp|^2 = r^2; accept roots whose axial coordinate is inside. */
     const real cw = dot(cross(q, d), w);
     const real disc = A * r2 - cw * cw;
-    if (disc >= R(0)) {
+    if (disc >= HT_R(0)) {
         const real sq = sqrt(disc);
         const real B = dot(q, dp);
-        const real invA = R(1) / A;
+        const real invA = HT_R(1) / A;
         const real dt1 = (-B - sq) * invA;
         const real dt2 = (-B + sq) * invA;
         const real t1 = t0 + dt1, t2 = t0 + dt2;
@@ -108,7 +108,7 @@ HT_FN real ht_capsule_intersect(real3 o, real3 d, real3 p0, real3 p1, real r, ui
         const real b = dot(rel, d);
         const real3 c = cross(rel, d);
         const real sd = dd * r2 - dot(c, c);
-        if (sd >= R(0)) {
+        if (sd >= HT_R(0)) {
             const real sq = sqrt(sd);
             const real dt1 = (-b - sq) / dd, dt2 = (-b + sq) / dd;
             const real t1 = t0 + dt1, t2 = t0 + dt2;
@@ -122,7 +122,7 @@ HT_FN real ht_capsule_intersect(real3 o, real3 d, real3 p0, real3 p1, real r, ui
         const real b = dot(rel, d);
         const real3 c = cross(rel, d);
         const real sd = dd * r2 - dot(c, c);
-        if (sd >= R(0)) {
+        if (sd >= HT_R(0)) {
             const real sq = sqrt(sd);
             const real dt1 = (-b - sq) / dd, dt2 = (-b + sq) / dd;
             const real t1 = t0 + dt1, t2 = t0 + dt2;
@@ -141,16 +141,16 @@ HT_FN real3 ht_capsule_hit_offset(real3 o, real3 d, real3 p0, real3 p1, real t, 
                                   real* u) {
     const real3 a = p1 - p0;
     const real L = sqrt(dot(a, a));
-    const real3 w = ht_select(L > R(0), a * (R(1) / ht_max(L, R(1e-30))), make_real3(R(1), R(0), R(0)));
-    const real hl = R(0.5) * L;
-    const real3 m = (p0 + p1) * R(0.5);
+    const real3 w = ht_select(L > HT_R(0), a * (HT_R(1) / ht_max(L, HT_R(1e-30))), make_real3(HT_R(1), HT_R(0), HT_R(0)));
+    const real hl = HT_R(0.5) * L;
+    const real3 m = (p0 + p1) * HT_R(0.5);
     const real3 oc = o - m;
     const real t0 = -dot(oc, d) / dot(d, d);
     const real3 q = oc + d * t0;
     const real3 p = q + d * (t - t0); /* hit point relative to m */
     const real s = ht_clamp(dot(p, w), -hl, hl);
     *tangent = w;
-    *u = ht_select(L > R(0), ht_clamp((s + hl) / ht_max(L, R(1e-30)), R(0), R(1)), R(0));
+    *u = ht_select(L > HT_R(0), ht_clamp((s + hl) / ht_max(L, HT_R(1e-30)), HT_R(0), HT_R(1)), HT_R(0));
     return p - w * s;
 }
 

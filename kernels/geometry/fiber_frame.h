@@ -19,9 +19,9 @@
 /* A unit vector perpendicular to unit t: cross with the coordinate axis least aligned with t. */
 HT_FN real3 ht_any_perpendicular(real3 t) {
     const real ax = fabs(t.x), ay = fabs(t.y), az = fabs(t.z);
-    const real3 e = ax <= ay && ax <= az ? make_real3(R(1), R(0), R(0))
-                                         : (ay <= az ? make_real3(R(0), R(1), R(0))
-                                                     : make_real3(R(0), R(0), R(1)));
+    const real3 e = ax <= ay && ax <= az ? make_real3(HT_R(1), HT_R(0), HT_R(0))
+                                         : (ay <= az ? make_real3(HT_R(0), HT_R(1), HT_R(0))
+                                                     : make_real3(HT_R(0), HT_R(0), HT_R(1)));
     return normalize(cross(t, e));
 }
 
@@ -29,7 +29,7 @@ HT_FN void ht_fiber_frame(real3 t, real3 wo, real3* x, real3* y, real3* z) {
     const real3 p = wo - t * dot(wo, t);
     const real p2 = dot(p, p);
     /* |p|^2 relative to |wo|^2: below 1e-12 the projection is rounding noise. */
-    const real3 zz = p2 > R(1e-12) * dot(wo, wo) ? p * (R(1) / sqrt(p2)) : ht_any_perpendicular(t);
+    const real3 zz = p2 > HT_R(1e-12) * dot(wo, wo) ? p * (HT_R(1) / sqrt(p2)) : ht_any_perpendicular(t);
     *x = t;
     *z = zz;
     *y = cross(zz, t);
@@ -45,7 +45,7 @@ HT_FN real3 ht_from_fiber_local(real3 v, real3 x, real3 y, real3 z) {
 
 /* h from the hit's offset from the axis (p_hit - p_axis), the frame's y and the radius. */
 HT_FN real ht_fiber_h(real3 offset, real3 y, real r) {
-    return ht_clamp(dot(offset, y) / r, R(-1), R(1));
+    return ht_clamp(dot(offset, y) / r, HT_R(-1), HT_R(1));
 }
 
 #endif /* HT_GEOMETRY_FIBER_FRAME_H */

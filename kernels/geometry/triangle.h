@@ -22,9 +22,9 @@
 #include "../types.h"
 
 /* |det| <= HT_TRI_PARALLEL_EPS * |e1 x e2| |d| counts as parallel (angle below ~1e-7 rad). */
-#define HT_TRI_PARALLEL_EPS R(1e-7)
+#define HT_TRI_PARALLEL_EPS HT_R(1e-7)
 /* Barycentric slack at the edges: ~8 float ulps of 1, a 1e-6 relative sliver of overlap. */
-#define HT_TRI_EDGE_EPS R(1e-6)
+#define HT_TRI_EDGE_EPS HT_R(1e-6)
 
 /* Closest intersection of o + t d, t in (tmin, tmax), with triangle (p0, p1, p2).  Returns t, or
  * tmax for a miss, like ht_capsule_intersect; *b1, *b2 get the barycentrics of p1 and p2 for a
@@ -39,13 +39,13 @@ HT_FN real ht_triangle_intersect(real3 o, real3 d, real3 p0, real3 p1, real3 p2,
     /* |det| = |d . (e1 x e2)|: compare against |ng| |d| without square roots. */
     const real scale2 = dot(ng, ng) * dot(d, d);
     if (det * det <= HT_TRI_PARALLEL_EPS * HT_TRI_PARALLEL_EPS * scale2) return tmax;
-    const real inv = R(1) / det;
+    const real inv = HT_R(1) / det;
     const real3 tv = o - p0;
     const real u = dot(tv, pv) * inv;
-    if (u < -HT_TRI_EDGE_EPS || u > R(1) + HT_TRI_EDGE_EPS) return tmax;
+    if (u < -HT_TRI_EDGE_EPS || u > HT_R(1) + HT_TRI_EDGE_EPS) return tmax;
     const real3 qv = cross(tv, e1);
     const real v = dot(d, qv) * inv;
-    if (v < -HT_TRI_EDGE_EPS || u + v > R(1) + HT_TRI_EDGE_EPS) return tmax;
+    if (v < -HT_TRI_EDGE_EPS || u + v > HT_R(1) + HT_TRI_EDGE_EPS) return tmax;
     const real t = dot(e2, qv) * inv;
     if (!(t > tmin && t < tmax)) return tmax;
     *b1 = u;
@@ -57,7 +57,7 @@ HT_FN real ht_triangle_intersect(real3 o, real3 d, real3 p0, real3 p1, real3 p2,
 HT_FN real3 ht_triangle_normal(real3 p0, real3 p1, real3 p2) {
     const real3 n = cross(p1 - p0, p2 - p0);
     const real l2 = dot(n, n);
-    return l2 > R(0) ? n * (R(1) / sqrt(l2)) : make_real3(R(0), R(1), R(0));
+    return l2 > HT_R(0) ? n * (HT_R(1) / sqrt(l2)) : make_real3(HT_R(0), HT_R(1), HT_R(0));
 }
 
 #endif /* HT_GEOMETRY_TRIANGLE_H */

@@ -15,10 +15,10 @@
 
 /* Orthonormal basis around unit n (Duff et al. 2017, "Building an orthonormal basis, revisited"). */
 HT_FN void ht_onb(real3 n, real3* t, real3* b) {
-    const real s = n.z >= R(0) ? R(1) : R(-1);
-    const real a = R(-1) / (s + n.z);
+    const real s = n.z >= HT_R(0) ? HT_R(1) : HT_R(-1);
+    const real a = HT_R(-1) / (s + n.z);
     const real c = n.x * n.y * a;
-    *t = make_real3(R(1) + s * n.x * n.x * a, s * c, -s * n.x);
+    *t = make_real3(HT_R(1) + s * n.x * n.x * a, s * c, -s * n.x);
     *b = make_real3(c, s + n.y * n.y * a, -n.y);
 }
 
@@ -26,9 +26,9 @@ HT_FN void ht_onb(real3 n, real3* t, real3* b) {
  * unit albedo, i.e. cos / pi, and the sampling pdf of wi in *pdf (solid angle). */
 HT_FN real ht_lambert_eval(real3 ns, real3 ng, real3 wi, real* pdf) {
     const real c = dot(ns, wi);
-    if (c <= R(0) || dot(ng, wi) <= R(0)) {
-        *pdf = R(0);
-        return R(0);
+    if (c <= HT_R(0) || dot(ng, wi) <= HT_R(0)) {
+        *pdf = HT_R(0);
+        return HT_R(0);
     }
     *pdf = c * HT_INV_PI;
     return c * HT_INV_PI;
@@ -40,11 +40,11 @@ HT_FN int ht_lambert_sample(real3 ns, real3 ng, real u0, real u1, real3* wi, rea
     const real r = sqrt(u0);
     const real phi = HT_TWO_PI * u1;
     const real x = r * cos(phi), y = r * sin(phi);
-    const real z = ht_safe_sqrt(R(1) - u0);
+    const real z = ht_safe_sqrt(HT_R(1) - u0);
     real3 t, b;
     ht_onb(ns, &t, &b);
     const real3 w = t * x + b * y + ns * z;
-    if (z <= R(0) || dot(ng, w) <= R(0)) return 0;
+    if (z <= HT_R(0) || dot(ng, w) <= HT_R(0)) return 0;
     *wi = w;
     *pdf = z * HT_INV_PI;
     return 1;
@@ -53,14 +53,14 @@ HT_FN int ht_lambert_sample(real3 ns, real3 ng, real u0, real u1, real3* wi, rea
 /* Turns ng towards wo (the viewer's side: both faces of a triangle are surfaces) and ns to ng's
  * side; an unusable ns (zero) becomes ng. */
 HT_FN void ht_lambert_face_forward(real3 wo, real3* ng, real3* ns) {
-    if (dot(*ng, wo) < R(0)) *ng = -*ng;
+    if (dot(*ng, wo) < HT_R(0)) *ng = -*ng;
     const real l2 = dot(*ns, *ns);
-    if (!(l2 > R(1e-12))) {
+    if (!(l2 > HT_R(1e-12))) {
         *ns = *ng;
         return;
     }
-    *ns = *ns * (R(1) / sqrt(l2));
-    if (dot(*ns, *ng) < R(0)) *ns = -*ns;
+    *ns = *ns * (HT_R(1) / sqrt(l2));
+    if (dot(*ns, *ng) < HT_R(0)) *ns = -*ns;
 }
 
 #endif /* HT_SURFACE_LAMBERT_H */

@@ -4,7 +4,6 @@
 #include <vector>
 
 #include "fiber/material.h"
-// Last: compat.h defines R(x).
 #include "kernels/fiber/bcsdf.h"
 
 using namespace ht;

@@ -1,6 +1,5 @@
 // BVH build + traversal: host (double) against brute force, OpenCL kernels (float) against the
 // host, thin fibres, far origins, self-intersection after leaving a fibre, empty scenes.
-// gtest first: kernels/compat.h defines the macro R(), which clashes with gtest template names.
 #include <gtest/gtest.h>
 
 #include "bvh/bvh.h"

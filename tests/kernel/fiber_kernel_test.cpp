@@ -15,7 +15,6 @@
 #include "fiber/afs_quadrature.h"
 #include "fiber/fiber_cli.h"
 #include "fiber/material.h"
-// Last: compat.h defines R(x).
 #include "kernels/fiber/bcsdf.h"
 #include "kernels/fiber/query.h"
 

@@ -1,6 +1,5 @@
 // Triangles and hair capsules in one BVH: host (double) traversal and the OpenCL kernels (float)
 // against brute force over every primitive of both kinds.
-// gtest first: kernels/compat.h defines the macro R(), which clashes with gtest template names.
 #include <gtest/gtest.h>
 
 #include "bvh/bvh.h"

@@ -10,7 +10,6 @@
 
 #include "cl/device.h"
 #include "fiber/material.h"
-// Last: compat.h defines R(x).
 #include "kernels/fiber/bcsdf.h"
 #include "kernels/fiber/query.h"
 

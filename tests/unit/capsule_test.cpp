@@ -1,5 +1,4 @@
 // Host (double) checks of the portable capsule intersection and fibre frame.
-// gtest first: kernels/compat.h defines the macro R(), which clashes with gtest template names.
 #include <gtest/gtest.h>
 
 #include "kernels/geometry/capsule.h"

@@ -7,7 +7,6 @@
 #include <string>
 
 #include "fiber/afs_quadrature.h"
-// Last: compat.h defines R(x).
 #include "kernels/fiber/afs.h"
 
 using namespace ht;

@@ -1,5 +1,4 @@
 // Host (double) checks of the portable Lambertian BSDF (kernels/surface/lambert.h).
-// gtest first: kernels/compat.h defines the macro R(), which clashes with gtest template names.
 #include <gtest/gtest.h>
 
 #include "kernels/surface/lambert.h"
