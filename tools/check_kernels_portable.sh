@@ -18,5 +18,18 @@ for f in "$root"/kernels/stages/*.cl "$root"/kernels/*/*.cl; do
         status=1
     fi
 done
+# The render program is built with scene features switched off (host/render/features.cpp):
+# compile it with every feature off too, so code that only one configuration reaches is checked.
+off=()
+for f in LIGHT_POINT LIGHT_SPOT LIGHT_DIRECTIONAL LIGHT_SPHERE MODEL_KAJIYA MODEL_MARSCHNER MODEL_ZINKE \
+         INDIRECT_AFS MESHES; do off+=("-DHT_FEATURE_$f=0"); done
+extra=()
+[ "$std" = CL3.0 ] && extra=(-Xclang -cl-ext=-all)
+if ! "$clang" -x cl -cl-std="$std" -target spir64-unknown-unknown -Xclang -finclude-default-header \
+     -fsyntax-only -cl-single-precision-constant -Werror -Wall -Wno-unused-function -Wno-unused-variable \
+     "${off[@]}" "${extra[@]}" "$root/kernels/stages/wavefront.cl"; then
+    echo "FAILED: kernels/stages/wavefront.cl with scene features off ($std)"
+    status=1
+fi
 [ $status = 0 ] && echo "all kernels compile as strict $std for spir64"
 exit $status

@@ -386,12 +386,25 @@ private:
         return index;
     }
 
-    void add_triangle_primitive(const tinygltf::Primitive& prim, int mode, const std::string& label,
-                                const glm::dmat4& world) {
+    std::vector<Vec3f> read_positions(const tinygltf::Primitive& prim, const std::string& label) const {
         const auto pos_it = prim.attributes.find("POSITION");
         if (pos_it == prim.attributes.end()) scene_fail(file_, label, ": no POSITION attribute");
-        const std::vector<Vec3f> positions =
-            read_float_vec3_accessor(model_, pos_it->second, file_, label + " POSITION");
+        return read_float_vec3_accessor(model_, pos_it->second, file_, label + " POSITION");
+    }
+
+    // The primitive's vertex sequence: its indices, or 0..n-1 without an index accessor.
+    std::vector<uint32_t> vertex_order(const tinygltf::Primitive& prim, size_t vertex_count,
+                                       const std::string& label) const {
+        if (prim.indices >= 0)
+            return read_index_accessor(model_, prim.indices, vertex_count, file_, label + " indices");
+        std::vector<uint32_t> order(vertex_count);
+        for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<uint32_t>(i);
+        return order;
+    }
+
+    void add_triangle_primitive(const tinygltf::Primitive& prim, int mode, const std::string& label,
+                                const glm::dmat4& world) {
+        const std::vector<Vec3f> positions = read_positions(prim, label);
         std::vector<Vec3f> normals;
         const auto nrm_it = prim.attributes.find("NORMAL");
         if (nrm_it != prim.attributes.end()) {
@@ -400,14 +413,7 @@ private:
                 scene_fail(file_, label, ": NORMAL has ", normals.size(), " values for ",
                            positions.size(), " positions");
         }
-        std::vector<uint32_t> order;  // vertex sequence: indices, or 0..n-1
-        if (prim.indices >= 0) {
-            order = read_index_accessor(model_, prim.indices, positions.size(), file_,
-                                        label + " indices");
-        } else {
-            order.resize(positions.size());
-            for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<uint32_t>(i);
-        }
+        const std::vector<uint32_t> order = vertex_order(prim, positions.size(), label);
         // Strips and fans to a plain triangle list (glTF winding rules, spec §3.7.2.1).
         std::vector<uint32_t> tris;
         if (mode == TINYGLTF_MODE_TRIANGLES) {
@@ -476,10 +482,7 @@ private:
 
     void add_hair_primitive(const tinygltf::Primitive& prim, int mode, const std::string& label,
                             const glm::dmat4& world, int node) {
-        const auto pos_it = prim.attributes.find("POSITION");
-        if (pos_it == prim.attributes.end()) scene_fail(file_, label, ": no POSITION attribute");
-        const std::vector<Vec3f> positions =
-            read_float_vec3_accessor(model_, pos_it->second, file_, label + " POSITION");
+        const std::vector<Vec3f> positions = read_positions(prim, label);
         std::vector<float> radii;
         const auto rad_it = prim.attributes.find("_RADIUS");
         if (rad_it != prim.attributes.end()) {
@@ -488,14 +491,7 @@ private:
                 scene_fail(file_, label, ": _RADIUS has ", radii.size(), " values for ",
                            positions.size(), " positions");
         }
-        std::vector<uint32_t> order;  // vertex sequence: indices, or 0..n-1
-        if (prim.indices >= 0) {
-            order = read_index_accessor(model_, prim.indices, positions.size(), file_,
-                                        label + " indices");
-        } else {
-            order.resize(positions.size());
-            for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<uint32_t>(i);
-        }
+        const std::vector<uint32_t> order = vertex_order(prim, positions.size(), label);
         if (mode == TINYGLTF_MODE_LINE && order.size() % 2 != 0)
             scene_fail(file_, label, ": LINES needs an even number of vertices (got ", order.size(), ")");
 

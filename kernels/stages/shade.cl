@@ -73,6 +73,26 @@ HT_FN int ht_nee_sample(__global const HtLight* lights, uint light_count, const 
     return ok;
 }
 
+/* The path goes on with throughput nthr along the sampled direction w from origin o: fills the
+ * extension ray and the path state.  Returns 0 (path ends) for a zero or non-finite throughput,
+ * counting the latter. */
+HT_FN int ht_continue_path(HtPathState* st, float3 nthr, float pdf, float3 o, float3 w, HtRay* next_ray,
+                           volatile __global uint* counters) {
+    if (!ht_finite3(nthr)) {
+        atomic_inc(&counters[HT_COUNTER_NAN]);
+        return 0;
+    }
+    if (!(nthr.x + nthr.y + nthr.z > 0.0f)) return 0;
+    next_ray->ox = o.x; next_ray->oy = o.y; next_ray->oz = o.z;
+    next_ray->dx = w.x; next_ray->dy = w.y; next_ray->dz = w.z;
+    next_ray->tmin = 0.0f;
+    next_ray->tmax = 1e30f;
+    st->throughput[0] = nthr.x; st->throughput[1] = nthr.y; st->throughput[2] = nthr.z;
+    st->last_pdf = pdf;
+    st->flags &= ~HT_PATH_FROM_CAMERA;
+    return 1;
+}
+
 /* Russian roulette on the throughput's largest channel from HT_RR_START_BOUNCE on. */
 HT_FN float3 ht_roulette(float3 nthr, uint seed, uint pixel, uint sample, uint bounce) {
     if (bounce + 1u < HT_RR_START_BOUNCE) return nthr;
@@ -182,19 +202,8 @@ __kernel void shade(__global const HtSegment* segs, __global const HtPoint* poin
                 float pdf = 0.0f;
                 if (ht_lambert_sample(ns, ng, u0, u1, &wi, &pdf)) {
                     float3 nthr = ht_roulette(thr * albedo, seed, st.pixel, sample, bounce);
-                    if (ht_finite3(nthr) && nthr.x + nthr.y + nthr.z > 0.0f) {
-                        float3 o = ht_surface_spawn(p_hit, hit.t, ng, wi);
-                        next_ray.ox = o.x; next_ray.oy = o.y; next_ray.oz = o.z;
-                        next_ray.dx = wi.x; next_ray.dy = wi.y; next_ray.dz = wi.z;
-                        next_ray.tmin = 0.0f;
-                        next_ray.tmax = 1e30f;
-                        st.throughput[0] = nthr.x; st.throughput[1] = nthr.y; st.throughput[2] = nthr.z;
-                        st.last_pdf = pdf;
-                        st.flags &= ~HT_PATH_FROM_CAMERA;
-                        want_next = 1;
-                    } else if (!ht_finite3(nthr)) {
-                        atomic_inc(&counters[HT_COUNTER_NAN]);
-                    }
+                    want_next = ht_continue_path(&st, nthr, pdf, ht_surface_spawn(p_hit, hit.t, ng, wi), wi,
+                                                 &next_ray, counters);
                 }
             }
           } else
@@ -261,20 +270,9 @@ __kernel void shade(__global const HtSegment* segs, __global const HtPoint* poin
                 float u3 = ht_uniform(seed, st.pixel, sample, ht_dim(bounce, HT_DIM_BSDF_0 + 3u));
                 if (ht_bcsdf_sample(&mat, wo_l, h, u0, u1, u2, u3, &wi_l, &weight, &pdf)) {
                     float3 nthr = ht_roulette(thr * weight, seed, st.pixel, sample, bounce);
-                    if (ht_finite3(nthr) && nthr.x + nthr.y + nthr.z > 0.0f) {
-                        float3 wi = fx * wi_l.x + fy * wi_l.y + fz * wi_l.z;
-                        float3 o = ht_spawn_origin(axis_point, t, fz, hit.radius, wi);
-                        next_ray.ox = o.x; next_ray.oy = o.y; next_ray.oz = o.z;
-                        next_ray.dx = wi.x; next_ray.dy = wi.y; next_ray.dz = wi.z;
-                        next_ray.tmin = 0.0f;
-                        next_ray.tmax = 1e30f;
-                        st.throughput[0] = nthr.x; st.throughput[1] = nthr.y; st.throughput[2] = nthr.z;
-                        st.last_pdf = pdf;
-                        st.flags &= ~HT_PATH_FROM_CAMERA;
-                        want_next = 1;
-                    } else if (!ht_finite3(nthr)) {
-                        atomic_inc(&counters[HT_COUNTER_NAN]);
-                    }
+                    float3 wi = fx * wi_l.x + fy * wi_l.y + fz * wi_l.z;
+                    want_next = ht_continue_path(&st, nthr, pdf, ht_spawn_origin(axis_point, t, fz, hit.radius, wi),
+                                                 wi, &next_ray, counters);
                 }
             }
           }
