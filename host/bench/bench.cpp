@@ -2,6 +2,8 @@
 
 #include "cli/args.h"
 
+#include "bench/embree_tracer.h"
+#include "render/renderer.h"
 #include "bench/rays_file.h"
 #include "bvh/bvh.h"
 #include "bvh/device_geometry.h"
@@ -10,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <memory>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -234,7 +237,11 @@ const char* kBenchHelp =
     "  --res N                       generated primary rays: N x N (default 1024)\n"
     "  --reps N                      timed passes per case, median reported (default 5)\n"
     "  --json                        machine-readable report\n"
+    "  --embree                      also trace every ray set through Embree 3 in this process (same\n"
+    "                                rays, 2 threads, rtcIntersect1/rtcOccluded1) and print the ratio;\n"
+    "                                needs a build with libembree-dev installed\n"
     "  --device I                    OpenCL device index\n"
+    "  --no-wavefront                skip the per-bounce throughput of a small full render\n"
     "  --compact                     the memory-lean BVH preset (leaves <= 8)\n"
     "  --leaf N, --bins N, --cisect X, --split R, --split-depth N   BVH builder parameters\n"
     "  --options \"...\"              OpenCL build options for the trace kernels\n"
@@ -250,7 +257,7 @@ int bench_main(const std::vector<std::string>& args, const SceneSource& source_i
     });
     std::vector<SceneArg> scenes;
     int reps = 5, device = -1, res = 1024;
-    bool json_out = false;
+    bool json_out = false, with_embree = false, wavefront = true;
     BvhOptions bopt;
     std::string options = DeviceTracer::default_options();
     for (size_t i = 0; i < args.size(); ++i) {
@@ -269,6 +276,8 @@ int bench_main(const std::vector<std::string>& args, const SceneSource& source_i
             scenes.back().rays.push_back(value());
         } else if (a == "--reps") reps = std::max(1, std::stoi(value()));
         else if (a == "--json") json_out = true;
+        else if (a == "--embree") with_embree = true;
+        else if (a == "--no-wavefront") wavefront = false;
         else if (a == "--device") device = std::stoi(value());
         else if (a == "--res") res = std::max(4, std::stoi(value()) / 4 * 4);
         else if (a == "--compact") bopt = BvhOptions::compact();
@@ -314,6 +323,13 @@ int bench_main(const std::vector<std::string>& args, const SceneSource& source_i
                         sa.name.c_str(), geo.segment_count, geo.points.size(), median(build_ms),
                         st.nodes, st.leaves, st.max_depth, st.references, st.sah_cost,
                         st.bytes_per_segment);
+
+        std::unique_ptr<EmbreeTracer> embree;
+        if (with_embree) {
+            embree = std::make_unique<EmbreeTracer>(strands);
+            js["embree_build_ms"] = embree->build_ms();
+            if (!json_out) std::printf("  Embree BVH build %.1f ms (same process)\n", embree->build_ms());
+        }
 
         // ---- device program
         const DeviceGeometry dgeo = upload_geometry(cl, geo);
@@ -441,6 +457,15 @@ int bench_main(const std::vector<std::string>& args, const SceneSource& source_i
             jr["mrays_per_cpu_s"] = mrays_cpu;
             jr["pass_ms"] = times;
             jr["pass_cpu_ms"] = cpu;
+            double embree_mrays = 0;
+            size_t embree_count = 0;
+            if (embree) {
+                const double ems = embree->trace(s.rays, s.shadow, reps, &embree_count);
+                embree_mrays = ems > 0 ? s.rays.size() / (ems * 1e3) : 0.0;
+                jr["embree_in_process"] = {{"median_ms", ems}, {"mrays_per_s", embree_mrays},
+                                           {s.shadow ? "occluded" : "hits", embree_count},
+                                           {"ratio", embree_mrays > 0 ? mrays / embree_mrays : 0.0}};
+            }
             jsets.push_back(jr);
             if (!json_out) {
                 std::printf("  %-10s %zu rays (%s): %s\n", s.name.c_str(), s.rays.size(),
@@ -450,9 +475,46 @@ int bench_main(const std::vector<std::string>& args, const SceneSource& source_i
                             "%.2f Mrays per CPU-second\n",
                             s.shadow ? "shadow " : "closest", mrays, reps, med,
                             jr["first_ms"].get<double>(), mrays_cpu);
+                if (embree)
+                    std::printf("    Embree (same process, same rays): %.2f Mrays/s, %s %zu; hairtrace/Embree = %.2f\n",
+                                embree_mrays, s.shadow ? "occluded" : "hits", embree_count,
+                                embree_mrays > 0 ? mrays / embree_mrays : 0.0);
             }
         }
         js["sets"] = jsets;
+
+        // ---- wavefront throughput of a full render: paths and rays per second per bounce
+        if (wavefront) {
+            Scene scene;
+            scene.source = sa.name;
+            scene.strands = strands;
+            scene.materials = {blond_hair_material()};
+            scene.strands.material.assign(scene.strands.strand_count(), 0);
+            ensure_camera_and_light(scene);
+            RenderSettings rs;
+            rs.width = rs.height = 256;
+            rs.spp = 2;
+            rs.max_depth = 5;
+            Renderer renderer(cl, scene, rs);
+            Film film;
+            renderer.render(film);
+            nlohmann::json jb = nlohmann::json::array();
+            if (!json_out) std::printf("  wavefront render 256x256, 2 spp, depth 5 (marschner, blond):\n");
+            for (size_t b = 0; b < renderer.stats().bounces.size(); ++b) {
+                const BounceStats& bs = renderer.stats().bounces[b];
+                const double paths_s = bs.seconds > 0 ? bs.paths / bs.seconds : 0.0;
+                const double rays_s = bs.seconds > 0 ? (bs.paths + bs.shadow_rays) / bs.seconds : 0.0;
+                jb.push_back({{"bounce", b}, {"paths", bs.paths}, {"shadow_rays", bs.shadow_rays},
+                              {"seconds", bs.seconds}, {"paths_per_s", paths_s}, {"rays_per_s", rays_s}});
+                if (!json_out)
+                    std::printf("    bounce %zu: %8llu paths %8llu shadow rays  %.3f s  %.2f M paths/s  %.2f M rays/s\n", b,
+                                (unsigned long long)bs.paths, (unsigned long long)bs.shadow_rays, bs.seconds,
+                                paths_s * 1e-6, rays_s * 1e-6);
+            }
+            js["wavefront"] = {{"width", rs.width}, {"height", rs.height}, {"spp", rs.spp},
+                               {"max_depth", rs.max_depth}, {"seconds", renderer.stats().seconds},
+                               {"bounces", jb}};
+        }
         report.push_back(js);
     }
     if (json_out) std::printf("%s\n", report.dump(2).c_str());

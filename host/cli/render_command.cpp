@@ -344,6 +344,12 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
         st.build_ms += rst.build_ms;
         st.build_cached = rst.build_cached;
         for (auto& [name, sec] : rst.stage_seconds) st.stage_seconds.push_back({name, sec});
+        if (st.bounces.size() < rst.bounces.size()) st.bounces.resize(rst.bounces.size());
+        for (size_t b = 0; b < rst.bounces.size(); ++b) {
+            st.bounces[b].paths += rst.bounces[b].paths;
+            st.bounces[b].shadow_rays += rst.bounces[b].shadow_rays;
+            st.bounces[b].seconds += rst.bounces[b].seconds;
+        }
     }
     if (!quiet) {
         if (shares.size() > 1)
@@ -359,6 +365,15 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
                      (unsigned long long)st.shadow_rays, st.build_ms, st.build_cached ? " (cached)" : "");
         for (auto& [name, sec] : st.stage_seconds)
             std::fprintf(stderr, "stage %-22s %8.3f s\n", name.c_str(), sec);
+        if (rs.profile_stages)
+            for (size_t b = 0; b < st.bounces.size(); ++b) {
+                const BounceStats& bs = st.bounces[b];
+                const double rays = double(bs.paths + bs.shadow_rays);
+                std::fprintf(stderr, "bounce %zu: %llu paths, %llu shadow rays, %.3f s: %.2f M paths/s, %.2f M rays/s\n", b,
+                             (unsigned long long)bs.paths, (unsigned long long)bs.shadow_rays, bs.seconds,
+                             bs.seconds > 0 ? bs.paths / bs.seconds * 1e-6 : 0.0,
+                             bs.seconds > 0 ? rays / bs.seconds * 1e-6 : 0.0);
+            }
         if (stopped_by_limit) std::fprintf(stderr, "stopped by --time-limit after %d of %d spp\n", done, range.count());
         if (g_stop_signal)
             std::fprintf(stderr, "interrupted after %d of %d spp%s\n", done, range.count(),

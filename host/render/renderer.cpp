@@ -324,6 +324,7 @@ void Renderer::render_sample(uint32_t sample) {
             int q = 0;
             uint32_t n = count;
             for (uint32_t bounce = 0; n > 0 && bounce < uint32_t(s.max_depth); ++bounce) {
+                const auto t_bounce = std::chrono::steady_clock::now();
                 r.intersect_closest(q, n);
                 r.shade(q, n, sample, bounce);
                 const bool last = bounce + 1 == uint32_t(s.max_depth);
@@ -339,6 +340,12 @@ void Renderer::render_sample(uint32_t sample) {
                 r.stats.nonfinite_caught += nonfinite;
                 r.stats.shadow_rays += shadows;
                 r.stats.extension_rays += next;
+                if (r.stats.bounces.size() <= bounce) r.stats.bounces.resize(bounce + 1);
+                BounceStats& bs = r.stats.bounces[bounce];
+                bs.paths += n;
+                bs.shadow_rays += shadows;
+                // read_counters() waited for the queue: this is the bounce's wall time
+                bs.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t_bounce).count();
                 q = 1 - q;
                 n = next;
             }

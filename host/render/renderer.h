@@ -37,6 +37,13 @@ struct Film {
     }
 };
 
+// One bounce of the wavefront over all samples so far: paths shaded (= closest-hit rays traced),
+// shadow rays queued, and wall seconds of its stages.
+struct BounceStats {
+    uint64_t paths = 0, shadow_rays = 0;
+    double seconds = 0;
+};
+
 struct RenderStats {
     double seconds = 0, build_ms = 0;
     bool build_cached = false;
@@ -47,6 +54,7 @@ struct RenderStats {
     // With RenderSettings::profile_stages: seconds per stage kernel (the queue is drained after
     // every launch, which costs some overlap, so only the proportions are meaningful).
     std::vector<std::pair<std::string, double>> stage_seconds;
+    std::vector<BounceStats> bounces;  // wavefront throughput per bounce
 };
 
 // Called after each finished sample pass with (samples done, samples total); returning false

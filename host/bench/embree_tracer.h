@@ -1,0 +1,35 @@
+// Embree 3 on exactly the rays hairtrace traces, in the same process (`hairtrace bench --embree`):
+// the yardstick side by side, with the machine's drift cancelled.  Compiled in when CMake finds
+// libembree-dev; otherwise embree_available() is false and the tracer refuses to construct.
+#pragma once
+
+#include "kernels/types.h"
+#include "scene/scene.h"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace ht {
+
+bool embree_available();
+
+class EmbreeTracer {
+public:
+    // Round linear curves over the strands, primID = global segment index (as the anchor).
+    explicit EmbreeTracer(const Strands& strands);
+    ~EmbreeTracer();
+    EmbreeTracer(const EmbreeTracer&) = delete;
+    EmbreeTracer& operator=(const EmbreeTracer&) = delete;
+
+    double build_ms() const;
+    // Traces every ray on 2 threads (4096-ray chunks) `reps` times after a warm-up pass and returns
+    // the median milliseconds; *count = hits (closest) or occluded rays (shadow).
+    double trace(const std::vector<HtRay>& rays, bool shadow, int reps, size_t* count);
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace ht
