@@ -12,6 +12,8 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <thread>
+#include <fstream>
 #include <memory>
 #include <chrono>
 #include <cmath>
@@ -292,9 +294,25 @@ int bench_main(const std::vector<std::string>& args, const SceneSource& source_i
     if (scenes.empty()) scenes = {{"builtin:strand", {}}, {"builtin:ball", {}}};
 
     nlohmann::json report = nlohmann::json::array();
+    nlohmann::json report_machine;
     bool all_ok = true;
     ClContext cl(device);
-    if (!json_out) std::printf("device: %s (%s)\n", cl.info().name.c_str(), cl.info().platform.c_str());
+    // The machine line: what every number below was measured on.
+    std::string cpu = "unknown CPU";
+    {
+        std::ifstream info("/proc/cpuinfo");
+        for (std::string line; std::getline(info, line);)
+            if (line.rfind("model name", 0) == 0) {
+                cpu = line.substr(line.find(':') + 2);
+                break;
+            }
+    }
+    const unsigned cores = std::thread::hardware_concurrency();
+    report_machine = {{"cpu", cpu}, {"cores", cores}, {"device", cl.info().name},
+                      {"platform", cl.info().platform_version}, {"driver", cl.info().driver}};
+    if (!json_out)
+        std::printf("machine: %s, %u cores; OpenCL device %s (%s, driver %s)\n", cpu.c_str(), cores,
+                    cl.info().name.c_str(), cl.info().platform_version.c_str(), cl.info().driver.c_str());
 
     for (SceneArg& sa : scenes) {
         nlohmann::json js;
@@ -517,7 +535,7 @@ int bench_main(const std::vector<std::string>& args, const SceneSource& source_i
         }
         report.push_back(js);
     }
-    if (json_out) std::printf("%s\n", report.dump(2).c_str());
+    if (json_out) std::printf("%s\n", nlohmann::json{{"machine", report_machine}, {"scenes", report}}.dump(2).c_str());
     return all_ok ? 0 : 1;
 }
 
