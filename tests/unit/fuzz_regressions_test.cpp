@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "scene/scene.h"
+#include "tests/fuzz/fiber_contract.h"
 #include "tests/fuzz/scene_contract.h"
 
 namespace fs = std::filesystem;
@@ -33,7 +34,7 @@ namespace fs = std::filesystem;
 namespace {
 
 struct Case {
-    std::string target;  // fuzz_hair_file, fuzz_usc_data, fuzz_gltf, fuzz_scene_builtin
+    std::string target;  // fuzz_hair_file, fuzz_usc_data, fuzz_gltf, fuzz_scene_builtin, fuzz_fiber_json
     fs::path file;
     std::string name;  // gtest-safe
 };
@@ -50,7 +51,8 @@ std::vector<Case> collect_cases() {
     const fs::path root = fs::path(HT_SOURCE_DIR) / "tests" / "fuzz";
     std::vector<Case> cases;
     for (const char* kind : {"regressions", "corpus"}) {
-        for (const char* target : {"fuzz_hair_file", "fuzz_usc_data", "fuzz_gltf", "fuzz_scene_builtin"}) {
+        for (const char* target :
+             {"fuzz_hair_file", "fuzz_usc_data", "fuzz_gltf", "fuzz_scene_builtin", "fuzz_fiber_json"}) {
             const fs::path dir = root / kind / target;
             std::error_code ec;
             if (!fs::is_directory(dir, ec)) continue;
@@ -103,6 +105,8 @@ std::string write_scratch(const std::string& file_name, const std::string& bytes
 // Loads `bytes` as the fuzz target `target` would.
 std::string judge_as_target(const std::string& target, const std::string& bytes) {
     if (target == "fuzz_scene_builtin") return judge("builtin:" + bytes);
+    if (target == "fuzz_fiber_json")
+        return ht_fuzz::judge_fiber_query(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size());
     std::string name = "input.hair";
     if (target == "fuzz_usc_data") name = "input.data";
     if (target == "fuzz_gltf")
