@@ -17,6 +17,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
+#include <string>
 #include <cmath>
 
 namespace ht {
@@ -36,6 +38,17 @@ cl::Buffer device_array(cl::Context& ctx, const std::vector<T>& v) {
     return cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes, padded.data());
 }
 }  // namespace
+
+// Test hook: HAIRTRACE_INJECT_FAULT=alloc|launch makes the device layer fail the way a driver
+// does (CL_MEM_OBJECT_ALLOCATION_FAILURE, CL_OUT_OF_RESOURCES), so the error paths that real
+// devices reach only under pressure are exercised by tests (tests/render/failure_test.cpp).
+static bool injected_fault(const char* where) {
+    static const std::string fault = [] {
+        const char* e = std::getenv("HAIRTRACE_INJECT_FAULT");
+        return std::string(e ? e : "");
+    }();
+    return !fault.empty() && fault == where;
+}
 
 struct Renderer::Impl {
     ClContext& cl;
@@ -107,6 +120,7 @@ struct Renderer::Impl {
     }
 
     void allocate(size_t n) {
+        if (injected_fault("alloc")) throw cl::Error(CL_MEM_OBJECT_ALLOCATION_FAILURE, "clCreateBuffer");
         capacity = n;
         auto& ctx = cl.context();
         size_t cap = round_up(n, kLocalSize);
@@ -259,6 +273,7 @@ struct Renderer::Impl {
     void launch(cl::Kernel& k, size_t n) { launch(k, global_for(n), cl::NDRange(kLocalSize)); }
 
     void launch(cl::Kernel& k, const cl::NDRange& global, const cl::NDRange& local) {
+        if (injected_fault("launch")) throw cl::Error(CL_OUT_OF_RESOURCES, "clEnqueueNDRangeKernel");
         if (!settings.profile_stages) {
             cl.queue().enqueueNDRangeKernel(k, cl::NullRange, global, local);
             return;

@@ -101,3 +101,24 @@ TEST(Failure, FullDiskKeepsThePreviousImage) {
         EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << "left a temporary file: " << e.path();
 }
 #endif
+
+#ifdef HT_BINARY
+// Driver failures that real devices produce only under pressure, injected at the device layer:
+// each must end in a one-line message and exit 3, with nothing written.
+TEST(Failure, DeviceOutOfResourcesAtLaunchExits3) {
+    TempDir d;
+    std::string cmd = "HAIRTRACE_INJECT_FAULT=launch " + kBin + kSmall + " -o " + (d / "x.exr") + " 2>" + (d / "err.txt");
+    EXPECT_EQ(run(cmd), 3);
+    std::string err = slurp(d / "err.txt");
+    EXPECT_NE(err.find("CL_OUT_OF_RESOURCES"), std::string::npos) << err;
+    EXPECT_FALSE(fs::exists(d / "x.exr"));
+}
+
+TEST(Failure, DeviceAllocationFailureExits3) {
+    TempDir d;
+    std::string cmd = "HAIRTRACE_INJECT_FAULT=alloc " + kBin + kSmall + " -o " + (d / "x.exr") + " 2>" + (d / "err.txt");
+    EXPECT_EQ(run(cmd), 3);
+    std::string err = slurp(d / "err.txt");
+    EXPECT_NE(err.find("CL_MEM_OBJECT_ALLOCATION_FAILURE"), std::string::npos) << err;
+}
+#endif
