@@ -211,6 +211,17 @@ HT_FN void ht_marschner_eval(const HtMaterial* m, real3 wo, real3 wi, real h, re
     *pdf = ht_sanitize(ht_marschner_pdf(m, &a, dens));
 }
 
+/* The end of a sampler that draws from a proxy and then evaluates the model at the drawn
+ * direction w: reports w, the model's pdf there and weight = value / pdf (0 if pdf is 0). */
+HT_FN int ht_finish_sample(real3 w, real3 value, real pd, real3* wi, real3* weight, real* pdf) {
+    *wi = w;
+    *pdf = pd;
+    if (!(pd > HT_R(0))) return 0;
+    *weight = ht_sanitize3(value / pd);
+    return 1;
+}
+
+
 HT_FN int ht_marschner_sample(const HtMaterial* m, real3 wo, real h, real u0, real u1, real u2, real u3,
                               real3* wi, real3* weight, real* pdf) {
     real sin_o, cos_o;
@@ -253,11 +264,7 @@ HT_FN int ht_marschner_sample(const HtMaterial* m, real3 wo, real h, real u0, re
     real3 value;
     real pd;
     ht_marschner_eval(m, wo, w, h, lobes, &value, &pd);
-    *wi = w;
-    *pdf = pd;
-    if (!(pd > HT_R(0))) return 0;
-    *weight = ht_sanitize3(value / pd);
-    return 1;
+    return ht_finish_sample(w, value, pd, wi, weight, pdf);
 }
 
 #endif

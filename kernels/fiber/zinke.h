@@ -99,11 +99,7 @@ HT_FN int ht_zinke_sample(const HtMaterial* m, real3 wo, real h, real u0, real u
     real3 value;
     real pd;
     ht_zinke_eval(m, wo, w, h, lobes, &value, &pd);
-    *wi = w;
-    *pdf = pd;
-    if (!(pd > HT_R(0))) return 0;
-    *weight = ht_sanitize3(value / pd);
-    return 1;
+    return ht_finish_sample(w, value, pd, wi, weight, pdf);
 }
 
 #endif
