@@ -5,6 +5,7 @@
 #include "cli/args.h"
 #include "scene/scene.h"
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,9 @@ LoadOptions scene_load_options(const ArgParser& p);
 
 // --model / configs model=: sets every material's fibre model; throws UsageError for unknown names.
 void apply_model_override(Scene& scene, const std::string& model);
+
+// near|far|auto|material -> HT_FIELD_*; throws UsageError naming `what` otherwise.
+uint32_t parse_fiber_field(const std::string& what, const std::string& value);
 
 // "r,g,b" or a single value for all three.
 Vec3f parse_rgb(const std::string& option, const std::string& text);

@@ -164,13 +164,7 @@ int cmd_converge(const std::vector<std::string>& args) {
                 throw UsageError("--configs: indirect must be exact or afs, got '" + v + "'");
             }
         }
-        if (cfg.keys.count("field")) {
-            const std::string& v = cfg.keys.at("field");
-            if (v == "near") rs.fiber_field = HT_FIELD_NEAR;
-            else if (v == "far") rs.fiber_field = HT_FIELD_FAR;
-            else if (v == "auto") rs.fiber_field = HT_FIELD_AUTO;
-            else if (v != "material") throw UsageError("--configs: field must be near, far, auto or material");
-        }
+        if (cfg.keys.count("field")) rs.fiber_field = parse_fiber_field("--configs field", cfg.keys.at("field"));
         rs.spp = spps.back();
         Renderer r(cl, s, rs);
         Film film;

@@ -170,14 +170,7 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
     if (partial && std::none_of(outputs.begin(), outputs.end(), fs_ext_is_exr))
         throw UsageError("--sample-range needs an .exr output: only it keeps the raw sums `hairtrace merge` combines");
     const bool root = dist.rank == 0;
-    {
-        std::string f = p.get("--fiber-field");
-        if (f == "material") rs.fiber_field = HT_FIELD_MATERIAL;
-        else if (f == "near") rs.fiber_field = HT_FIELD_NEAR;
-        else if (f == "far") rs.fiber_field = HT_FIELD_FAR;
-        else if (f == "auto") rs.fiber_field = HT_FIELD_AUTO;
-        else throw UsageError("--fiber-field must be near, far, auto or material, got '" + f + "'");
-    }
+    rs.fiber_field = parse_fiber_field("--fiber-field", p.get("--fiber-field"));
     const double time_limit = p.get_double("--time-limit", 0, 1e9);
     const double checkpoint_every = p.get_double("--checkpoint-every", 0.01, 1e9);
     const bool auto_expose = p.get("--exposure") == "auto";

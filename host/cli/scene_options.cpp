@@ -1,4 +1,5 @@
 #include "cli/commands.h"
+#include "kernels/types.h"
 
 #include <cmath>
 #include <cstdlib>
@@ -24,6 +25,14 @@ void apply_model_override(Scene& scene, const std::string& m) {
     if (m != "kajiya" && m != "marschner" && m != "zinke" && m != "chiang")
         throw UsageError("unknown fibre model '" + m + "' (kajiya, marschner, zinke or chiang)");
     for (auto& mat : scene.materials) mat.model = m;
+}
+
+uint32_t parse_fiber_field(const std::string& what, const std::string& f) {
+    if (f == "material") return HT_FIELD_MATERIAL;
+    if (f == "near") return HT_FIELD_NEAR;
+    if (f == "far") return HT_FIELD_FAR;
+    if (f == "auto") return HT_FIELD_AUTO;
+    throw UsageError(what + " must be near, far, auto or material, got '" + f + "'");
 }
 
 Vec3f parse_rgb(const std::string& opt, const std::string& s) {
