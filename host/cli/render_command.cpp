@@ -139,7 +139,7 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
         .option("--background", "R,G,B", "uniform environment radiance (importance sampled like any light); replaces the scene's")
         .option("--environment", "FILE", "lat-long HDR environment map (.exr/.hdr, +y up); replaces the scene's")
         .option("--environment-intensity", "K", "multiplier for the environment", "1")
-        .option("--exposure", "E|auto", "multiplier applied before tone mapping 8-bit outputs; auto maps the 99.5th percentile of lit pixels to 0.9 (linear outputs are never scaled)", "auto")
+        .option("--exposure", "E|auto", "multiplier applied before tone mapping 8-bit outputs; auto maps the 95th percentile of lit pixels to 0.8 (linear outputs are never scaled)", "auto")
         .option("--checkpoint", "FILE", "write the progressive state to FILE (atomically) every --checkpoint-every seconds, at the end and on SIGINT/SIGTERM")
         .option("--checkpoint-every", "SECONDS", "checkpoint interval", "60")
         .option("--resume", "FILE", "continue a render from a checkpoint (same scene, options and seed)")
