@@ -135,7 +135,7 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
         .option("--model", "M", "override every material's fibre model: kajiya|marschner|zinke|chiang")
         .option("--indirect", "exact|afs|none", "hair-to-hair light: exact = path traced to --max-depth; afs = traced to --max-depth (auto: 1), then the paper's averaged attenuation: the last bounce's shadow rays cross hair with AFS_TT^avg per fibre; none = direct light with opaque hair (depth 1)", "exact")
         .option("--clamp-indirect", "C|off", "cap the contribution of every light path that scattered at two or more surfaces at C (radiance, largest rgb channel, hue kept): fewer sparkles at low sample counts at the cost of a bias that must be measured per scene (builtin:strand, irradiance 1: C = 3 removes 2.8 % of the light, C = 1 14.5 %)", "off")
-        .option("--fiber-field", "near|far|auto|material", "for marschner/zinke materials: near field (zinke) everywhere, far field (marschner) everywhere, or auto: near where a fibre covers at least half a camera pixel's footprint and for hair-to-hair light, far elsewhere", "auto")
+        .option("--fiber-field", "near|far|auto|material", "for marschner/zinke materials: near field (zinke) everywhere, far field (marschner) everywhere, or auto: near where a fibre covers at least half a camera pixel's footprint and for hair-to-hair light, far elsewhere; with --model and no --fiber-field: material", "auto")
         .option("--background", "R,G,B", "uniform environment radiance (importance sampled like any light); replaces the scene's")
         .option("--environment", "FILE", "lat-long HDR environment map (.exr/.hdr, +y up); replaces the scene's")
         .option("--environment-intensity", "K", "multiplier for the environment", "1")
@@ -183,7 +183,9 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
     if (partial && std::none_of(outputs.begin(), outputs.end(), fs_ext_is_exr))
         throw UsageError("--sample-range needs an .exr output: only it keeps the raw sums `hairtrace merge` combines");
     const bool root = dist.rank == 0;
-    rs.fiber_field = parse_fiber_field("--fiber-field", p.get("--fiber-field"));
+    // An explicit --model is taken literally unless --fiber-field says otherwise.
+    rs.fiber_field = parse_fiber_field("--fiber-field", p.has("--model") && !p.has("--fiber-field")
+                                                           ? std::string("material") : p.get("--fiber-field"));
     rs.clamp_indirect = parse_clamp_indirect(p.get("--clamp-indirect"));
     const double time_limit = p.get_double("--time-limit", 0, 1e9);
     const double checkpoint_every = p.get_double("--checkpoint-every", 0.01, 1e9);
