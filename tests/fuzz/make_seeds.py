@@ -14,6 +14,7 @@ import math
 import os
 import struct
 import sys
+import zlib
 
 OUT = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(os.path.abspath(__file__)), "corpus")
 
@@ -248,6 +249,65 @@ whole = glb(g, b)
 write(T, "truncated.glb", whole[:len(whole) // 2])
 write(T, "bad_chunk_length.glb", whole[:12] + struct.pack("<I", 0xFFFFFFF0) + whole[16:])
 
+
+
+def png_rgb8(width, height, rows):
+    """A minimal 8-bit RGB PNG written with zlib alone (rows: lists of (r, g, b))."""
+    def chunk(kind, data):
+        body = kind + data
+        return struct.pack(">I", len(data)) + body + struct.pack(">I", zlib.crc32(body) & 0xffffffff)
+    raw = b"".join(b"\x00" + bytes(c for px in row for c in px) for row in rows)
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0))
+            + chunk(b"IDAT", zlib.compress(raw, 9)) + chunk(b"IEND", b""))
+
+
+def textured(g, bin_, image_in_buffer):
+    """Adds a textured quad to a hair_gltf scene: TEXCOORD_0 (float, or normalized u8 when the
+    image is in the buffer), a baseColorTexture with a sampler, and a 2 x 2 PNG as a data: URI
+    or as a bufferView."""
+    png = png_rgb8(2, 2, [[(255, 0, 0), (0, 255, 0)], [(0, 0, 255), (255, 255, 255)]])
+    # hair_gltf's 5-vertex TRIANGLES primitive is refused before the quad would be reached: the
+    # textured seeds must load completely so the fuzzer starts from the texture code.
+    g["meshes"][1]["primitives"] = g["meshes"][1]["primitives"][:1]
+    bin_ = bin_ + b"\0" * (-len(bin_) % 4)
+    quad = f32([0, 0, 0, 1, 0, 0, 1, 0, 1, 0, 0, 1])
+    if image_in_buffer:
+        uv, uv_type = bytes([0, 0, 255, 0, 255, 255, 0, 255]), 5121
+    else:
+        uv, uv_type = f32([0, 0, 2, 0, 2, 2, 0, 2]), 5126
+    first = len(g["bufferViews"])
+    g["bufferViews"].append({"buffer": 0, "byteOffset": len(bin_), "byteLength": len(quad)})
+    bin_ += quad
+    g["bufferViews"].append({"buffer": 0, "byteOffset": len(bin_), "byteLength": len(uv)})
+    bin_ += uv + b"\0" * (-len(uv) % 4)
+    g["accessors"].append({"bufferView": first, "componentType": 5126, "count": 4, "type": "VEC3"})
+    g["accessors"].append({"bufferView": first + 1, "componentType": uv_type, "count": 4, "type": "VEC2",
+                           "normalized": uv_type != 5126})
+    if image_in_buffer:
+        g["bufferViews"].append({"buffer": 0, "byteOffset": len(bin_), "byteLength": len(png)})
+        bin_ += png
+        g["images"] = [{"bufferView": first + 2, "mimeType": "image/png"}]
+    else:
+        g["images"] = [{"uri": "data:image/png;base64," + base64.b64encode(png).decode()}]
+    n = len(g["accessors"])
+    g["materials"].append({"name": "checker", "pbrMetallicRoughness": {
+        "baseColorFactor": [1, 0.5, 1, 1], "baseColorTexture": {"index": 0, "texCoord": 0}}})
+    g["samplers"] = [{"wrapS": 33648, "wrapT": 33071, "magFilter": 9729}]
+    g["textures"] = [{"source": 0, "sampler": 0}]
+    g["meshes"].append({"primitives": [{"mode": 6, "attributes": {"POSITION": n - 2, "TEXCOORD_0": n - 1},
+                                        "material": len(g["materials"]) - 1}]})
+    g["nodes"].append({"mesh": len(g["meshes"]) - 1})
+    g["scenes"][0]["nodes"].append(len(g["nodes"]) - 1)
+    g["buffers"][0]["byteLength"] = len(bin_)
+    if "uri" in g["buffers"][0]:
+        g["buffers"][0]["uri"] = "data:application/octet-stream;base64," + base64.b64encode(bin_).decode()
+    return g, bin_
+
+
+g, b = hair_gltf()
+write(T, "textured_quad.gltf", dumps(textured(g, b, image_in_buffer=False)[0]))
+g, b = hair_gltf(data_uri=False)
+write(T, "textured_quad.glb", glb(*textured(g, b, image_in_buffer=True)))
 
 # ---- builtin: specs ------------------------------------------------------------------------------
 T = "fuzz_scene_builtin"
