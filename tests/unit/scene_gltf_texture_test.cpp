@@ -6,6 +6,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "scene/scene.h"
@@ -39,6 +40,18 @@ test::Bytes encode_image(const test::TempDir& dir, const std::string& name, int 
 const std::vector<unsigned char> kQuad = {255, 0, 0, 0, 255, 0, 0, 0, 255, 255, 255, 255};
 
 uint32_t rgb8(uint32_t r, uint32_t g, uint32_t b) { return r | g << 8 | b << 16; }
+
+uint32_t be32(const test::Bytes& b, size_t at) {
+    return uint32_t(b[at]) << 24 | b[at + 1] << 16 | b[at + 2] << 8 | b[at + 3];
+}
+
+// Byte offset of the first IDAT chunk (its length field) of a PNG.
+size_t idat_chunk(const test::Bytes& png) {
+    size_t at = 8;
+    while (at + 8 <= png.size() && std::memcmp(&png[at + 4], "IDAT", 4) != 0) at += 12 + be32(png, at);
+    EXPECT_LT(at + 8, png.size()) << "no IDAT chunk";
+    return at;
+}
 
 // PNG chunk CRC (ISO 3309, as in the PNG spec's sample code), to forge a consistent header.
 uint32_t png_crc32(const unsigned char* p, size_t n) {
@@ -258,6 +271,31 @@ TEST_F(HostileTexture, UndecodableImages) {
         textured_quad(g, add_vec2(g, kUvs));
         g.doc["images"] = json::array({{{"bufferView", add_view(g, png)}, {"mimeType", "image/png"}}});
         const std::string msg = refuse(g, "cut.glb", true);
+        EXPECT_TRUE(contains(msg, "truncated")) << msg;
+    }
+    {
+        // One flipped bit in the compressed pixels: the chunk's CRC no longer matches.
+        test::Bytes png = encode_image(dir, "q.png", 2, 2, kQuad);
+        png[idat_chunk(png) + 8 + 2] ^= 0x10;  // third byte of the compressed pixels
+        test::GltfBuilder g;
+        textured_quad(g, add_vec2(g, kUvs));
+        g.doc["images"] = json::array({{{"bufferView", add_view(g, png)}}});
+        const std::string msg = refuse(g, "crc.glb", true);
+        EXPECT_TRUE(contains(msg, "CRC")) << msg;
+    }
+    {
+        // Whole chunks with valid CRCs around pixel data that is not a zlib stream: only the
+        // decoder can tell.
+        test::Bytes png = encode_image(dir, "q.png", 2, 2, kQuad);
+        const size_t idat = idat_chunk(png);
+        const uint32_t len = be32(png, idat);
+        for (uint32_t i = 0; i < len; ++i) png[idat + 8 + i] = 0x55;
+        const uint32_t crc = png_crc32(&png[idat + 4], 4 + len);
+        for (int i = 0; i < 4; ++i) png[idat + 8 + len + i] = uint8_t(crc >> (24 - 8 * i));
+        test::GltfBuilder g;
+        textured_quad(g, add_vec2(g, kUvs));
+        g.doc["images"] = json::array({{{"bufferView", add_view(g, png)}}});
+        const std::string msg = refuse(g, "zlib.glb", true);
         EXPECT_TRUE(contains(msg, "decode")) << msg;
     }
     {
