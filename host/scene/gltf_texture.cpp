@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <filesystem>
 #include <fstream>
 
 #include "scene/scene_error.h"
@@ -140,12 +141,19 @@ std::vector<unsigned char> GltfTextureReader::image_bytes(int index, const std::
                    "...\" is not a base64 PNG or JPEG");
     const std::string name = percent_decode(image.uri);
     const std::string path = !name.empty() && name[0] == '/' ? name : directory_ + "/" + name;
+    std::error_code ec;
+    const auto status = std::filesystem::status(path, ec);
+    if (ec || !std::filesystem::exists(status))
+        scene_fail(file_, what, ": cannot open the image file ", path, " (it does not exist)");
+    // A directory, FIFO or device would open and then fail oddly or block: refuse them up front.
+    if (!std::filesystem::is_regular_file(status))
+        scene_fail(file_, what, ": the image file ", path, " is not a regular file");
     std::ifstream in(path, std::ios::binary);
     if (!in) scene_fail(file_, what, ": cannot open the image file ", path);
     in.seekg(0, std::ios::end);
     const std::streamoff size = in.tellg();
-    // A directory opens but has no size; a file larger than the limit is refused unread.
-    if (size <= 0) scene_fail(file_, what, ": the image file ", path, " is empty or not a regular file");
+    // A file larger than the limit is refused unread.
+    if (size <= 0) scene_fail(file_, what, ": the image file ", path, " is empty");
     if (static_cast<uint64_t>(size) > opt_.max_bytes)
         scene_fail(file_, what, ": the image file ", path, " (", size, " bytes) exceeds the memory limit");
     std::vector<unsigned char> bytes(static_cast<size_t>(size));

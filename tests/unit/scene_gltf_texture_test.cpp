@@ -251,7 +251,12 @@ TEST_F(HostileTexture, MissingImageFile) {
     textured_quad(g, add_vec2(g, kUvs));
     g.doc["images"] = json::array({{{"uri", "nowhere.png"}}});
     const std::string msg = refuse(g, "missing.gltf");
-    EXPECT_TRUE(contains(msg, "nowhere.png") && contains(msg, "cannot open")) << msg;
+    EXPECT_TRUE(contains(msg, "nowhere.png") && contains(msg, "does not exist")) << msg;
+    // a directory where the image should be
+    std::filesystem::create_directory(dir.file("folder.png"));
+    g.doc["images"] = json::array({{{"uri", "folder.png"}}});
+    const std::string msg2 = refuse(g, "folder.gltf");
+    EXPECT_TRUE(contains(msg2, "folder.png") && contains(msg2, "not a regular file")) << msg2;
 }
 
 TEST_F(HostileTexture, UndecodableImages) {
