@@ -74,7 +74,9 @@ typedef struct {
 /* One texture in the shared texel buffer: texels [offset, offset + width * height), row 0 at
  * v = 0 (the top of the image, as glTF), one uint per texel holding sRGB-encoded 8-bit r | g << 8
  * | b << 16 (alpha is not used).  Sampled bilinearly without mip-maps (kernels/surface/texture.h).
+ * The buffer begins with the HT_SRGB_TABLE_SIZE-entry sRGB decode table, so offsets start there.
  * 32 bytes. */
+#define HT_SRGB_TABLE_SIZE 256u
 typedef struct {
     uint offset, width, height, pad0;
     uint wrap_s, wrap_t, pad1, pad2;

@@ -14,6 +14,7 @@
 #include "render/features.h"
 #include "render/memory_plan.h"
 #include "render/scene_upload.h"
+#include "kernels/surface/texture.h"
 
 #include <algorithm>
 #include <chrono>
@@ -114,7 +115,7 @@ struct Renderer::Impl {
         k_compact_scatter = cl::Kernel(program, "compact_scatter");
 
         const std::vector<HtTexture> texture_headers = make_kernel_textures(scene.textures);
-        const uint64_t texel_bytes = total_texels(scene.textures) * sizeof(uint32_t);
+        const uint64_t texel_bytes = texel_buffer_size(scene.textures) * sizeof(uint32_t);
         const uint64_t scene_bytes = device_geometry.bytes + environment.texels.size() * 4 +
                                      (environment.marginal.size() + environment.conditional.size()) * 4 +
                                      texel_bytes + texture_headers.size() * sizeof(HtTexture);
@@ -134,7 +135,10 @@ struct Renderer::Impl {
                               format_bytes(cl.info().max_alloc) + " per buffer; use smaller textures");
         texture_count = uint32_t(headers.size());
         textures = device_array(cl.context(), headers);
-        texels = cl::Buffer(cl.context(), CL_MEM_READ_ONLY, std::max<uint64_t>(texel_bytes, sizeof(uint32_t)));
+        texels = cl::Buffer(cl.context(), CL_MEM_READ_ONLY, texel_bytes);
+        uint32_t table[HT_SRGB_TABLE_SIZE];
+        ht_srgb_table(table);
+        cl.queue().enqueueWriteBuffer(texels, CL_TRUE, 0, sizeof table, table);
         for (size_t i = 0; i < scene_textures.size(); ++i) {
             const std::vector<uint32_t>& t = scene_textures[i].texels;
             if (!t.empty())

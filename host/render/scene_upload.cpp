@@ -83,7 +83,7 @@ std::vector<HtMaterial> make_kernel_materials(const std::vector<HairMaterialDesc
 
 std::vector<HtTexture> make_kernel_textures(const std::vector<Texture>& textures) {
     std::vector<HtTexture> out;
-    uint64_t offset = 0;
+    uint64_t offset = HT_SRGB_TABLE_SIZE;
     auto wrap = [](TextureWrap w) {
         switch (w) {
         case TextureWrap::ClampToEdge: return HT_WRAP_CLAMP;
@@ -105,8 +105,8 @@ std::vector<HtTexture> make_kernel_textures(const std::vector<Texture>& textures
     return out;
 }
 
-uint64_t total_texels(const std::vector<Texture>& textures) {
-    uint64_t n = 0;
+uint64_t texel_buffer_size(const std::vector<Texture>& textures) {
+    uint64_t n = HT_SRGB_TABLE_SIZE;
     for (const Texture& t : textures) n += t.texels.size();
     return n;
 }

@@ -104,8 +104,9 @@ Texture GltfTextureReader::decode(int texture_index, const std::string& where) {
         scene_fail(file_, what, ": mimeType \"", image.mimeType,
                    "\" is not supported (image/png and image/jpeg are)");
     const std::vector<unsigned char> bytes = image_bytes(gt.source, what);
-    // Texels are 4 bytes; all textures together stay within the limit and 32-bit device offsets.
-    const uint64_t limit = std::min<uint64_t>(opt_.max_bytes / 4, UINT32_MAX);
+    // Texels are 4 bytes; all textures together stay within the limit and well inside 32-bit
+    // device offsets (2^31 texels = 8 GiB).
+    const uint64_t limit = std::min<uint64_t>(opt_.max_bytes / 4, uint64_t(1) << 31);
     const uint64_t left = limit > texel_total_ ? limit - texel_total_ : 0;
     DecodedImage d = decode_texture_image(bytes, sniff_image_format(bytes.data(), bytes.size()),
                                           left, file_, what);

@@ -1,6 +1,6 @@
 // Host (double) checks of the portable texture sampling (kernels/surface/texture.h) against
-// texel values computed by hand: sRGB decode, bilinear weights at and between texel centres,
-// each wrap mode on both sides of the [0, 1] range.
+// texel values computed by hand: sRGB decode (formula and table), bilinear weights at and
+// between texel centres, each wrap mode on both sides of the [0, 1] range.
 #include <gtest/gtest.h>
 
 #include "kernels/surface/texture.h"
@@ -15,6 +15,17 @@ uint32_t rgb8(uint32_t r, uint32_t g, uint32_t b) { return r | g << 8 | b << 16;
 
 // The sRGB decode written out independently of the header (IEC 61966-2-1).
 double srgb_formula(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
+
+// A texel buffer as the renderer builds it: the decode table, then the given texels.
+std::vector<uint32_t> texel_buffer(const std::vector<uint32_t>& texels) {
+    std::vector<uint32_t> b(HT_SRGB_TABLE_SIZE);
+    ht_srgb_table(b.data());
+    b.insert(b.end(), texels.begin(), texels.end());
+    return b;
+}
+
+// The table holds floats: decoded values match the formula to float rounding.
+constexpr double kFloat = 1e-7;
 
 HtTexture header(uint32_t offset, uint32_t w, uint32_t h, uint32_t wrap_s, uint32_t wrap_t) {
     HtTexture t{};
@@ -40,13 +51,20 @@ TEST(Texture, SrgbDecodeMatchesTheFormula) {
     EXPECT_NEAR(0.04045 / 12.92, std::pow((0.04045 + 0.055) / 1.055, 2.4), 1e-7);
 }
 
+TEST(Texture, DecodeTableIsTheFormulaInFloat) {
+    const std::vector<uint32_t> table = texel_buffer({});
+    for (uint32_t i = 0; i < HT_SRGB_TABLE_SIZE; ++i)
+        EXPECT_EQ(ht_as_float(table[i]), float(srgb_formula(i / 255.0))) << i;
+}
+
 TEST(Texture, TexelChannelsDecodeIndependently) {
-    const real3 c = ht_texel_linear(rgb8(255, 128, 0));
-    EXPECT_NEAR(c.x, 1.0, 1e-12);
-    EXPECT_NEAR(c.y, srgb_formula(128 / 255.0), 1e-12);
+    const std::vector<uint32_t> table = texel_buffer({});
+    const real3 c = ht_texel_linear(table.data(), rgb8(255, 128, 0));
+    EXPECT_EQ(c.x, 1.0);
+    EXPECT_NEAR(c.y, srgb_formula(128 / 255.0), kFloat);
     EXPECT_EQ(c.z, 0.0);
     // The alpha byte (never stored by the loader) would not leak into any channel.
-    const real3 d = ht_texel_linear(rgb8(0, 0, 0) | 0xff000000u);
+    const real3 d = ht_texel_linear(table.data(), rgb8(0, 0, 0) | 0xff000000u);
     EXPECT_EQ(d.x + d.y + d.z, 0.0);
 }
 
@@ -54,11 +72,12 @@ TEST(Texture, TexelChannelsDecodeIndependently) {
 // a sample is then exactly the bilinear weight of that texel, easy to compute by hand.
 class Bilinear : public ::testing::Test {
 protected:
-    // texels start at offset 3 to check the header's offset is honoured
-    std::vector<uint32_t> texels = {rgb8(9, 9, 9), rgb8(9, 9, 9), rgb8(9, 9, 9),
-                                    rgb8(0, 0, 0), rgb8(255, 255, 255), rgb8(0, 0, 0), rgb8(0, 0, 0)};
+    // the texture starts 3 texels after the table, to check the header's offset is honoured
+    std::vector<uint32_t> texels = texel_buffer({rgb8(9, 9, 9), rgb8(9, 9, 9), rgb8(9, 9, 9),
+                                                 rgb8(0, 0, 0), rgb8(255, 255, 255), rgb8(0, 0, 0),
+                                                 rgb8(0, 0, 0)});
     double at(uint32_t ws, uint32_t wt, double u, double v) const {
-        return ht_texture_sample(header(3, 2, 2, ws, wt), texels.data(), u, v).x;
+        return ht_texture_sample(header(HT_SRGB_TABLE_SIZE + 3, 2, 2, ws, wt), texels.data(), u, v).x;
     }
 };
 
@@ -136,21 +155,22 @@ TEST_F(Bilinear, NonFiniteCoordinatesReadInsideTheTexture) {
 
 TEST(Texture, FilteringHappensInLinearLight) {
     // Black and white neighbours: halfway is linear 0.5, not the decode of sRGB 127.5 (~0.21).
-    const std::vector<uint32_t> texels = {rgb8(0, 0, 0), rgb8(255, 255, 255)};
-    const real3 c = ht_texture_sample(header(0, 2, 1, HT_WRAP_CLAMP, HT_WRAP_CLAMP), texels.data(), 0.5, 0.5);
+    const std::vector<uint32_t> texels = texel_buffer({rgb8(0, 0, 0), rgb8(255, 255, 255)});
+    const real3 c = ht_texture_sample(header(HT_SRGB_TABLE_SIZE, 2, 1, HT_WRAP_CLAMP, HT_WRAP_CLAMP),
+                                      texels.data(), 0.5, 0.5);
     EXPECT_NEAR(c.y, 0.5, 1e-12);
 }
 
 TEST(Texture, NonSquareTextureIndexesRowsByWidth) {
     // 3 x 2: texel (x, y) = x + 10 * y in red, decoded; checks row stride = width.
-    std::vector<uint32_t> texels;
+    std::vector<uint32_t> texels = texel_buffer({});
     for (uint32_t y = 0; y < 2; ++y)
         for (uint32_t x = 0; x < 3; ++x) texels.push_back(rgb8(x + 10 * y, 0, 0));
-    const HtTexture h = header(0, 3, 2, HT_WRAP_CLAMP, HT_WRAP_CLAMP);
+    const HtTexture h = header(HT_SRGB_TABLE_SIZE, 3, 2, HT_WRAP_CLAMP, HT_WRAP_CLAMP);
     for (uint32_t y = 0; y < 2; ++y)
         for (uint32_t x = 0; x < 3; ++x) {
             const double u = (x + 0.5) / 3.0, v = (y + 0.5) / 2.0;
-            EXPECT_NEAR(ht_texture_sample(h, texels.data(), u, v).x, srgb_formula((x + 10 * y) / 255.0), 1e-12)
+            EXPECT_NEAR(ht_texture_sample(h, texels.data(), u, v).x, srgb_formula((x + 10 * y) / 255.0), kFloat)
                 << x << "," << y;
         }
 }
