@@ -8,7 +8,7 @@
  * the texel buffer starts with HT_SRGB_TABLE_SIZE floats (as uint bits), the linear value of
  * each 8-bit code, written by the host with ht_srgb_table from the formula below.  Evaluating
  * the formula instead (12 pow() a lookup) made the shade stage of a scene half covered by a
- * textured floor 55 % slower on PoCL; the table costs 1 KiB.
+ * textured floor 55 % slower on PoCL (docs/PERFORMANCE.md §3); the table costs 1 KiB.
  *
  * Filtering is bilinear with texel centres at ((i + 0.5) / width, (j + 0.5) / height), as OpenGL
  * and glTF samplers; there are no mip-maps, so a texture seen from far away aliases (noise that
