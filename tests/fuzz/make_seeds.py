@@ -261,11 +261,11 @@ def png_rgb8(width, height, rows):
             + chunk(b"IDAT", zlib.compress(raw, 9)) + chunk(b"IEND", b""))
 
 
-def textured(g, bin_, image_in_buffer):
+def textured(g, bin_, image_in_buffer, image=None, mime="image/png"):
     """Adds a textured quad to a hair_gltf scene: TEXCOORD_0 (float, or normalized u8 when the
-    image is in the buffer), a baseColorTexture with a sampler, and a 2 x 2 PNG as a data: URI
-    or as a bufferView."""
-    png = png_rgb8(2, 2, [[(255, 0, 0), (0, 255, 0)], [(0, 0, 255), (255, 255, 255)]])
+    image is in the buffer), a baseColorTexture with a sampler, and an image (default a 2 x 2
+    PNG) as a data: URI or as a bufferView."""
+    png = image or png_rgb8(2, 2, [[(255, 0, 0), (0, 255, 0)], [(0, 0, 255), (255, 255, 255)]])
     # hair_gltf's 5-vertex TRIANGLES primitive is refused before the quad would be reached: the
     # textured seeds must load completely so the fuzzer starts from the texture code.
     g["meshes"][1]["primitives"] = g["meshes"][1]["primitives"][:1]
@@ -286,9 +286,9 @@ def textured(g, bin_, image_in_buffer):
     if image_in_buffer:
         g["bufferViews"].append({"buffer": 0, "byteOffset": len(bin_), "byteLength": len(png)})
         bin_ += png
-        g["images"] = [{"bufferView": first + 2, "mimeType": "image/png"}]
+        g["images"] = [{"bufferView": first + 2, "mimeType": mime}]
     else:
-        g["images"] = [{"uri": "data:image/png;base64," + base64.b64encode(png).decode()}]
+        g["images"] = [{"uri": "data:" + mime + ";base64," + base64.b64encode(png).decode()}]
     n = len(g["accessors"])
     g["materials"].append({"name": "checker", "pbrMetallicRoughness": {
         "baseColorFactor": [1, 0.5, 1, 1], "baseColorTexture": {"index": 0, "texCoord": 0}}})
@@ -304,8 +304,27 @@ def textured(g, bin_, image_in_buffer):
     return g, bin_
 
 
+# An 8 x 8 baseline JPEG (4:2:0, metadata stripped), written once by OpenImageIO's oiiotool:
+# Python's standard library has no JPEG encoder, and the seed must be reproducible.
+JPEG_8X8 = base64.b64decode(
+    "/9j/4AAQSkZJRgABAQAAAQABAAD/4QAWRXhpZgAASUkqAAgAAAAAAAAAAAD/2wBDAAMCAgMCAgMDAwMEAwMEBQgF"
+    "BQQEBQoHBwYIDAoMDAsKCwsNDhIQDQ4RDgsLEBYQERMUFRUVDA8XGBYUGBIUFRT/2wBDAQMEBAUEBQkFBQkUDQsN"
+    "FBQUFBQUFBQUFBQUFBQUFBQUFBQUFBQUFBQUFBQUFBQUFBQUFBQUFBQUFBQUFBQUFBT/wAARCAAIAAgDASIAAhEB"
+    "AxEB/8QAHwAAAQUBAQEBAQEAAAAAAAAAAAECAwQFBgcICQoL/8QAtRAAAgEDAwIEAwUFBAQAAAF9AQIDAAQRBRIh"
+    "MUEGE1FhByJxFDKBkaEII0KxwRVS0fAkM2JyggkKFhcYGRolJicoKSo0NTY3ODk6Q0RFRkdISUpTVFVWV1hZWmNk"
+    "ZWZnaGlqc3R1dnd4eXqDhIWGh4iJipKTlJWWl5iZmqKjpKWmp6ipqrKztLW2t7i5usLDxMXGx8jJytLT1NXW19jZ"
+    "2uHi4+Tl5ufo6erx8vP09fb3+Pn6/8QAHwEAAwEBAQEBAQEBAQAAAAAAAAECAwQFBgcICQoL/8QAtREAAgECBAQD"
+    "BAcFBAQAAQJ3AAECAxEEBSExBhJBUQdhcRMiMoEIFEKRobHBCSMzUvAVYnLRChYkNOEl8RcYGRomJygpKjU2Nzg5"
+    "OkNERUZHSElKU1RVVldYWVpjZGVmZ2hpanN0dXZ3eHl6goOEhYaHiImKkpOUlZaXmJmaoqOkpaanqKmqsrO0tba3"
+    "uLm6wsPExcbHyMnK0tPU1dbX2Nna4uPk5ebn6Onq8vP09fb3+Pn6/9oADAMBAAIRAxEAPwD1f/kWf+pM/wCEZ/7f"
+    "/wDhC/tP5/2h9sz/ALXkb+2KKKK/M69eVCXLHz6tbNro12/RaWS/obKsqo5vRdas7Ncv2acvipwqPWpCb3m+uvxS"
+    "vNznL//Z")
+
+
 g, b = hair_gltf()
 write(T, "textured_quad.gltf", dumps(textured(g, b, image_in_buffer=False)[0]))
+g, b = hair_gltf(data_uri=False)
+write(T, "textured_quad_jpeg.glb", glb(*textured(g, b, image_in_buffer=True, image=JPEG_8X8, mime="image/jpeg")))
 g, b = hair_gltf(data_uri=False)
 write(T, "textured_quad.glb", glb(*textured(g, b, image_in_buffer=True)))
 
