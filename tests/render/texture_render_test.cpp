@@ -180,3 +180,26 @@ TEST(RenderTexture, FeatureOnlyWithTexturedTriangles) {
     scene.meshes.clear();
     EXPECT_NE(kernel_build_options(scene).find("-DHT_FEATURE_TEXTURES=0"), std::string::npos);
 }
+
+// Texels are planned with the rest of the scene's device memory: under a 1 MiB --max-memory the
+// small scene renders, and the same scene with a 1024 x 1024 texture (4 MiB of texels) is
+// refused before anything is allocated, the message naming the scene's share.
+TEST(RenderTexture, TexturesCountAgainstTheDeviceMemoryLimit) {
+    Scene scene = load_scene("builtin:strand?hairs=10&segments=4");
+    scene.textures.push_back(checker_texture(TextureWrap::Repeat));
+    add_textured_floor(scene, -60.0f, 10.0f, 1.0f, {1, 1, 1});
+    RenderSettings rs;
+    rs.width = rs.height = 16;
+    rs.spp = 1;
+    rs.max_device_bytes = uint64_t(1) << 20;
+    EXPECT_NO_THROW(Renderer(test_context(), scene, rs));
+    Texture& big = scene.textures[0];
+    big.width = big.height = 1024;
+    big.texels.assign(size_t(1024) * 1024, rgb8(10, 20, 30));
+    try {
+        Renderer r(test_context(), scene, rs);
+        ADD_FAILURE() << "a 4 MiB texture fitted in 1 MiB";
+    } catch (const DeviceError& e) {
+        EXPECT_NE(std::string(e.what()).find("scene 4.0 MiB"), std::string::npos) << e.what();
+    }
+}
