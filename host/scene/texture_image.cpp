@@ -102,6 +102,8 @@ DecodedImage decode_texture_image(const std::vector<unsigned char>& bytes, Image
     const int channels = spec.nchannels;
     if (channels < 1 || channels > 4)
         scene_fail(file, what, ": image has ", channels, " channels (1 to 4 are supported)");
+    // The 8-bit pixels live only while they are repacked: at most 4 more bytes a texel, for one
+    // image at a time, on top of what the limit above counts.
     std::vector<unsigned char> pixels(w * h * size_t(channels));
     if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::UINT8, pixels.data())) {
         std::string err = in->geterror();
