@@ -18,7 +18,14 @@ int model_index(const std::string& name) {
 KernelFeatures scene_features(const Scene& scene, uint32_t fiber_field, bool indirect_afs) {
     KernelFeatures f;
     f.indirect_afs = indirect_afs;
-    for (const Mesh& m : scene.meshes) f.meshes = f.meshes || m.triangle_count() > 0;
+    for (const Mesh& m : scene.meshes) {
+        if (m.triangle_count() == 0) continue;
+        f.meshes = true;
+        // build_geometry textures exactly these triangles (a textured material and coordinates).
+        const bool textured = m.material < scene.surface_materials.size() &&
+                              scene.surface_materials[m.material].texture >= 0 && !m.uvs.empty();
+        f.textures = f.textures || textured;
+    }
     for (const Light& l : scene.lights) {
         switch (l.type) {
         case LightType::Point: f.light_point = true; break;
@@ -53,6 +60,7 @@ std::string kernel_build_options(const Scene& scene, uint32_t fiber_field, bool 
     def("HT_FEATURE_MODEL_CHIANG", f.model[HT_MODEL_CHIANG]);
     def("HT_FEATURE_INDIRECT_AFS", f.indirect_afs);
     def("HT_FEATURE_MESHES", f.meshes);
+    def("HT_FEATURE_TEXTURES", f.textures);
     return o;
 }
 
@@ -66,6 +74,7 @@ std::vector<std::string> describe_features(const KernelFeatures& f) {
     for (int i = 0; i < 4; ++i) add((std::string("model ") + kModelNames[i]).c_str(), f.model[i]);
     add("translucent AFS shadow rays", f.indirect_afs);
     add("triangle meshes", f.meshes);
+    add("base colour textures", f.textures);
     return out;
 }
 

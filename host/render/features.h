@@ -15,6 +15,7 @@ struct KernelFeatures {
     bool model[4] = {false, false, false, false};  // indexed by HT_MODEL_*
     bool indirect_afs = false;                      // translucent AFS shadow rays (--indirect afs)
     bool meshes = false;                            // triangle surfaces in the BVH and in shade
+    bool textures = false;                          // base colour textures on those surfaces
 };
 
 // fiber_field (HT_FIELD_*): anything but "the material's model" may swap marschner and zinke.
