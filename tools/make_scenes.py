@@ -10,8 +10,12 @@ import base64
 import json
 import math
 import os
+import sys
 import struct
 import zlib
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), 'lib'))
+from png_rgb8 import png_rgb8  # noqa: E402
 
 
 def normalize(v):
@@ -62,16 +66,6 @@ WARM_BLOND = {
         "eccentricity": 0.9,
     },
 }
-
-
-def png_rgb8(width, height, rows):
-    """A minimal 8-bit RGB PNG (rows: lists of (r, g, b)), written with zlib alone."""
-    def chunk(kind, data):
-        body = kind + data
-        return struct.pack(">I", len(data)) + body + struct.pack(">I", zlib.crc32(body) & 0xffffffff)
-    raw = b"".join(b"\x00" + bytes(c for px in row for c in px) for row in rows)
-    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0))
-            + chunk(b"IDAT", zlib.compress(raw, 9)) + chunk(b"IEND", b""))
 
 
 def checker_png(a, b, squares=2, texels_per_square=4):

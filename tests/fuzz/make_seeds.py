@@ -16,6 +16,9 @@ import struct
 import sys
 import zlib
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', '..', 'tools', 'lib'))
+from png_rgb8 import png_rgb8  # noqa: E402
+
 OUT = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(os.path.abspath(__file__)), "corpus")
 
 
@@ -251,16 +254,6 @@ whole = glb(g, b)
 write(T, "truncated.glb", whole[:len(whole) // 2])
 write(T, "bad_chunk_length.glb", whole[:12] + struct.pack("<I", 0xFFFFFFF0) + whole[16:])
 
-
-
-def png_rgb8(width, height, rows):
-    """A minimal 8-bit RGB PNG written with zlib alone (rows: lists of (r, g, b))."""
-    def chunk(kind, data):
-        body = kind + data
-        return struct.pack(">I", len(data)) + body + struct.pack(">I", zlib.crc32(body) & 0xffffffff)
-    raw = b"".join(b"\x00" + bytes(c for px in row for c in px) for row in rows)
-    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0))
-            + chunk(b"IDAT", zlib.compress(raw, 9)) + chunk(b"IEND", b""))
 
 
 def textured(g, bin_, image_in_buffer, image=None, mime="image/png"):
