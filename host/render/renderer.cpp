@@ -92,7 +92,7 @@ struct Renderer::Impl {
         env_conditional = device_array(cl.context(), environment.conditional);
 
         const bool afs = s.indirect == RenderSettings::Indirect::Afs;
-        options = kernel_build_options(scene, s.fiber_field, afs);
+        options = kernel_build_options(scene, s.fiber_field, afs, s.features);
         program = cl.build("stages/wavefront.cl", options);
         stats.build_ms = cl.last_build_ms();
         stats.build_cached = cl.last_build_cached();

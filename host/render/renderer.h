@@ -2,6 +2,7 @@
 #pragma once
 
 #include "cl/device.h"
+#include "render/features.h"
 #include "scene/scene.h"
 
 #include <cstdint>
@@ -24,6 +25,7 @@ struct RenderSettings {
     size_t max_paths_per_pass = 1u << 20;  // bounds device memory for big images
     uint64_t max_device_bytes = 0;         // --max-memory (0: the device's global memory)
     bool profile_stages = false;           // time each stage kernel (drains the queue after each)
+    FeatureMode features = FeatureMode::Scene;  // --features: what is compiled in
 };
 
 // Linear radiance film: per pixel (sum r, sum g, sum b, sample count).

@@ -32,8 +32,11 @@
 #ifndef HT_FEATURE_MODEL_CHIANG
 #define HT_FEATURE_MODEL_CHIANG 1
 #endif
-/* shared building blocks; each model header below includes what it needs of them too */
+/* shared building blocks; each model header below includes what it needs of them too.  They are
+ * included here unconditionally because the host's kernel assembler (host/cl/kernel_source.cpp)
+ * includes a file once, at its first textual #include, even inside an #if that is false. */
 #include "math.h"
+#include "lobes.h"
 #include "fresnel.h"
 #include "longitudinal.h"
 #include "azimuthal.h"
