@@ -54,6 +54,20 @@ TEST(FiberAfs, FastKernelVersionError) {
     EXPECT_LT(emax[3], 1e-8);
 }
 
+TEST(FiberAfs, ThreeChannelTTEqualsOneChannelTT) {
+    // ht_afs_tt3 (the --indirect afs shadow rays) shares the nodes, Fresnel and ray density of the
+    // three channels: the same quadrature as ht_afs_fast per channel, up to double rounding.
+    for (double eta : {1.3, 1.55, 2.0})
+        for (double th = 0; th <= 89.5; th += 2.5) {
+            const double t = th * HT_PI / 180;
+            const real3 s = make_real3(0.0, 0.3, 5.0);
+            const real3 v = ht_afs_tt3(eta, s, t);
+            EXPECT_NEAR(v.x, ht_afs_fast(eta, 0.0, t, 1), 1e-14) << eta << " " << th;
+            EXPECT_NEAR(v.y, ht_afs_fast(eta, 0.3, t, 1), 1e-14) << eta << " " << th;
+            EXPECT_NEAR(v.z, ht_afs_fast(eta, 5.0, t, 1), 1e-14) << eta << " " << th;
+        }
+}
+
 TEST(FiberAfs, CurvesCsvAndPng) {
     auto rows = afs_curves(1.55, 0.1, 89.0, 1.0);
     ASSERT_EQ(rows.size(), 90u);
