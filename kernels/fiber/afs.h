@@ -148,4 +148,23 @@ HT_FN real3 ht_afs_tt3(real eta, real3 sigma_a, real theta) {
     return total;
 }
 
+/* AFS_TT^avg(theta) tabulated for the --indirect afs shadow rays, which need it at every fibre
+ * crossing: the 2 x 16-node quadrature per channel was ~80 % of that stage's time.  Per material
+ * HT_AFS_TT_TABLE_N + 1 nodes theta_i = i (pi/2) / N, 4 floats each (r, g, b, 0), filled on the
+ * host with ht_afs_tt3 in double (host/fiber/afs_quadrature.cpp); linear interpolation in theta.
+ * 1024 intervals (0.09 deg; 16 KB per material): AFS_TT bends sharply toward 0 over the last
+ * degrees before grazing, where 256 intervals left 1e-4 of interpolation error; 1024 leave < 1e-5
+ * against ht_afs_fast (tests/unit/fiber_afs_test AfsTableInterpolationError). */
+#define HT_AFS_TT_TABLE_N 1024
+HT_FN real3 ht_afs_tt_lookup(HT_CONST_GLOBAL float* table, uint material, real theta) {
+    HT_CONST_GLOBAL float* t = table + material * (4u * (HT_AFS_TT_TABLE_N + 1u));
+    const real x = ht_clamp(theta, HT_R(0), HT_HALF_PI) * ((real)HT_AFS_TT_TABLE_N / HT_HALF_PI);
+    int i = (int)x;
+    i = i < HT_AFS_TT_TABLE_N - 1 ? i : HT_AFS_TT_TABLE_N - 1;
+    const real f = x - (real)i;
+    const real3 a = make_real3(t[4 * i], t[4 * i + 1], t[4 * i + 2]);
+    const real3 b = make_real3(t[4 * i + 4], t[4 * i + 5], t[4 * i + 6]);
+    return a + (b - a) * f;
+}
+
 #endif

@@ -6,6 +6,8 @@
  * with averaged attenuation factors: transmittance[j] = prod AFS_TT over the fibres the ray crosses
  * in (tmin, tmax).
  *
+ * AFS_TT^avg(theta) per material comes from a table (fiber/afs.h ht_afs_tt_lookup).
+ *
  * A product does not depend on the order of its factors, so one traversal visits every leaf the
  * ray's segment (tmin, tmax) touches and multiplies in each crossing as it comes (an "all hits"
  * traversal: the ray is never shortened), instead of a closest-hit traversal restarted beyond every
@@ -31,7 +33,7 @@
 /* Multiplies T by the crossings of the leaf [first, first + count); returns 1 when the ray is
  * blocked (a triangle, or T negligible in every channel), with T set to 0. */
 HT_FN int ht_afs_leaf(__global const HtSegment* segs, __global const HtPoint* points,
-                      __global const uint* strand_material, __global const HtMaterial* materials,
+                      __global const uint* strand_material, __global const float* afs_tt_table,
                       uint first, uint count, float3 o, float3 d, float tmin, float tmax, float3* T) {
     for (uint k = first; k < first + count; ++k) {
         const HtSegment s = segs[k];
@@ -60,12 +62,11 @@ HT_FN int ht_afs_leaf(__global const HtSegment* segs, __global const HtPoint* po
             if (ht_capsule_intersect(o, d, ht_point_pos(z), pa, ht_hit_radius(z, a), 0u, tmin, tmax) < tmax)
                 continue;
         }
-        const HtMaterial m = materials[strand_material[s.strand]];
         const float3 u = pb - pa;
         const float len2 = dot(u, u);
         const float3 axis = len2 > 0.0f ? u * rsqrt(len2) : (float3)(1.0f, 0.0f, 0.0f);
         const float theta = asin(clamp(fabs(dot(d, axis)), 0.0f, 1.0f));
-        *T *= ht_afs_tt3(m.eta, ht_load3(m.sigma_a), theta);
+        *T *= ht_afs_tt_lookup(afs_tt_table, strand_material[s.strand], theta);
         if (max(T->x, max(T->y, T->z)) < HT_AFS_MIN_TRANSMITTANCE) {
             *T = (float3)(0.0f);
             return 1;
@@ -76,7 +77,7 @@ HT_FN int ht_afs_leaf(__global const HtSegment* segs, __global const HtPoint* po
 
 __kernel void intersect_shadow_afs(__global const HtBvhNode* nodes, __global const HtSegment* segs,
                                    __global const HtPoint* points, __global const uint* strand_material,
-                                   __global const HtMaterial* materials, __global const HtRay* rays,
+                                   __global const float* afs_tt_table, __global const HtRay* rays,
                                    __global float4* transmittance, uint count) {
     uint j = get_global_id(0);
     if (j >= count) return;
@@ -114,11 +115,11 @@ __kernel void intersect_shadow_afs(__global const HtBvhNode* nodes, __global con
         int h0 = near0 <= far0 && (c0 | n0) != 0u;
         int h1 = near1 <= far1 && (c1 | n1) != 0u;
         if (h0 && n0 != 0u) {
-            if (ht_afs_leaf(segs, points, strand_material, materials, c0, n0, o, d, tmin, tmax, &T)) break;
+            if (ht_afs_leaf(segs, points, strand_material, afs_tt_table, c0, n0, o, d, tmin, tmax, &T)) break;
             h0 = 0;
         }
         if (h1 && n1 != 0u) {
-            if (ht_afs_leaf(segs, points, strand_material, materials, c1, n1, o, d, tmin, tmax, &T)) break;
+            if (ht_afs_leaf(segs, points, strand_material, afs_tt_table, c1, n1, o, d, tmin, tmax, &T)) break;
             h1 = 0;
         }
         if (h0 && h1) {
