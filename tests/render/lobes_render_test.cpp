@@ -88,3 +88,38 @@ TEST(LobesRender, DarkHairWithoutTTAndTRTMatchesAllLobes) {
         }
     }
 }
+
+#ifdef HT_BINARY
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <sys/wait.h>
+#include <unistd.h>
+
+TEST(LobesRender, CliListsTheChoiceAndRefusesBadValues) {
+    const std::string bin = HT_BINARY;
+    const std::string dir = "/tmp/ht_lobes_cli_" + std::to_string(::getpid());
+    const std::string small = " render 'builtin:strand?hairs=60&segments=8' --width 16 --height 16 --spp 1 --quiet -o " +
+                              dir + ".exr";
+    auto run = [](const std::string& c) { return WEXITSTATUS(std::system(c.c_str())); };
+    auto slurp = [](const std::string& p) {
+        std::ifstream f(p);
+        std::stringstream s;
+        s << f.rdbuf();
+        return s.str();
+    };
+    ASSERT_EQ(run(bin + small + " --sigma-a 8,10,12 --verbose 2>" + dir + ".err"), 0);
+    std::string err = slurp(dir + ".err");
+    EXPECT_NE(err.find("lobe TT: compiled out"), std::string::npos) << err;
+    EXPECT_NE(err.find("-DHT_FEATURE_LOBE_TT=0 -DHT_FEATURE_LOBE_TRT=0"), std::string::npos) << err;
+    ASSERT_EQ(run(bin + small + " --sigma-a 8,10,12 --features all-lobes --verbose 2>" + dir + ".err"), 0);
+    EXPECT_NE(slurp(dir + ".err").find("-DHT_FEATURE_LOBE_TT=1 -DHT_FEATURE_LOBE_TRT=1"), std::string::npos);
+    ASSERT_EQ(run(bin + small + " --verbose 2>" + dir + ".err"), 0);  // blond: everything kept
+    EXPECT_NE(slurp(dir + ".err").find("lobe TRT (chiang: + TRRT+): compiled in"), std::string::npos);
+    EXPECT_EQ(run(bin + small + " --features most 2>/dev/null"), 2);
+    EXPECT_EQ(run(bin + small + " --sigma-a 1,2 2>/dev/null"), 2);
+    EXPECT_EQ(run(bin + small + " --sigma-a 1e9 2>/dev/null"), 2);  // out of the material range
+    std::remove((dir + ".exr").c_str());
+    std::remove((dir + ".err").c_str());
+}
+#endif
