@@ -25,7 +25,7 @@ struct Located {
 int cmd_merge(const std::vector<std::string>& args) {
     ArgParser p("merge");
     p.option("-o", "OUT", "merged image; the extension picks the format (.exr linear float, .png sRGB 8-bit)", "", true)
-        .option("--exposure", "E|auto", "multiplier applied before tone mapping 8-bit outputs", "1")
+        .option("--exposure", "E|auto", "multiplier applied before tone mapping 8-bit outputs; auto maps the 95th percentile of lit pixels to 0.8", "auto")
         .flag("--quiet", "no report on stderr")
         .flag("--help", "this help");
     // The parts are any number of positional arguments; ArgParser takes a fixed list, so split

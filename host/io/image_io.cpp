@@ -51,9 +51,9 @@ float auto_exposure(const Film& film) {
         if (std::isfinite(l) && l > 0) lum.push_back(l);
     }
     if (lum.empty()) return 1.0f;
-    size_t k = std::min(lum.size() - 1, size_t(0.995 * double(lum.size())));
+    size_t k = std::min(lum.size() - 1, size_t(0.95 * double(lum.size())));
     std::nth_element(lum.begin(), lum.begin() + k, lum.end());
-    return lum[k] > 0 ? 0.9f / lum[k] : 1.0f;
+    return lum[k] > 0 ? 0.8f / lum[k] : 1.0f;
 }
 
 void write_image(const std::string& path, const Film& film, const ImageMetadata& meta, float exposure) {

@@ -34,9 +34,11 @@ std::vector<float> read_rgb_image(const std::string& path, int& width, int& heig
 
 bool is_float_format(const std::string& path);
 
-// An exposure that maps the 99.5th percentile of the non-black pixels' luminance to 0.9: a
-// sensible default for looking at an image whose absolute scale is arbitrary.  Returns 1 for an
-// all-black film.
+// An exposure that maps the 95th percentile of the non-black pixels' luminance to 0.8: a
+// sensible default for looking at an image whose absolute scale is arbitrary.  A high percentile
+// would follow the Monte Carlo sparkles of low sample counts (builtin:strand depth 5: the 99.5th
+// percentile halves from 16 to 64 spp, the 95th moves 0.7 %), so highlights above it clip instead.
+// Returns 1 for an all-black film.
 float auto_exposure(const Film& film);
 
 }  // namespace ht

@@ -22,6 +22,7 @@
 #include <cstdlib>
 #include <string>
 #include <cmath>
+#include <cstdio>
 
 namespace ht {
 
@@ -97,6 +98,12 @@ struct Renderer::Impl {
 
         const bool afs = s.indirect == RenderSettings::Indirect::Afs;
         options = kernel_build_options(scene, s.fiber_field, afs, s.features);
+        stats.clamp_indirect = s.clamp_indirect;
+        if (stats.clamp_indirect > 0) {
+            char def[64];
+            std::snprintf(def, sizeof def, " -DHT_CLAMP_INDIRECT=%.9ef", double(stats.clamp_indirect));
+            options += def;
+        }
         program = cl.build("stages/wavefront.cl", options);
         stats.build_ms = cl.last_build_ms();
         stats.build_cached = cl.last_build_cached();

@@ -25,6 +25,8 @@ struct RenderSettings {
     size_t max_paths_per_pass = 1u << 20;  // bounds device memory for big images
     uint64_t max_device_bytes = 0;         // --max-memory (0: the device's global memory)
     bool profile_stages = false;           // time each stage kernel (drains the queue after each)
+    // Cap on each indirect sample's contribution (largest channel; 0: none), compiled into shade.
+    float clamp_indirect = 0.0f;
     FeatureMode features = FeatureMode::Scene;  // --features: what is compiled in
 };
 
@@ -53,6 +55,7 @@ struct RenderStats {
     uint64_t nonfinite_caught = 0;  // NaN/Inf values zeroed by the kernels
     int samples = 0;
     std::string kernel_options;
+    float clamp_indirect = 0.0f;  // the cap in effect (0: none)
     // With RenderSettings::profile_stages: seconds per stage kernel (the queue is drained after
     // every launch, which costs some overlap, so only the proportions are meaningful).
     std::vector<std::pair<std::string, double>> stage_seconds;

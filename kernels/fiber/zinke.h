@@ -1,42 +1,41 @@
 /* Zinke, Sobottka, Weber 2004 near-field model, simplified variant (no s-dependence) with the rough
- * lobes of the paper's §4 / Appendix 1 (MODEL_NOTES §6):
- *   value = sum_p 1/2 g(theta_h - alpha_p; beta_p) cos(theta_i)/cos^2(theta_d) * W_p(h) * D(phi - Phi(p, h); sigma_w)
- *   W_R  = A_R(h) S'_R(h),  W_TT = A_TT(h) S'_TT(h),   S'_p = 1/|dPhi_p/dh| (near-field ray density)
- *   W_TRT = A_TRT(h) S'_TRT(h) (1 - t g_c(Phi-phi_c)/g_c(0)) (1 - t g_c(Phi+phi_c)/g_c(0))
- *           + 2 t k_G A_TRT(h_c) dh [g_c(Phi - phi_c) + g_c(Phi + phi_c)]       (S''_TRT: removal + glint,
- *           MODEL_NOTES §7 reading (b); g_c unit Gaussian of width w_c)
+ * lobes of the paper's §4 / Appendix 1 (MODEL_NOTES §6), evaluated at the hit's own offset h:
+ *   value = sum_p 1/2 g(theta_h - alpha_p; beta_p) cos(theta_i)/cos^2(theta_d) * A_p(h) * D(phi - Phi(p, h); sigma_w)
  * A_p: exact Fresnel at cos theta_d cos gamma_i, absorption 2 cos gamma_t'/cos theta_t per chord,
  * eta' and theta_t at theta_d (Appendix 1).  D: wrapped Gaussian with the std of a logistic of scale
- * s(beta_n) (azim_sigma).  The 1/2 cos/cos^2 factor integrates to ~1 over theta_i (as for marschner),
- * so the h-average of integral value dwi is AFS_R + AFS_TT + AFS_TRT (Zinke's averaged coefficients).
+ * s(beta_n) (azim_sigma).  The 1/2 cos/cos^2 factor integrates to ~1 over theta_i (as for marschner).
  * h: the hit's own offset (exit azimuth Phi(p, h), pbrt's convention for gamma_o).
- * Not energy conserving pointwise in h (S' > 1 near h = 0 for TT): the furnace reports the h-average.
  *
- * Sampling: lobe by luminance of W_p(h) at theta_d = theta_o (floored at 2 %), theta_i from the d'Eon
+ * Lobe weight A_p(h), not the paper's A_p(h) S'_p(h): radiance is conserved along a refracted ray
+ * (up to Fresnel and absorption), so the light leaving the fibre at offset h in mode p is A_p(h) times
+ * the radiance arriving along that one path.  The ray-density factor S'_p = 1/|dPhi_p/dh| converts a
+ * density in h into one in phi; it belongs to the far field (marschner, where the h-integral becomes a
+ * sum over roots) and to the paper's AFS^avg (afs.h keeps it, which reproduces the paper's 17 %).  As
+ * an exit-radiance weight it is wrong twice over: the R lobe would carry S'_R = cos(gamma)/2 <= 1/2 of
+ * its energy and TT 1.41x its energy at h = 0, so the near field would not average over h to the far
+ * field (docs/PAPER.md, "Near vs far field energy").  With A_p the model conserves energy at every h
+ * (sum_p A_p <= 1 for a white fibre), its h-average is the far field's int N_p dphi = 1/2 int A_p dh,
+ * and the TRT caustic, a singularity of the phi-density only, is integrable: no Marschner caustic
+ * removal or glint is needed (both stay in marschner.h, the far field that needs them).
+ *
+ * Sampling: lobe by luminance of A_p(h) at theta_d = theta_o (floored at 2 %), theta_i from the d'Eon
  * proxy of the theta_h Gaussian (ht_mz_theta_sample), phi = Phi(p, h) + sigma_w n (wrapped, n from u3 and
- * the remapped lobe uniform): pdf exact. */
+ * the remapped lobe uniform): pdf exact; weight = value/pdf stays close to sum_p A_p <= 1. */
 #ifndef HT_FIBER_ZINKE_H
 #define HT_FIBER_ZINKE_H
 
 #include "marschner.h"
 
-/* W_p(h) and Phi(p, h) at theta_d. */
+/* Lobe weights W_p(h) = A_p(h) and exit azimuths Phi(p, h) at theta_d. */
 HT_FN void ht_zinke_w(const HtMaterial* m, real h, real sin_d, real cos_d, real3* w, real* phis) {
     real eta = m->eta;
     real inv_ep = ht_inv_eta_prime(eta, sin_d, cos_d);
+    real c = ht_safe_sqrt(HT_R(1) - h * h);
     real gi = ht_asin(h), gt = ht_asin(h * inv_ep);
     for (int p = 0; p < 3; ++p) {
         phis[p] = ht_phi_path(p, gi, gt);
-        w[p] = ht_marschner_ap(m, p, h, eta, sin_d, cos_d) * ht_inv_dphi_dh(p, h, inv_ep);
+        w[p] = ht_marschner_ap_c(m, p, h, c, eta, sin_d, cos_d);
     }
-    real phi_c, dh, t, hc;
-    ht_marschner_caustic(m, inv_ep, &phi_c, &dh, &t, &hc);
-    real wc = m->caustic_wc;
-    real d1 = ht_wrap_pi(phis[2] - phi_c), d2 = ht_wrap_pi(phis[2] + phi_c);
-    real r1 = exp(-HT_R(0.5) * d1 * d1 / (wc * wc)), r2 = exp(-HT_R(0.5) * d2 * d2 / (wc * wc));
-    real3 glint = ht_marschner_ap(m, 2, hc, eta, sin_d, cos_d) *
-                  (HT_R(2) * t * m->caustic_kg * dh * (ht_gaussian(d1, wc) + ht_gaussian(d2, wc)));
-    w[2] = w[2] * ((HT_R(1) - t * r1) * (HT_R(1) - t * r2)) + glint;
 }
 
 HT_FN void ht_zinke_probs(const HtMaterial* m, real h, real sin_o, real cos_o, real* pr) {

@@ -29,6 +29,19 @@
 #define HT_RR_START_BOUNCE 3u
 #endif
 
+/* --clamp-indirect: light that scattered at two or more surfaces before reaching the camera (NEE
+ * from bounce 1 on, environment hits from bounce 2 on) is capped at HT_CLAMP_INDIRECT in its
+ * largest channel, hue kept.  Biased (energy is removed) but bounded variance: narrow fibre lobes
+ * lit by small lights make rare, very bright hair-to-hair paths (sparkles at low sample counts).
+ * Undefined: compiled out. */
+HT_FN float3 ht_clamp_indirect(float3 c, uint scatterings) {
+#ifdef HT_CLAMP_INDIRECT
+    float m = max(c.x, max(c.y, c.z));
+    if (scatterings >= 2u && m > HT_CLAMP_INDIRECT) c *= HT_CLAMP_INDIRECT / m;
+#endif
+    return c;
+}
+
 
 HT_FN int ht_finite3(float3 v) { return ht_isfinite(v.x) && ht_isfinite(v.y) && ht_isfinite(v.z); }
 
@@ -148,7 +161,7 @@ __kernel void shade(__global const HtSegment* segs, __global const HtPoint* poin
                 float p_light = ht_env_pdf(&env, env_marginal, env_conditional, dir) / (float)nee_count;
                 w = ht_mis_power(st.last_pdf, p_light);
             }
-            float3 add = thr * le * w;
+            float3 add = ht_clamp_indirect(thr * le * w, bounce);
             if (ht_finite3(add)) {
                 st.radiance[0] += add.x; st.radiance[1] += add.y; st.radiance[2] += add.z;
             } else {
@@ -180,7 +193,8 @@ __kernel void shade(__global const HtSegment* segs, __global const HtPoint* poin
                     float pdf_bsdf = 0.0f;
                     float f = ht_lambert_eval(ns, ng, ls.wi, &pdf_bsdf);
                     float w = ls.pdf > 0.0f ? ht_mis_power(ls.pdf / (float)nee_count, pdf_bsdf) : 1.0f;
-                    float3 c = thr * albedo * (f * (float)nee_count * w) * ls.li_over_pdf;
+                    float3 c = ht_clamp_indirect(thr * albedo * (f * (float)nee_count * w) * ls.li_over_pdf,
+                                                 bounce + 1u);
                     if (!ht_finite3(c)) {
                         atomic_inc(&counters[HT_COUNTER_NAN]);
                     } else if (c.x + c.y + c.z > 0.0f) {
@@ -245,7 +259,8 @@ __kernel void shade(__global const HtSegment* segs, __global const HtPoint* poin
                     /* lights that BCSDF sampling can also reach (the environment) share the
                      * estimate by MIS; delta lights cannot be hit and keep weight 1 */
                     float w = ls.pdf > 0.0f ? ht_mis_power(ls.pdf / (float)nee_count, pdf_bsdf) : 1.0f;
-                    float3 c = thr * value * ls.li_over_pdf * ((float)nee_count * w);
+                    float3 c = ht_clamp_indirect(thr * value * ls.li_over_pdf * ((float)nee_count * w),
+                                                 bounce + 1u);
                     if (!ht_finite3(c)) {
                         atomic_inc(&counters[HT_COUNTER_NAN]);
                     } else if (c.x + c.y + c.z > 0.0f) {
