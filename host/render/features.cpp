@@ -28,13 +28,14 @@ int model_index(const std::string& name) {
 //    because eta' >= eta (so sin gamma_t = h/eta' <= 1/eta) and cos theta_t <= 1.  Hence, pointwise
 //    in (h, theta), term(sigma_a) <= exp(-p sigma_min l_min) term(sigma_a = 0), with sigma_min the
 //    smallest channel: the chords that shrink toward |h| -> 1 and grazing angles are all covered.
-//  * The absorption-free factor G_p (Fresnel, ray density S'_p, caustic removal, glint) does not
-//    depend on sigma_a; it is maximised numerically with the kernels' own ht_zinke_w and
-//    ht_marschner_ap on a 181 (theta_d) x 401 (h) grid and doubled: the grid maximum of these
-//    smooth functions (the S' singularity at the TRT caustic is cancelled by the removal factor)
-//    is within a few percent of the true one, so the factor 2 is a wide margin.  For marschner the
-//    lobe energy is the h-average of A_p (<= max A_p) plus, for TRT, the glint's 2 t k_G A(h_c) dh,
-//    both included in G_p; the max with W_p also covers W_p = A_p (no S') variants of zinke.
+//  * The absorption-free factor G_p (Fresnel; for marschner's TRT also the glint) does not depend
+//    on sigma_a; it is maximised numerically with the kernels' own ht_zinke_w (zinke's W_p) and
+//    ht_marschner_ap on a 181 (theta_d) x 401 (h) grid and doubled: these are smooth functions of
+//    (theta, h), so the grid maximum is within a few percent of the true one and the factor 2 is a
+//    wide margin.  For marschner the lobe energy is the h-average of A_p (<= max A_p) plus, for
+//    TRT, the glint's 2 t k_G A(h_c) dh (its caustic removal only lowers it), all included in G_p.
+//    Taking the max of W_p and A_p keeps the bound valid whichever weight zinke uses (A_p S'_p
+//    before main's 830c9cf, A_p after).
 //  * Chiang's lobes are normalised (M_p and N_p integrate to 1), so the energy of lobe p is A_p:
 //    TT <= T_max, TRT <= (4/27) T_max^2 (max of F (1 - F)^2 is 4/27), residual
 //    A_TRT F T/(1 - F T) <= (4/27) T_max^3 / (1 - T_max).
