@@ -39,7 +39,10 @@ int model_index(const std::string& name) {
 //  * Chiang's lobes are normalised (M_p and N_p integrate to 1), so the energy of lobe p is A_p:
 //    TT <= T_max, TRT <= (4/27) T_max^2 (max of F (1 - F)^2 is 4/27), residual
 //    A_TRT F T/(1 - F T) <= (4/27) T_max^3 / (1 - T_max).
-//  * Eccentric fibres (a < 1) use eta* != eta for marschner's TRT: not bounded here, TRT stays.
+//  * Eccentric fibres (a < 1): marschner's TRT uses eta*(phi_h) in [min(e1, e2), max(e1, e2)]
+//    (linear in cos 2 phi_h), which may be below eta.  Bounded without the grid: F (1 - F)^2 <=
+//    4/27 for every index and the glint adds at most 2 k_G (4/27) dh_M, with the chord bound at the
+//    smallest eta*: (4/27)(1 + 2 k_G dh_M) exp(-2 sigma_min l_min(eta*_min)).
 LobeBounds lobe_bounds(const HairMaterialDesc& d) {
     LobeBounds b;
     if (d.model == "kajiya") return b;
@@ -80,7 +83,11 @@ LobeBounds lobe_bounds(const HairMaterialDesc& d) {
     }
     b.bound[1] = 2.0 * g[1] * t_max;
     b.bound[2] = 2.0 * (g[2] + g[0]) * t_max * t_max;
-    if (m.eccentricity < 1.0f) b.bound[2] = std::numeric_limits<double>::infinity();
+    if (m.eccentricity < 1.0f) {
+        const double eta_lo = std::min({eta, double(ht_marschner_eta_star(&m, 1.0)), double(ht_marschner_eta_star(&m, -1.0))});
+        const double t_ecc = std::exp(-sigma_min * 2.0 * std::sqrt(std::max(0.0, 1.0 - 1.0 / (eta_lo * eta_lo))));
+        b.bound[2] = std::max(b.bound[2], 4.0 / 27.0 * (1.0 + 2.0 * m.caustic_kg * m.caustic_dhm) * t_ecc * t_ecc);
+    }
     return b;
 }
 

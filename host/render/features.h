@@ -32,7 +32,7 @@ constexpr double kLobeThreshold = 1e-3;
 // Upper bounds, over every direction and offset h, of the energy each lobe sends out of a fibre
 // hit (integral of the lobe over wi: W_p(h) for zinke, at most A_p + glint for marschner, A_p for
 // chiang), for the material's most transmissive channel; r_ref = AFS_R^avg(eta, theta = 0).
-// bound[p] = +inf where no bound is derived (eccentric marschner TRT).  Kajiya: all 0.
+// Kajiya: all 0.
 struct LobeBounds {
     double bound[3] = {0, 0, 0};  // R (unused), TT, TRT (+ glint; chiang: + residual)
     double r_ref = 0;

@@ -70,12 +70,36 @@ TEST(FeaturesLobes, OneMaterialThatNeedsALobeKeepsIt) {
     EXPECT_FALSE(f.lobe_tt || f.lobe_trt);
     f = scene_features(with({hair("kajiya", kBlond)}));
     EXPECT_TRUE(f.lobe_tt && f.lobe_trt);  // nothing to decide: the default
-    // eccentric fibres: marschner's TRT uses eta*, which the bound does not cover
+    // eccentric fibres: marschner's TRT uses eta* (here down to 1.24), bounded separately
     HairMaterialDesc e = hair("marschner", kBlack);
     e.eccentricity = 0.85f;
     f = scene_features(with({e}));
-    EXPECT_FALSE(f.lobe_tt);
-    EXPECT_TRUE(f.lobe_trt);
+    EXPECT_FALSE(f.lobe_tt || f.lobe_trt);
+    e.sigma_a = kBlond;
+    f = scene_features(with({e}));
+    EXPECT_TRUE(f.lobe_tt && f.lobe_trt);
+}
+
+TEST(FeaturesLobes, EccentricTRTBoundHoldsForEveryEtaStar) {
+    // marschner's TRT with eta*(phi_h): A_TRT at every eta* in range, plus the glint energy
+    for (Vec3f sa : {kBlond, Vec3f{2.0f, 3.0f, 4.0f}, kBlack}) {
+        HairMaterialDesc d = hair("marschner", sa);
+        d.eccentricity = 0.8f;
+        const LobeBounds b = lobe_bounds(d);
+        const HtMaterial m = make_kernel_material(d);
+        double worst = 0;
+        for (int k = 0; k <= 20; ++k) {
+            const double eta_s = ht_marschner_eta_star(&m, -1.0 + k / 10.0);
+            for (int i = 0; i <= 90; ++i) {
+                const double theta = std::min(i * 0.999, 89.99) * HT_PI / 180;
+                for (int j = 0; j <= 200; ++j) {
+                    const real3 a = ht_marschner_ap(&m, 2, j / 200.0, eta_s, std::sin(theta), std::cos(theta));
+                    worst = std::max({worst, a.x, a.y, a.z});
+                }
+            }
+        }
+        EXPECT_LE(worst * (1 + 2 * m.caustic_kg * m.caustic_dhm), b.bound[2]) << sa[0];
+    }
 }
 
 TEST(FeaturesLobes, BoundHoldsOnADenseSampleOfTheModels) {
