@@ -60,7 +60,7 @@ LobeBounds lobe_bounds(const HairMaterialDesc& d) {
     }
     HtMaterial clear = m;  // G_p: the same material without absorption
     for (int c = 0; c < 4; ++c) clear.sigma_a[c] = 0.0f;
-    double g[3] = {0, 0, 0};
+    double g[3] = {0, 0, 0}, glint = 0;
     const int nt = 181, nh = 401;
     for (int i = 0; i < nt; ++i) {
         const double theta = (HT_HALF_PI - 1e-4) * i / (nt - 1);
@@ -79,10 +79,10 @@ LobeBounds lobe_bounds(const HairMaterialDesc& d) {
         real phi_c, dh, t, hc;
         ht_marschner_caustic(&clear, ht_inv_eta_prime(eta, sd, cd), &phi_c, &dh, &t, &hc);
         const real3 ac = ht_marschner_ap(&clear, 2, hc, eta, sd, cd);
-        g[0] = std::max(g[0], 2.0 * t * clear.caustic_kg * dh * std::max({ac.x, ac.y, ac.z}));
+        glint = std::max(glint, 2.0 * t * clear.caustic_kg * dh * std::max({ac.x, ac.y, ac.z}));
     }
     b.bound[1] = 2.0 * g[1] * t_max;
-    b.bound[2] = 2.0 * (g[2] + g[0]) * t_max * t_max;
+    b.bound[2] = 2.0 * (g[2] + glint) * t_max * t_max;
     if (m.eccentricity < 1.0f) {
         const double eta_lo = std::min({eta, double(ht_marschner_eta_star(&m, 1.0)), double(ht_marschner_eta_star(&m, -1.0))});
         const double t_ecc = std::exp(-sigma_min * 2.0 * std::sqrt(std::max(0.0, 1.0 - 1.0 / (eta_lo * eta_lo))));
