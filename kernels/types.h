@@ -47,12 +47,40 @@ typedef struct {
     float hi[8];
 } HtBvhNode;
 
-/* Per-triangle shading data, indexed by HtSegment.strand of a triangle record.  64 bytes. */
+/* Base colour textures compiled in (Lambertian albedo = factor x texture).  The host defines it
+ * 0 when no surface material has a texture; code built without the option gets it. */
+#ifndef HT_FEATURE_TEXTURES
+#define HT_FEATURE_TEXTURES 1
+#endif
+
+/* No texture: HtTriangleShading.texture of an untextured triangle. */
+#define HT_NO_TEXTURE 0xFFFFFFFFu
+
+/* Per-triangle shading data, indexed by HtSegment.strand of a triangle record.  96 bytes. */
 typedef struct {
     float n0[4], n1[4], n2[4]; /* vertex shading normals xyz (w = 1 when present, 0: use the
                                 * geometric normal) */
-    float albedo[4];           /* Lambertian albedo rgb, w unused */
+    float albedo[4];           /* Lambertian albedo rgb (glTF baseColorFactor), w unused */
+    float uv[6];               /* TEXCOORD_0 of vertices 0, 1, 2 (u0 v0 u1 v1 u2 v2), 0 without */
+    uint texture;              /* index into the HtTexture array, or HT_NO_TEXTURE */
+    uint pad0;
 } HtTriangleShading;
+
+/* Texture wrap modes (glTF sampler wrapS / wrapT, same meaning as OpenGL's). */
+#define HT_WRAP_REPEAT 0u
+#define HT_WRAP_CLAMP 1u
+#define HT_WRAP_MIRROR 2u
+
+/* One texture in the shared texel buffer: texels [offset, offset + width * height), row 0 at
+ * v = 0 (the top of the image, as glTF), one uint per texel holding sRGB-encoded 8-bit r | g << 8
+ * | b << 16 (alpha is not used).  Sampled bilinearly without mip-maps (kernels/surface/texture.h).
+ * The buffer begins with the HT_SRGB_TABLE_SIZE-entry sRGB decode table, so offsets start there.
+ * 32 bytes. */
+#define HT_SRGB_TABLE_SIZE 256u
+typedef struct {
+    uint offset, width, height, pad0;
+    uint wrap_s, wrap_t, pad1, pad2;
+} HtTexture;
 
 /* ---------------------------------------------------------------- rays and hits */
 

@@ -22,13 +22,20 @@ done
 # compile it with every feature off too, so code that only one configuration reaches is checked.
 off=()
 for f in LIGHT_POINT LIGHT_SPOT LIGHT_DIRECTIONAL LIGHT_SPHERE MODEL_KAJIYA MODEL_MARSCHNER MODEL_ZINKE \
-         INDIRECT_AFS MESHES; do off+=("-DHT_FEATURE_$f=0"); done
+         INDIRECT_AFS MESHES TEXTURES; do off+=("-DHT_FEATURE_$f=0"); done
 extra=()
 [ "$std" = CL3.0 ] && extra=(-Xclang -cl-ext=-all)
 if ! "$clang" -x cl -cl-std="$std" -target spir64-unknown-unknown -Xclang -finclude-default-header \
      -fsyntax-only -cl-single-precision-constant -Werror -Wall -Wno-unused-function -Wno-unused-variable \
      "${off[@]}" "${extra[@]}" "$root/kernels/stages/wavefront.cl"; then
     echo "FAILED: kernels/stages/wavefront.cl with scene features off ($std)"
+    status=1
+fi
+# Meshes without textures: the one partial surface configuration.
+if ! "$clang" -x cl -cl-std="$std" -target spir64-unknown-unknown -Xclang -finclude-default-header \
+     -fsyntax-only -cl-single-precision-constant -Werror -Wall -Wno-unused-function -Wno-unused-variable \
+     -DHT_FEATURE_MESHES=1 -DHT_FEATURE_TEXTURES=0 "${extra[@]}" "$root/kernels/stages/wavefront.cl"; then
+    echo "FAILED: kernels/stages/wavefront.cl with meshes but no textures ($std)"
     status=1
 fi
 # Lobes (kernels/fiber/lobes.h): every combination, with every model and the AFS stage in, and with

@@ -10,7 +10,12 @@ import base64
 import json
 import math
 import os
+import sys
 import struct
+import zlib
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), 'lib'))
+from png_rgb8 import png_rgb8  # noqa: E402
 
 
 def normalize(v):
@@ -63,30 +68,57 @@ WARM_BLOND = {
 }
 
 
-def add_floor(doc, height, half, albedo):
+def checker_png(a, b, squares=2, texels_per_square=4):
+    """squares x squares checker of sRGB colours a and b, each square a block of texels."""
+    n = squares * texels_per_square
+    rows = [[a if (x // texels_per_square + y // texels_per_square) % 2 == 0 else b for x in range(n)]
+            for y in range(n)]
+    return png_rgb8(n, n, rows)
+
+
+def add_floor(doc, height, half, albedo, texture=None, uv_repeat=1.0):
     """Adds a square floor (two TRIANGLES, normals up, indexed) at y = height to a scene dict,
-    with a diffuse material; the vertex data is embedded as a base64 data URI."""
+    with a diffuse material; the vertex data is embedded as a base64 data URI.  texture: PNG
+    bytes for the material's baseColorTexture (embedded as a data URI, REPEAT sampler), mapped
+    uv_repeat times across the floor."""
     positions = [(-half, height, -half), (half, height, -half), (half, height, half), (-half, height, half)]
     normals = [(0.0, 1.0, 0.0)] * 4
     indices = [0, 2, 1, 0, 3, 2]  # counter-clockwise seen from above: front face up
     blob = b"".join(struct.pack("<3f", *p) for p in positions)
     blob += b"".join(struct.pack("<3f", *n) for n in normals)
     blob += struct.pack("<6H", *indices)
-    doc["buffers"] = [{"byteLength": len(blob),
-                       "uri": "data:application/octet-stream;base64," + base64.b64encode(blob).decode()}]
-    doc["bufferViews"] = [{"buffer": 0, "byteOffset": 0, "byteLength": 48},
-                          {"buffer": 0, "byteOffset": 48, "byteLength": 48},
-                          {"buffer": 0, "byteOffset": 96, "byteLength": 12}]
-    doc["accessors"] = [
+    views = [{"buffer": 0, "byteOffset": 0, "byteLength": 48},
+             {"buffer": 0, "byteOffset": 48, "byteLength": 48},
+             {"buffer": 0, "byteOffset": 96, "byteLength": 12}]
+    accessors = [
         {"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3",
          "min": [-half, height, -half], "max": [half, height, half]},
         {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC3"},
         {"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"}]
-    doc["materials"].append({"name": "floor",
-                             "pbrMetallicRoughness": {"baseColorFactor": list(albedo) + [1.0],
-                                                      "metallicFactor": 0.0, "roughnessFactor": 1.0}})
+    attributes = {"POSITION": 0, "NORMAL": 1}
+    material = {"name": "floor",
+                "pbrMetallicRoughness": {"baseColorFactor": list(albedo) + [1.0],
+                                         "metallicFactor": 0.0, "roughnessFactor": 1.0}}
+    if texture is not None:
+        # uv = (x, z) across the floor scaled to [0, uv_repeat]; v grows towards +z
+        uvs = [((p[0] + half) / (2 * half) * uv_repeat, (p[2] + half) / (2 * half) * uv_repeat)
+               for p in positions]
+        blob += b"\x00" * ((4 - len(blob) % 4) % 4)  # float accessors start 4-byte aligned
+        views.append({"buffer": 0, "byteOffset": len(blob), "byteLength": 32})
+        blob += b"".join(struct.pack("<2f", *uv) for uv in uvs)
+        accessors.append({"bufferView": 3, "componentType": 5126, "count": 4, "type": "VEC2"})
+        attributes["TEXCOORD_0"] = 3
+        material["pbrMetallicRoughness"]["baseColorTexture"] = {"index": 0}
+        doc["samplers"] = [{"wrapS": 10497, "wrapT": 10497, "magFilter": 9729, "minFilter": 9729}]
+        doc["images"] = [{"name": "checker", "uri": "data:image/png;base64," + base64.b64encode(texture).decode()}]
+        doc["textures"] = [{"source": 0, "sampler": 0}]
+    doc["buffers"] = [{"byteLength": len(blob),
+                       "uri": "data:application/octet-stream;base64," + base64.b64encode(blob).decode()}]
+    doc["bufferViews"] = views
+    doc["accessors"] = accessors
+    doc["materials"].append(material)
     doc["meshes"] = [{"name": "floor", "primitives": [
-        {"mode": 4, "attributes": {"POSITION": 0, "NORMAL": 1}, "indices": 2,
+        {"mode": 4, "attributes": attributes, "indices": 2,
          "material": len(doc["materials"]) - 1}]}]
     doc["nodes"].append({"name": "floor", "mesh": 0})
     doc["scenes"][0]["nodes"].append(len(doc["nodes"]) - 1)
@@ -154,6 +186,17 @@ SCENES = {
                 (FRONT_FILL, [-100.0, 40.0, 150.0], [0.0, 0.0, 0.0], 0.2)],
         comment="builtin:strand standing on a grey diffuse floor (a TRIANGLES quad): hair "
                 "shadows the floor."), height=-52.0, half=150.0, albedo=(0.6, 0.6, 0.6)),
+    # The same with a checker-textured floor (terracotta and cream, 12 squares across): hair
+    # over a base colour texture, a data: URI PNG with a REPEAT sampler.
+    "strand_on_checker_floor.gltf": add_floor(scene(
+        "strand", eye=[0.0, 40.0, 230.0], target=[0.0, -20.0, 0.0], yfov_deg=35.0, aspect=0.75,
+        lights=[(TOP_KEY, [-40.0, 160.0, 90.0], [0.0, -52.0, 0.0], 2.0),
+                (BACK_KEY, [80.0, 90.0, -120.0], [0.0, 0.0, 0.0], 1.0),
+                (FRONT_FILL, [-100.0, 40.0, 150.0], [0.0, 0.0, 0.0], 0.2)],
+        comment="builtin:strand standing on a checker-textured diffuse floor (baseColorTexture, "
+                "TEXCOORD_0): hair shadows a textured surface."),
+        height=-52.0, half=150.0, albedo=(1.0, 1.0, 1.0),
+        texture=checker_png((190, 90, 60), (230, 220, 200)), uv_repeat=6.0),
     "ball.gltf": scene(
         "ball", eye=[65.6, 84.4, 187.5], target=[0.0, 0.0, 0.0], yfov_deg=30.0, aspect=1.0,
         lights=[(BACK_KEY, [120.0, 110.0, -140.0], [0.0, 0.0, 0.0], 2.0),

@@ -460,6 +460,9 @@ SceneGeometry build_geometry(const Strands& strands, const std::vector<Mesh>& me
         const SurfaceMaterialDesc mat =
             m.material < surface_materials.size() ? surface_materials[m.material] : SurfaceMaterialDesc{};
         const bool has_normals = m.normals.size() == m.positions.size() && !m.normals.empty();
+        // A texture needs coordinates; without them the factor alone is the albedo.
+        const bool has_uvs = m.uvs.size() == m.positions.size() && !m.uvs.empty();
+        const uint32_t texture = has_uvs && mat.texture >= 0 ? uint32_t(mat.texture) : HT_NO_TEXTURE;
         for (size_t t = 0; t + 2 < m.indices.size(); t += 3) {
             HtSegment seg;
             seg.point = (uint32_t)geo.points.size();
@@ -477,8 +480,13 @@ SceneGeometry build_geometry(const Strands& strands, const std::vector<Mesh>& me
                     for (int k = 0; k < 3; ++k) normals[v][k] = m.normals[idx][k];
                     normals[v][3] = 1.0f;
                 }
+                if (has_uvs) {
+                    sh.uv[2 * v] = m.uvs[idx][0];
+                    sh.uv[2 * v + 1] = m.uvs[idx][1];
+                }
             }
             for (int k = 0; k < 3; ++k) sh.albedo[k] = mat.albedo[k];
+            sh.texture = texture;
             geo.triangles.push_back(sh);
         }
     }

@@ -16,7 +16,7 @@ static_assert(sizeof(HtSegment) == 16, "HtSegment layout must match the kernels"
 static_assert(sizeof(HtBvhNode) == 64, "HtBvhNode layout must match the kernels");
 static_assert(sizeof(HtRay) == 32, "HtRay layout must match the kernels");
 static_assert(sizeof(HtHit) == 32, "HtHit layout must match the kernels");
-static_assert(sizeof(HtTriangleShading) == 64, "HtTriangleShading layout must match the kernels");
+static_assert(sizeof(HtTriangleShading) == 96, "HtTriangleShading layout must match the kernels");
 
 // The traversal's private stack holds HT_STACK_SIZE (64) entries and pushes at most one per
 // level, so the builder turns any node deeper than this into a leaf.
@@ -73,8 +73,8 @@ struct SceneGeometry {
 // no segments.  An empty scene yields a single root with two empty slots.
 SceneGeometry build_geometry(const Strands& strands, const BvhOptions& opt = {});
 // The same with triangle meshes in the same BVH (one traversal finds both kinds).  Mesh
-// indices must be in range (the loaders check); albedo comes from surface_materials[material]
-// (a missing material is grey 0.8).
+// indices must be in range (the loaders check); albedo and texture index come from
+// surface_materials[material] (a missing material is grey 0.8); a mesh without uvs is untextured.
 SceneGeometry build_geometry(const Strands& strands, const std::vector<Mesh>& meshes,
                              const std::vector<SurfaceMaterialDesc>& surface_materials,
                              const BvhOptions& opt = {});

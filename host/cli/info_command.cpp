@@ -10,6 +10,17 @@
 
 namespace ht {
 
+namespace {
+const char* wrap_name(TextureWrap w) {
+    switch (w) {
+    case TextureWrap::ClampToEdge: return "clamp";
+    case TextureWrap::MirroredRepeat: return "mirror";
+    case TextureWrap::Repeat: break;
+    }
+    return "repeat";
+}
+}  // namespace
+
 int cmd_info(const std::vector<std::string>& args) {
     ArgParser p("info");
     p.positional("SCENE", "scene file or builtin:NAME");
@@ -29,8 +40,15 @@ int cmd_info(const std::vector<std::string>& args) {
     j["meshes"] = scene.meshes.size();
     j["triangles"] = g.triangle_count;
     j["surface_materials"] = nlohmann::json::array();
-    for (auto& m : scene.surface_materials)
-        j["surface_materials"].push_back({{"name", m.name}, {"albedo", {m.albedo[0], m.albedo[1], m.albedo[2]}}});
+    for (auto& m : scene.surface_materials) {
+        nlohmann::json sm = {{"name", m.name}, {"albedo", {m.albedo[0], m.albedo[1], m.albedo[2]}}};
+        if (m.texture >= 0) sm["texture"] = m.texture;
+        j["surface_materials"].push_back(sm);
+    }
+    j["textures"] = nlohmann::json::array();
+    for (auto& t : scene.textures)
+        j["textures"].push_back({{"name", t.name}, {"width", t.width}, {"height", t.height},
+                                 {"wrap", {wrap_name(t.wrap_s), wrap_name(t.wrap_t)}}});
     j["materials"] = nlohmann::json::array();
     for (auto& m : scene.materials) j["materials"].push_back({{"name", m.name}, {"model", m.model}});
     j["lights"] = scene.lights.size();
@@ -50,8 +68,16 @@ int cmd_info(const std::vector<std::string>& args) {
     for (auto& m : scene.materials) std::printf("material   %s (%s)\n", m.name.c_str(), m.model.c_str());
     if (!scene.meshes.empty())
         std::printf("meshes     %zu (%zu triangles)\n", scene.meshes.size(), size_t(g.triangle_count));
-    for (auto& m : scene.surface_materials)
-        std::printf("surface    %s (diffuse %g, %g, %g)\n", m.name.c_str(), m.albedo[0], m.albedo[1], m.albedo[2]);
+    for (auto& m : scene.surface_materials) {
+        std::printf("surface    %s (diffuse %g, %g, %g", m.name.c_str(), m.albedo[0], m.albedo[1], m.albedo[2]);
+        if (m.texture >= 0) std::printf(" x texture %d", m.texture);
+        std::printf(")\n");
+    }
+    for (size_t i = 0; i < scene.textures.size(); ++i) {
+        const Texture& t = scene.textures[i];
+        std::printf("texture    %zu: %s, %u x %u, wrap %s / %s, %.1f KiB\n", i, t.name.c_str(), t.width, t.height,
+                    wrap_name(t.wrap_s), wrap_name(t.wrap_t), t.texels.size() * 4 / 1024.0);
+    }
     std::printf("lights     %zu\ncamera     %s\n", scene.lights.size(), scene.has_camera ? "from scene" : "automatic");
     std::printf("bvh        %zu nodes, %zu leaves, depth %d, SAH cost %.2f, %.1f bytes/segment, built in %.1f ms\n",
                 size_t(g.stats.nodes), size_t(g.stats.leaves), int(g.stats.max_depth), double(g.stats.sah_cost),

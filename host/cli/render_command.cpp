@@ -275,6 +275,9 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
         for (auto& line : describe_features(scene_features(scene, rs.fiber_field, afs, rs.features)))
             std::fprintf(stderr, "feature %s\n", line.c_str());
         std::fprintf(stderr, "kernel options: %s\n", kernel_build_options(scene, rs.fiber_field, afs, rs.features).c_str());
+        for (const Texture& t : scene.textures)
+            std::fprintf(stderr, "texture %s: %u x %u, %s on the device\n", t.name.c_str(), t.width, t.height,
+                         format_bytes(t.texels.size() * sizeof(uint32_t)).c_str());
     }
 
     std::vector<std::unique_ptr<Renderer>> renderers;

@@ -94,7 +94,14 @@ LobeBounds lobe_bounds(const HairMaterialDesc& d) {
 KernelFeatures scene_features(const Scene& scene, uint32_t fiber_field, bool indirect_afs, FeatureMode mode) {
     KernelFeatures f;
     f.indirect_afs = indirect_afs;
-    for (const Mesh& m : scene.meshes) f.meshes = f.meshes || m.triangle_count() > 0;
+    for (const Mesh& m : scene.meshes) {
+        if (m.triangle_count() == 0) continue;
+        f.meshes = true;
+        // build_geometry textures exactly these triangles (a textured material and coordinates).
+        const bool textured = m.material < scene.surface_materials.size() &&
+                              scene.surface_materials[m.material].texture >= 0 && !m.uvs.empty();
+        f.textures = f.textures || textured;
+    }
     for (const Light& l : scene.lights) {
         switch (l.type) {
         case LightType::Point: f.light_point = true; break;
@@ -146,7 +153,7 @@ KernelFeatures scene_features(const Scene& scene, uint32_t fiber_field, bool ind
     if (mode == FeatureMode::All) {
         f.light_point = f.light_spot = f.light_directional = f.light_sphere = true;
         for (bool& m : f.model) m = true;
-        f.meshes = true;
+        f.meshes = f.textures = true;
     }
     return f;
 }
@@ -165,6 +172,7 @@ std::string kernel_build_options(const Scene& scene, uint32_t fiber_field, bool 
     def("HT_FEATURE_MODEL_CHIANG", f.model[HT_MODEL_CHIANG]);
     def("HT_FEATURE_INDIRECT_AFS", f.indirect_afs);
     def("HT_FEATURE_MESHES", f.meshes);
+    def("HT_FEATURE_TEXTURES", f.textures);
     def("HT_FEATURE_LOBE_TT", f.lobe_tt);
     def("HT_FEATURE_LOBE_TRT", f.lobe_trt);
     return o;
@@ -180,6 +188,7 @@ std::vector<std::string> describe_features(const KernelFeatures& f) {
     for (int i = 0; i < 4; ++i) add((std::string("model ") + kModelNames[i]).c_str(), f.model[i]);
     add("translucent AFS shadow rays", f.indirect_afs);
     add("triangle meshes", f.meshes);
+    add("base colour textures", f.textures);
     const char* lobe[2] = {"lobe TT", "lobe TRT (chiang: + TRRT+)"};
     for (int k = 0; k < 2; ++k) {
         add(lobe[k], k == 0 ? f.lobe_tt : f.lobe_trt);

@@ -15,6 +15,7 @@ struct KernelFeatures {
     bool model[4] = {false, false, false, false};  // indexed by HT_MODEL_*
     bool indirect_afs = false;                      // translucent AFS shadow rays (--indirect afs)
     bool meshes = false;                            // triangle surfaces in the BVH and in shade
+    bool textures = false;                          // base colour textures on those surfaces
     // Lobes of the Marschner-family and Chiang models (kernels/fiber/lobes.h): out only when
     // negligible for every material (lobe_bounds); lobe_why says which material kept it or why.
     bool lobe_tt = true, lobe_trt = true;

@@ -16,6 +16,7 @@
 #include "render/scene_upload.h"
 #include "fiber/afs_quadrature.h"
 #include "kernels/fiber/afs.h"
+#include "kernels/surface/texture.h"
 
 #include <algorithm>
 #include <chrono>
@@ -62,6 +63,8 @@ struct Renderer::Impl {
     uint32_t light_count = 0;
     EnvironmentTables environment;
     cl::Buffer env_texels, env_marginal, env_conditional;
+    cl::Buffer textures, texels;  // base colour texture headers and the shared texel array
+    uint32_t texture_count = 0;
     HtCamera camera{};
     float pixel_angle = 0;  // radians per pixel at the image centre (ray footprint for --fiber-field auto)
     std::string options;
@@ -129,12 +132,37 @@ struct Renderer::Impl {
         k_compact_scan = cl::Kernel(program, "compact_scan");
         k_compact_scatter = cl::Kernel(program, "compact_scatter");
 
+        const std::vector<HtTexture> texture_headers = make_kernel_textures(scene.textures);
+        const uint64_t texel_bytes = texel_buffer_size(scene.textures) * sizeof(uint32_t);
         const uint64_t scene_bytes = device_geometry.bytes + environment.texels.size() * 4 +
-                                     (environment.marginal.size() + environment.conditional.size()) * 4;
+                                     (environment.marginal.size() + environment.conditional.size()) * 4 +
+                                     texel_bytes + texture_headers.size() * sizeof(HtTexture);
         MemoryPlan plan = plan_device_memory(uint64_t(s.width) * uint64_t(s.height), scene_bytes,
                                              cl.info().max_alloc, cl.info().global_mem, s.max_device_bytes,
                                              std::max<size_t>(s.max_paths_per_pass, 1));
+        upload_textures(scene.textures, texture_headers, texel_bytes);
         allocate(plan.paths_per_pass);
+    }
+
+    // After the memory plan, so textures that cannot fit are refused before they are copied.
+    void upload_textures(const std::vector<Texture>& scene_textures, const std::vector<HtTexture>& headers,
+                         uint64_t texel_bytes) {
+        if (cl.info().max_alloc && texel_bytes > cl.info().max_alloc)
+            throw DeviceError("the scene's textures need " + format_bytes(texel_bytes) +
+                              " in one buffer but the device " + cl.info().name + " allocates at most " +
+                              format_bytes(cl.info().max_alloc) + " per buffer; use smaller textures");
+        texture_count = uint32_t(headers.size());
+        textures = device_array(cl.context(), headers);
+        texels = cl::Buffer(cl.context(), CL_MEM_READ_ONLY, texel_bytes);
+        uint32_t table[HT_SRGB_TABLE_SIZE];
+        ht_srgb_table(table);
+        cl.queue().enqueueWriteBuffer(texels, CL_TRUE, 0, sizeof table, table);
+        for (size_t i = 0; i < scene_textures.size(); ++i) {
+            const std::vector<uint32_t>& t = scene_textures[i].texels;
+            if (!t.empty())
+                cl.queue().enqueueWriteBuffer(texels, CL_TRUE, size_t(headers[i].offset) * sizeof(uint32_t),
+                                              t.size() * sizeof(uint32_t), t.data());
+        }
     }
 
     void allocate(size_t n) {
@@ -189,6 +217,9 @@ struct Renderer::Impl {
         k_shade.setArg(a++, device_geometry.segments);
         k_shade.setArg(a++, device_geometry.points);
         k_shade.setArg(a++, device_geometry.triangles);
+        k_shade.setArg(a++, textures);
+        k_shade.setArg(a++, texture_count);
+        k_shade.setArg(a++, texels);
         k_shade.setArg(a++, strand_material);
         k_shade.setArg(a++, materials);
         k_shade.setArg(a++, lights);

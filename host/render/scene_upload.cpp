@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+static_assert(sizeof(HtTexture) == 32, "HtTexture layout must match kernels/types.h");
+
 namespace ht {
 namespace {
 constexpr double kDeg = 3.14159265358979323846 / 180.0;
@@ -77,6 +79,36 @@ std::vector<HtMaterial> make_kernel_materials(const std::vector<HairMaterialDesc
     for (const auto& m : materials) out.push_back(make_kernel_material(m));
     if (out.empty()) out.push_back(make_kernel_material(HairMaterialDesc{}));
     return out;
+}
+
+std::vector<HtTexture> make_kernel_textures(const std::vector<Texture>& textures) {
+    std::vector<HtTexture> out;
+    uint64_t offset = HT_SRGB_TABLE_SIZE;
+    auto wrap = [](TextureWrap w) {
+        switch (w) {
+        case TextureWrap::ClampToEdge: return HT_WRAP_CLAMP;
+        case TextureWrap::MirroredRepeat: return HT_WRAP_MIRROR;
+        case TextureWrap::Repeat: break;
+        }
+        return HT_WRAP_REPEAT;
+    };
+    for (const Texture& t : textures) {
+        HtTexture h{};
+        h.offset = uint32_t(offset);
+        h.width = t.width;
+        h.height = t.height;
+        h.wrap_s = wrap(t.wrap_s);
+        h.wrap_t = wrap(t.wrap_t);
+        out.push_back(h);
+        offset += t.texels.size();
+    }
+    return out;
+}
+
+uint64_t texel_buffer_size(const std::vector<Texture>& textures) {
+    uint64_t n = HT_SRGB_TABLE_SIZE;
+    for (const Texture& t : textures) n += t.texels.size();
+    return n;
 }
 
 }  // namespace ht

@@ -16,10 +16,13 @@
 //     intensity as stated (range is ignored); position = node origin, direction = node -Z.
 //   * surfaces: TRIANGLES (4), TRIANGLE_STRIP (5) and TRIANGLE_FAN (6) primitives, indexed or
 //     not, become Scene::meshes in world space: POSITION, optional NORMAL (transformed with the
-//     inverse transpose), a diffuse SurfaceMaterialDesc from pbrMetallicRoughness.
-//     baseColorFactor (rgb; no material = grey 0.8).  Non-finite positions are a SceneError;
-//     degenerate (zero-area) triangles are dropped with a counted warning; base colour textures
-//     are not read (counted in a warning; the factor alone is used).
+//     inverse transpose), optional TEXCOORD_0 (float or normalized unsigned byte / short), a
+//     diffuse SurfaceMaterialDesc from pbrMetallicRoughness.baseColorFactor (rgb; no material =
+//     grey 0.8) times its baseColorTexture (gltf_texture.h: texCoord 0 only, PNG / JPEG from a
+//     file, a data: URI or a bufferView, sampler wrap modes; decoded only for materials that
+//     triangles use).  Non-finite positions or texture coordinates are a SceneError; degenerate
+//     (zero-area) triangles are dropped with a counted warning; a textured material on a
+//     primitive without TEXCOORD_0 uses its factor alone (counted in a warning).
 //   * point and line-loop primitives are ignored, counted in a warning.
 //   * `"hairtrace_builtin": "strand"` (any make_builtin spec, e.g. "ball?hairs=500") in the
 //     scene's or the asset's extras adds that built-in hair; `"hairtrace_material"` (a material
@@ -41,6 +44,7 @@
 #include "scene/binary_file.h"
 #include "scene/gltf_accessor.h"
 #include "scene/gltf_material.h"
+#include "scene/gltf_texture.h"
 #include "scene/hygiene.h"
 #include "scene/scene_error.h"
 
@@ -53,12 +57,6 @@ constexpr float kRadiusPerExtent = 1e-3f;
 
 Vec3f to_vec3f(const glm::dvec3& v) {
     return {static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z)};
-}
-
-// Images are never needed for hair; accepting them undecoded keeps files with textures loadable.
-bool skip_image(tinygltf::Image*, const int, std::string*, std::string*, int, int,
-                const unsigned char*, int, void*) {
-    return true;
 }
 
 std::string directory_of(const std::string& path) {
@@ -129,7 +127,8 @@ struct StrandLabel {
 class GltfSceneBuilder {
 public:
     GltfSceneBuilder(const std::string& file, const tinygltf::Model& model, const LoadOptions& opt)
-        : file_(file), model_(model), opt_(opt) {
+        : file_(file), model_(model), opt_(opt),
+          textures_(model, file, directory_of(file), opt, scene_.textures) {
         scene_.source = file;
     }
 
@@ -379,7 +378,7 @@ private:
                            " is outside [0, 1]");
             m.albedo[c] = static_cast<float>(f[c]);
         }
-        if (gm.pbrMetallicRoughness.baseColorTexture.index >= 0) ++ignored_textures_;
+        m.texture = textures_.base_color_texture(gm, gltf_material);
         const uint32_t index = static_cast<uint32_t>(scene_.surface_materials.size());
         scene_.surface_materials.push_back(m);
         surface_material_map_[gltf_material] = index;
@@ -413,6 +412,18 @@ private:
                 scene_fail(file_, label, ": NORMAL has ", normals.size(), " values for ",
                            positions.size(), " positions");
         }
+        std::vector<std::array<float, 2>> uvs;
+        const auto uv_it = prim.attributes.find("TEXCOORD_0");
+        if (uv_it != prim.attributes.end()) {
+            uvs = read_texcoord_accessor(model_, uv_it->second, file_, label + " TEXCOORD_0");
+            if (uvs.size() != positions.size())
+                scene_fail(file_, label, ": TEXCOORD_0 has ", uvs.size(), " values for ",
+                           positions.size(), " positions");
+            for (size_t v = 0; v < uvs.size(); ++v)
+                if (!(std::isfinite(uvs[v][0]) && std::isfinite(uvs[v][1])))
+                    scene_fail(file_, label, ": TEXCOORD_0 of vertex ", v, " is not finite (",
+                               uvs[v][0], ", ", uvs[v][1], ")");
+        }
         const std::vector<uint32_t> order = vertex_order(prim, positions.size(), label);
         // Strips and fans to a plain triangle list (glTF winding rules, spec §3.7.2.1).
         std::vector<uint32_t> tris;
@@ -434,6 +445,9 @@ private:
 
         Mesh mesh;
         mesh.material = surface_material_index(prim.material);
+        if (scene_.surface_materials[mesh.material].texture >= 0 && uvs.empty())
+            ++textured_without_uvs_;
+        mesh.uvs = std::move(uvs);
         mesh.positions.reserve(positions.size());
         for (size_t v = 0; v < positions.size(); ++v) {
             const Vec3f& p = positions[v];
@@ -644,10 +658,14 @@ private:
             w.push_back(str_cat(file_, ": ", bad_normal_primitives_,
                                 " triangle primitives have zero or non-finite normals: using "
                                 "geometric normals"));
-        if (ignored_textures_ > 0)
-            w.push_back(str_cat(file_, ": ", ignored_textures_,
-                                " base colour textures are not read: their materials use "
-                                "baseColorFactor alone"));
+        if (textured_without_uvs_ > 0)
+            w.push_back(str_cat(file_, ": ", textured_without_uvs_,
+                                " triangle primitives have a textured material but no TEXCOORD_0: "
+                                "they use baseColorFactor alone"));
+        if (textures_.ignored_transforms() > 0)
+            w.push_back(str_cat(file_, ": ", textures_.ignored_transforms(),
+                                " base colour textures have KHR_texture_transform, which is "
+                                "ignored (coordinates are used as stored)"));
         if (other_primitives_ > 0)
             w.push_back(str_cat(file_, ": ignored ", other_primitives_,
                                 " POINTS / LINE_LOOP primitives"));
@@ -680,14 +698,15 @@ private:
     size_t nonuniform_hair_nodes_ = 0;
     std::map<int, uint32_t> surface_material_map_;
     int default_surface_material_ = -1;
-    size_t degenerate_triangles_ = 0, bad_normal_primitives_ = 0, ignored_textures_ = 0;
+    size_t degenerate_triangles_ = 0, bad_normal_primitives_ = 0, textured_without_uvs_ = 0;
+    GltfTextureReader textures_;  // after scene_: it fills scene_.textures
 };
 
 }  // namespace
 
 Scene load_gltf(const std::string& path, const LoadOptions& opt) {
     tinygltf::TinyGLTF loader;
-    loader.SetImageLoader(&skip_image, nullptr);
+    loader.SetImageLoader(&keep_gltf_image_bytes, nullptr);
     tinygltf::Model model;
     std::string err, warn;
     std::string ext = path.size() >= 4 ? path.substr(path.size() - 4) : "";

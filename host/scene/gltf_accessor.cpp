@@ -40,7 +40,9 @@ ElementRange resolve(const tinygltf::Model& model, int index, int expected_type,
         scene_fail(file, what, ": sparse accessors are not supported (accessor ", index, ")");
     if (acc.type != expected_type)
         scene_fail(file, what, ": accessor ", index, " must be ", expected_type_name);
-    const size_t components = expected_type == TINYGLTF_TYPE_VEC3 ? 3 : 1;
+    const size_t components = expected_type == TINYGLTF_TYPE_VEC3   ? 3
+                              : expected_type == TINYGLTF_TYPE_VEC2 ? 2
+                                                                    : 1;
     const size_t comp_bytes = component_bytes(acc.componentType);
     if (comp_bytes == 0)
         scene_fail(file, what, ": accessor ", index, " has invalid componentType ",
@@ -99,6 +101,37 @@ std::vector<float> read_float_scalar_accessor(const tinygltf::Model& model, int 
         scene_fail(file, what, ": accessor ", accessor, " must hold FLOAT components");
     std::vector<float> out(r.count);
     for (size_t i = 0; i < r.count; ++i) std::memcpy(&out[i], r.base + i * r.stride, sizeof(float));
+    return out;
+}
+
+std::vector<std::array<float, 2>> read_texcoord_accessor(const tinygltf::Model& model, int accessor,
+                                                        const std::string& file,
+                                                        const std::string& what) {
+    const ElementRange r = resolve(model, accessor, TINYGLTF_TYPE_VEC2, "VEC2", file, what);
+    const bool normalized = model.accessors[accessor].normalized;
+    const bool ok = r.component_type == TINYGLTF_COMPONENT_TYPE_FLOAT ||
+                    (normalized && (r.component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+                                    r.component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT));
+    if (!ok)
+        scene_fail(file, what, ": accessor ", accessor,
+                   " must hold FLOAT or normalized UNSIGNED_BYTE / UNSIGNED_SHORT components");
+    std::vector<std::array<float, 2>> out(r.count);
+    for (size_t i = 0; i < r.count; ++i) {
+        const unsigned char* p = r.base + i * r.stride;
+        for (int c = 0; c < 2; ++c) {
+            float v;
+            if (r.component_type == TINYGLTF_COMPONENT_TYPE_FLOAT) {
+                std::memcpy(&v, p + 4 * c, 4);
+            } else if (r.component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) {
+                v = p[c] / 255.0f;
+            } else {
+                uint16_t s;
+                std::memcpy(&s, p + 2 * c, 2);
+                v = s / 65535.0f;
+            }
+            out[i][c] = v;
+        }
+    }
     return out;
 }
 

@@ -44,6 +44,20 @@ void check_scene_invariants(const Scene& s) {
             if (v >= m.positions.size())
                 scene_fail(s.source, "mesh ", i, ": index ", v, " out of range (", m.positions.size(),
                            " positions)");
+        if (!m.uvs.empty() && m.uvs.size() != m.positions.size())
+            scene_fail(s.source, "mesh ", i, ": ", m.uvs.size(), " texture coordinates for ",
+                       m.positions.size(), " positions");
+    }
+    for (size_t i = 0; i < s.surface_materials.size(); ++i) {
+        const int32_t t = s.surface_materials[i].texture;
+        if (t >= 0 && static_cast<size_t>(t) >= s.textures.size())
+            scene_fail(s.source, "surface material ", i, " refers to texture ", t, " of ", s.textures.size());
+    }
+    for (size_t i = 0; i < s.textures.size(); ++i) {
+        const Texture& t = s.textures[i];
+        if (t.width == 0 || t.height == 0 || t.texels.size() != uint64_t(t.width) * t.height)
+            scene_fail(s.source, "texture ", i, " is ", t.width, " x ", t.height, " but holds ",
+                       t.texels.size(), " texels");
     }
     // Camera and lights feed ray generation and light sampling directly: one non-finite value
     // would turn the whole image into NaN, so refuse it here for every loader (found by fuzzing).

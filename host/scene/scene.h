@@ -28,11 +28,24 @@ struct Strands {
     size_t segment_count() const;  // sum over strands of (points - 1)
 };
 
-// Diffuse (Lambertian) surface material of a triangle mesh.  Base colour textures are not read
-// yet (the glTF loader warns and uses baseColorFactor).
+// Diffuse (Lambertian) surface material of a triangle mesh: albedo = albedo x the base colour
+// texture (decoded to linear) at the hit's TEXCOORD_0 when texture >= 0.
 struct SurfaceMaterialDesc {
     std::string name = "surface";
     Vec3f albedo{0.8f, 0.8f, 0.8f};  // glTF baseColorFactor rgb, each in [0, 1]
+    int32_t texture = -1;            // index into Scene::textures, -1: none
+};
+
+enum class TextureWrap { Repeat, ClampToEdge, MirroredRepeat };
+
+// A decoded base colour texture: the image's 8-bit sRGB values, one uint32 per texel
+// (r | g << 8 | b << 16, alpha dropped), row 0 = the top of the image = glTF v 0.  Kept encoded
+// (not linear float) to use a quarter of the memory; kernels/surface/texture.h decodes.
+struct Texture {
+    std::string name;  // for messages and --verbose, e.g. "image 0 \"checker.png\""
+    uint32_t width = 0, height = 0;
+    TextureWrap wrap_s = TextureWrap::Repeat, wrap_t = TextureWrap::Repeat;
+    std::vector<uint32_t> texels;  // width * height
 };
 
 // A triangle mesh in world space (node transforms applied by the loader).  Triangle k is
@@ -42,7 +55,7 @@ struct Mesh {
     std::vector<Vec3f> positions;
     std::vector<uint32_t> indices;
     std::vector<Vec3f> normals;                  // optional, unit length
-    std::vector<std::array<float, 2>> uvs;       // optional
+    std::vector<std::array<float, 2>> uvs;       // optional TEXCOORD_0, finite
     uint32_t material = 0;                       // index into Scene::surface_materials
 
     size_t triangle_count() const { return indices.size() / 3; }
@@ -107,6 +120,7 @@ struct Scene {
     std::vector<HairMaterialDesc> materials;  // at least one
     std::vector<Mesh> meshes;                          // triangle surfaces (head, scalp, floor)
     std::vector<SurfaceMaterialDesc> surface_materials;  // indexed by Mesh::material
+    std::vector<Texture> textures;                     // indexed by SurfaceMaterialDesc::texture
     bool has_camera = false;
     Camera camera;
     std::vector<Light> lights;
@@ -117,8 +131,9 @@ struct Scene {
 struct LoadOptions {
     bool thickness_is_diameter = false;  // .hair: thickness is the radius unless stated
     float default_radius = 0.0f;         // > 0 overrides a file's missing radius
-    // Refuse scenes whose strand arrays would need more memory than this (checked against the
-    // counts a file states, before anything is allocated).
+    // Refuse scenes whose strand arrays, or whose textures together, would need more memory
+    // than this (checked against the counts and image sizes a file states, before anything is
+    // allocated or decoded).
     uint64_t max_bytes = uint64_t(16) << 30;
 };
 

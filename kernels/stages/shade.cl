@@ -9,7 +9,9 @@
  *                for the extension ray (Russian roulette from HT_RR_START_BOUNCE bounces on).
  *   triangle  -> (HT_FEATURE_MESHES) a Lambertian surface: the same light pick and MIS, shadow
  *                and extension rays spawned a small offset off the surface on their side of the
- *                geometric normal, cosine-weighted sampling (kernels/surface/lambert.h).
+ *                geometric normal, cosine-weighted sampling (kernels/surface/lambert.h); the
+ *                albedo is baseColorFactor times the base colour texture at the interpolated
+ *                TEXCOORD_0 when there is one (HT_FEATURE_TEXTURES, kernels/surface/texture.h).
  * Outputs stay in the slot of the shaded ray: shadow_rays[k] (tmax < 0: none) with
  * shadow_contrib[k], and the extension ray in stage_rays[k] with stage_path[k] = path (or
  * HT_NO_PATH); compact.cl then packs the extension queue in a thread-independent order.
@@ -23,6 +25,9 @@
 #include "../fiber/bcsdf.h"
 #if HT_FEATURE_MESHES
 #include "../surface/lambert.h"
+#if HT_FEATURE_TEXTURES
+#include "../surface/texture.h"
+#endif
 #endif
 
 #ifndef HT_RR_START_BOUNCE
@@ -127,6 +132,8 @@ HT_FN float3 ht_surface_spawn(float3 p, float t, float3 ng, float3 w) {
 
 __kernel void shade(__global const HtSegment* segs, __global const HtPoint* points,
                     __global const HtTriangleShading* tri_shading,
+                    __global const HtTexture* textures, uint texture_count,
+                    __global const uint* texels,
                     __global const uint* strand_material, __global const HtMaterial* materials,
                     __global const HtLight* lights, uint light_count, HtEnvironment env,
                     __global const float* env_texels, __global const float* env_marginal,
@@ -184,6 +191,13 @@ __kernel void shade(__global const HtSegment* segs, __global const HtPoint* poin
                             : ng;
             ht_lambert_face_forward(wo, &ng, &ns);
             float3 albedo = (float3)(ts.albedo[0], ts.albedo[1], ts.albedo[2]);
+#if HT_FEATURE_TEXTURES
+            if (ts.texture < texture_count) {
+                float tu = ts.uv[0] * b0 + ts.uv[2] * hit.u + ts.uv[4] * hit.h;
+                float tv = ts.uv[1] * b0 + ts.uv[3] * hit.u + ts.uv[5] * hit.h;
+                albedo *= ht_texture_sample(textures[ts.texture], texels, tu, tv);
+            }
+#endif
 
             if (nee_count > 0u) {
                 HtLightSample ls;

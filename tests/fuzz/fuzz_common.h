@@ -8,7 +8,7 @@
 // Verdicts:
 //   * ht::SceneError                      -> expected rejection of hostile input; fine.
 //   * a scene that loads                  -> must honour scene_contract.h, else abort().  Setting
-//     HT_FUZZ_IGNORE to a comma-separated list of contract categories (strands, camera, light)
+//     HT_FUZZ_IGNORE to a comma-separated list of contract categories (strands, camera, light, textures)
 //     tolerates violations already reported, so that a long run can dig past them.
 //   * any other exception                 -> abort() (a finding: loaders must only throw SceneError).
 //   * crashes, sanitizer reports, timeouts, allocations above -malloc_limit_mb -> libFuzzer

@@ -14,6 +14,10 @@ import math
 import os
 import struct
 import sys
+import zlib
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', '..', 'tools', 'lib'))
+from png_rgb8 import png_rgb8  # noqa: E402
 
 OUT = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(os.path.abspath(__file__)), "corpus")
 
@@ -148,7 +152,9 @@ def hair_gltf(data_uri=True, extra=None):
                 {"mode": 3, "attributes": {"POSITION": 0, "_RADIUS": 1}, "material": 0}]},
             {"primitives": [
                 {"mode": 1, "attributes": {"POSITION": 2}, "indices": 3, "material": 1},
-                {"mode": 4, "attributes": {"POSITION": 2}}]},
+                # a strip: 5 vertices are 3 triangles (as TRIANGLES they were refused, so the
+                # seed stopped here once triangles were read)
+                {"mode": 5, "attributes": {"POSITION": 2}}]},
         ],
         "materials": [
             {"name": "blond", "extras": {"model": "zinke", "sigma_a": [0.06, 0.1, 0.2], "eta": 1.55,
@@ -248,6 +254,71 @@ whole = glb(g, b)
 write(T, "truncated.glb", whole[:len(whole) // 2])
 write(T, "bad_chunk_length.glb", whole[:12] + struct.pack("<I", 0xFFFFFFF0) + whole[16:])
 
+
+
+def textured(g, bin_, image_in_buffer, image=None, mime="image/png"):
+    """Adds a textured quad to a hair_gltf scene: TEXCOORD_0 (float, or normalized u8 when the
+    image is in the buffer), a baseColorTexture with a sampler, and an image (default a 2 x 2
+    PNG) as a data: URI or as a bufferView."""
+    png = image or png_rgb8(2, 2, [[(255, 0, 0), (0, 255, 0)], [(0, 0, 255), (255, 255, 255)]])
+    bin_ = bin_ + b"\0" * (-len(bin_) % 4)
+    quad = f32([0, 0, 0, 1, 0, 0, 1, 0, 1, 0, 0, 1])
+    if image_in_buffer:
+        uv, uv_type = bytes([0, 0, 255, 0, 255, 255, 0, 255]), 5121
+    else:
+        uv, uv_type = f32([0, 0, 2, 0, 2, 2, 0, 2]), 5126
+    first = len(g["bufferViews"])
+    g["bufferViews"].append({"buffer": 0, "byteOffset": len(bin_), "byteLength": len(quad)})
+    bin_ += quad
+    g["bufferViews"].append({"buffer": 0, "byteOffset": len(bin_), "byteLength": len(uv)})
+    bin_ += uv + b"\0" * (-len(uv) % 4)
+    g["accessors"].append({"bufferView": first, "componentType": 5126, "count": 4, "type": "VEC3"})
+    g["accessors"].append({"bufferView": first + 1, "componentType": uv_type, "count": 4, "type": "VEC2",
+                           "normalized": uv_type != 5126})
+    if image_in_buffer:
+        g["bufferViews"].append({"buffer": 0, "byteOffset": len(bin_), "byteLength": len(png)})
+        bin_ += png
+        g["images"] = [{"bufferView": first + 2, "mimeType": mime}]
+    else:
+        g["images"] = [{"uri": "data:" + mime + ";base64," + base64.b64encode(png).decode()}]
+    n = len(g["accessors"])
+    g["materials"].append({"name": "checker", "pbrMetallicRoughness": {
+        "baseColorFactor": [1, 0.5, 1, 1], "baseColorTexture": {"index": 0, "texCoord": 0}}})
+    g["samplers"] = [{"wrapS": 33648, "wrapT": 33071, "magFilter": 9729}]
+    g["textures"] = [{"source": 0, "sampler": 0}]
+    g["meshes"].append({"primitives": [{"mode": 6, "attributes": {"POSITION": n - 2, "TEXCOORD_0": n - 1},
+                                        "material": len(g["materials"]) - 1}]})
+    g["nodes"].append({"mesh": len(g["meshes"]) - 1})
+    g["scenes"][0]["nodes"].append(len(g["nodes"]) - 1)
+    g["buffers"][0]["byteLength"] = len(bin_)
+    if "uri" in g["buffers"][0]:
+        g["buffers"][0]["uri"] = "data:application/octet-stream;base64," + base64.b64encode(bin_).decode()
+    return g, bin_
+
+
+# An 8 x 8 baseline JPEG (4:2:0, metadata stripped), written once by OpenImageIO's oiiotool:
+# Python's standard library has no JPEG encoder, and the seed must be reproducible.
+JPEG_8X8 = base64.b64decode(
+    "/9j/4AAQSkZJRgABAQAAAQABAAD/4QAWRXhpZgAASUkqAAgAAAAAAAAAAAD/2wBDAAMCAgMCAgMDAwMEAwMEBQgF"
+    "BQQEBQoHBwYIDAoMDAsKCwsNDhIQDQ4RDgsLEBYQERMUFRUVDA8XGBYUGBIUFRT/2wBDAQMEBAUEBQkFBQkUDQsN"
+    "FBQUFBQUFBQUFBQUFBQUFBQUFBQUFBQUFBQUFBQUFBQUFBQUFBQUFBQUFBQUFBQUFBT/wAARCAAIAAgDASIAAhEB"
+    "AxEB/8QAHwAAAQUBAQEBAQEAAAAAAAAAAAECAwQFBgcICQoL/8QAtRAAAgEDAwIEAwUFBAQAAAF9AQIDAAQRBRIh"
+    "MUEGE1FhByJxFDKBkaEII0KxwRVS0fAkM2JyggkKFhcYGRolJicoKSo0NTY3ODk6Q0RFRkdISUpTVFVWV1hZWmNk"
+    "ZWZnaGlqc3R1dnd4eXqDhIWGh4iJipKTlJWWl5iZmqKjpKWmp6ipqrKztLW2t7i5usLDxMXGx8jJytLT1NXW19jZ"
+    "2uHi4+Tl5ufo6erx8vP09fb3+Pn6/8QAHwEAAwEBAQEBAQEBAQAAAAAAAAECAwQFBgcICQoL/8QAtREAAgECBAQD"
+    "BAcFBAQAAQJ3AAECAxEEBSExBhJBUQdhcRMiMoEIFEKRobHBCSMzUvAVYnLRChYkNOEl8RcYGRomJygpKjU2Nzg5"
+    "OkNERUZHSElKU1RVVldYWVpjZGVmZ2hpanN0dXZ3eHl6goOEhYaHiImKkpOUlZaXmJmaoqOkpaanqKmqsrO0tba3"
+    "uLm6wsPExcbHyMnK0tPU1dbX2Nna4uPk5ebn6Onq8vP09fb3+Pn6/9oADAMBAAIRAxEAPwD1f/kWf+pM/wCEZ/7f"
+    "/wDhC/tP5/2h9sz/ALXkb+2KKKK/M69eVCXLHz6tbNro12/RaWS/obKsqo5vRdas7Ncv2acvipwqPWpCb3m+uvxS"
+    "vNznL//Z")
+
+
+g, b = hair_gltf()
+write(T, "textured_quad.gltf", dumps(textured(g, b, image_in_buffer=False)[0]))
+g, b = hair_gltf(data_uri=False)
+write(T, "textured_quad_jpeg.glb", glb(*textured(g, b, image_in_buffer=True, image=JPEG_8X8, mime="image/jpeg")))
+g, b = hair_gltf(data_uri=False)
+write(T, "textured_quad.glb", glb(*textured(g, b, image_in_buffer=True)))
 
 # ---- builtin: specs ------------------------------------------------------------------------------
 T = "fuzz_scene_builtin"

@@ -89,6 +89,34 @@ inline std::string scene_contract_violation(const ht::Scene& s) {
         if (c.has_aspect && !(std::isfinite(c.aspect) && c.aspect > 0.0f))
             return "camera: aspect is not positive finite";
     }
+    // Textures: the shade kernel indexes texels by these sizes and coordinates without checks.
+    for (size_t i = 0; i < s.textures.size(); ++i) {
+        const ht::Texture& t = s.textures[i];
+        if (t.width == 0 || t.height == 0 || t.texels.size() != uint64_t(t.width) * t.height) {
+            why << "textures: texture " << i << " is " << t.width << " x " << t.height << " with "
+                << t.texels.size() << " texels";
+            return why.str();
+        }
+    }
+    for (size_t i = 0; i < s.surface_materials.size(); ++i)
+        if (s.surface_materials[i].texture >= 0 && size_t(s.surface_materials[i].texture) >= s.textures.size()) {
+            why << "textures: surface material " << i << " refers to texture " << s.surface_materials[i].texture
+                << " of " << s.textures.size();
+            return why.str();
+        }
+    for (size_t i = 0; i < s.meshes.size(); ++i) {
+        const ht::Mesh& m = s.meshes[i];
+        if (!m.uvs.empty() && m.uvs.size() != m.positions.size()) {
+            why << "textures: mesh " << i << " has " << m.uvs.size() << " uvs for " << m.positions.size()
+                << " positions";
+            return why.str();
+        }
+        for (const auto& uv : m.uvs)
+            if (!std::isfinite(uv[0]) || !std::isfinite(uv[1])) {
+                why << "textures: mesh " << i << " keeps a non-finite texture coordinate";
+                return why.str();
+            }
+    }
     for (size_t i = 0; i < s.lights.size(); ++i) {
         const ht::Light& l = s.lights[i];
         if (!finite3(l.position) || !finite3(l.direction) || !finite3(l.color) ||

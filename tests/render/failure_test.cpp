@@ -72,6 +72,25 @@ TEST(Failure, MaxMemoryRefusesLargeInputsWithTheSize) {
     EXPECT_EQ(run(kBin + kSmall + " --max-memory banana -o " + (d / "y.exr") + " 2>/dev/null"), 2);
 }
 
+// A scene whose texture image is missing: exit 2 with the scene file, the image and the
+// problem on one line, before any device work.
+TEST(Failure, MissingTextureImageExits2NamingTheFiles) {
+    TempDir d;
+    std::string scene = slurp(std::string(HT_SOURCE_DIR) + "/scenes/strand_on_checker_floor.gltf");
+    const size_t uri = scene.find("\"data:image/png;base64,");
+    ASSERT_NE(uri, std::string::npos);
+    scene.replace(uri, scene.find('"', uri + 1) + 1 - uri, "\"floor%20tiles.png\"");
+    std::ofstream(d / "floor.gltf") << scene;
+    std::string cmd = kBin + " render " + (d / "floor.gltf") + " --width 8 --height 8 --spp 1 --quiet -o " +
+                      (d / "x.exr") + " 2>" + (d / "err.txt");
+    EXPECT_EQ(run(cmd), 2);
+    const std::string err = slurp(d / "err.txt");
+    EXPECT_NE(err.find(d / "floor.gltf"), std::string::npos) << err;
+    EXPECT_NE(err.find("floor tiles.png"), std::string::npos) << err;
+    EXPECT_NE(err.find("does not exist"), std::string::npos) << err;
+    EXPECT_FALSE(fs::exists(d / "x.exr"));
+}
+
 TEST(Failure, FullDiskKeepsThePreviousImage) {
     TempDir d;
     fs::path mnt = d.path / "small_fs";

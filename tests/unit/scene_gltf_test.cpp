@@ -387,6 +387,7 @@ TEST(SceneGltf, BuiltinReferenceWithGltfMaterialCameraAndLight) {
 
 TEST(SceneGltf, ShippedScenesLoad) {
     for (const char* name : {"default.gltf", "ball.gltf", "strand_closeup.gltf", "strand_on_floor.gltf",
+                             "strand_on_checker_floor.gltf",
                              "paper_fig5_strand.gltf", "paper_fig5_closeup.gltf", "paper_fig6_ball.gltf",
                              "paper_fig6_ball_half_sigma.gltf", "paper_fig7_strand.gltf"}) {
         SCOPED_TRACE(name);
@@ -403,6 +404,16 @@ TEST(SceneGltf, ShippedScenesLoad) {
     EXPECT_EQ(s.meshes[0].normals.size(), 4u);
     EXPECT_FLOAT_EQ(s.meshes[0].positions[0][1], -52.0f);
     expect_vec_near(s.surface_materials.at(s.meshes[0].material).albedo, {0.6f, 0.6f, 0.6f});
+    // The checker floor: an 8 x 8 REPEAT texture over uv [0, 6]^2, terracotta at texel (0, 0).
+    const Scene c = load_scene(HT_SOURCE_DIR "/scenes/strand_on_checker_floor.gltf");
+    ASSERT_EQ(c.textures.size(), 1u);
+    EXPECT_EQ(c.textures[0].width, 8u);
+    EXPECT_EQ(c.textures[0].wrap_s, TextureWrap::Repeat);
+    EXPECT_EQ(c.textures[0].texels[0], 190u | 90u << 8 | 60u << 16);
+    EXPECT_EQ(c.textures[0].texels[4], 230u | 220u << 8 | 200u << 16);
+    ASSERT_EQ(c.meshes.at(0).uvs.size(), 4u);
+    EXPECT_FLOAT_EQ(c.meshes[0].uvs[2][0], 6.0f);
+    EXPECT_EQ(c.surface_materials.at(c.meshes[0].material).texture, 0);
 }
 
 }  // namespace
