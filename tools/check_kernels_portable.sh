@@ -38,5 +38,19 @@ if ! "$clang" -x cl -cl-std="$std" -target spir64-unknown-unknown -Xclang -fincl
     echo "FAILED: kernels/stages/wavefront.cl with meshes but no textures ($std)"
     status=1
 fi
+# Lobes (kernels/fiber/lobes.h): every combination, with every model and the AFS stage in, and with
+# the other features off.
+for lobes in "0 0" "0 1" "1 0"; do
+    set -- $lobes
+    for rest in "-DHT_FEATURE_INDIRECT_AFS=1" "${off[*]}"; do
+        # shellcheck disable=SC2086
+        if ! "$clang" -x cl -cl-std="$std" -target spir64-unknown-unknown -Xclang -finclude-default-header \
+             -fsyntax-only -cl-single-precision-constant -Werror -Wall -Wno-unused-function -Wno-unused-variable \
+             -DHT_FEATURE_LOBE_TT=$1 -DHT_FEATURE_LOBE_TRT=$2 $rest "${extra[@]}" "$root/kernels/stages/wavefront.cl"; then
+            echo "FAILED: kernels/stages/wavefront.cl with LOBE_TT=$1 LOBE_TRT=$2 $rest ($std)"
+            status=1
+        fi
+    done
+done
 [ $status = 0 ] && echo "all kernels compile as strict $std for spir64"
 exit $status

@@ -133,6 +133,8 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
         .option("--seed", "S", "random seed; the image depends only on seed, spp and scene", "1")
         .option("--max-depth", "D|auto", "path length in fibre bounces (1 = direct light only); auto: from the materials' averaged attenuation (AFS_TT^avg^D < 0.2, Zinke 2004 §5)", "auto")
         .option("--model", "M", "override every material's fibre model: kajiya|marschner|zinke|chiang")
+        .option("--sigma-a", "R,G,B", "override every hair material's absorption: sigma_a per unit radius (replaces melanin or colour)")
+        .option("--features", "scene|all|all-lobes", "what the kernels are compiled with: what the scene needs (lights, models, meshes, fibre lobes above 1e-3 of R's energy for some material; --verbose lists them), everything, or the scene's choice with every lobe kept (A/B comparisons)", "scene")
         .option("--indirect", "exact|afs|none", "hair-to-hair light: exact = path traced to --max-depth; afs = traced to --max-depth (auto: 1), then the paper's averaged attenuation: the last bounce's shadow rays cross hair with AFS_TT^avg per fibre; none = direct light with opaque hair (depth 1)", "exact")
         .option("--clamp-indirect", "C|off", "cap the contribution of every light path that scattered at two or more surfaces at C (radiance, largest rgb channel, hue kept): fewer sparkles at low sample counts at the cost of a bias that must be measured per scene (builtin:strand, irradiance 1: C = 3 removes 2.8 % of the light, C = 1 14.5 %)", "off")
         .option("--fiber-field", "near|far|auto|material", "for marschner/zinke materials: near field (zinke) everywhere, far field (marschner) everywhere, or auto: near where a fibre covers at least half a camera pixel's footprint and for hair-to-hair light, far elsewhere; with --model and no --fiber-field: material", "auto")
@@ -219,6 +221,21 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
     }
     Scene scene = load_scene(p.get("SCENE"), load_options);
     if (p.has("--model")) apply_model_override(scene, p.get("--model"));
+    if (p.has("--sigma-a")) {
+        const Vec3f sa = parse_rgb("--sigma-a", p.get("--sigma-a"));
+        for (auto& mat : scene.materials) {
+            mat.has_sigma_a = true;
+            mat.has_melanin = mat.has_color = false;
+            mat.sigma_a = sa;
+        }
+    }
+    {
+        const std::string f = p.get("--features");
+        if (f == "scene") rs.features = FeatureMode::Scene;
+        else if (f == "all") rs.features = FeatureMode::All;
+        else if (f == "all-lobes") rs.features = FeatureMode::AllLobes;
+        else throw UsageError("--features must be scene, all or all-lobes, got '" + f + "'");
+    }
     if (p.has("--background")) scene.environment = Environment{"", parse_rgb("--background", p.get("--background")), 1.0f};
     if (p.has("--environment")) scene.environment.map_path = p.get("--environment");
     scene.environment.intensity *= float(p.get_double("--environment-intensity", 0, 1e12));
@@ -255,9 +272,9 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
                      scene.strands.strand_count(), scene.strands.segment_count());
     if (p.has("--verbose")) {
         const bool afs = rs.indirect == RenderSettings::Indirect::Afs;
-        for (auto& line : describe_features(scene_features(scene, rs.fiber_field, afs)))
+        for (auto& line : describe_features(scene_features(scene, rs.fiber_field, afs, rs.features)))
             std::fprintf(stderr, "feature %s\n", line.c_str());
-        std::fprintf(stderr, "kernel options: %s\n", kernel_build_options(scene, rs.fiber_field, afs).c_str());
+        std::fprintf(stderr, "kernel options: %s\n", kernel_build_options(scene, rs.fiber_field, afs, rs.features).c_str());
         for (const Texture& t : scene.textures)
             std::fprintf(stderr, "texture %s: %u x %u, %s on the device\n", t.name.c_str(), t.width, t.height,
                          format_bytes(t.texels.size() * sizeof(uint32_t)).c_str());

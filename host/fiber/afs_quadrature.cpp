@@ -76,6 +76,17 @@ AfsValues afs_reference(double eta, double sigma_a, double theta) {
     return v;
 }
 
+std::vector<float> afs_tt_table(double eta, const float sigma_a[3]) {
+    std::vector<float> t;
+    t.reserve(4 * (HT_AFS_TT_TABLE_N + 1));
+    const real3 s = make_real3(sigma_a[0], sigma_a[1], sigma_a[2]);
+    for (int i = 0; i <= HT_AFS_TT_TABLE_N; ++i) {
+        const real3 v = ht_afs_tt3(eta, s, HT_HALF_PI * i / HT_AFS_TT_TABLE_N);
+        t.insert(t.end(), {float(v.x), float(v.y), float(v.z), 0.0f});
+    }
+    return t;
+}
+
 std::vector<AfsRow> afs_curves(double eta, double sigma_a, double theta_max_deg, double step_deg) {
     std::vector<AfsRow> rows;
     for (double t = 0; t <= theta_max_deg + 1e-9; t += step_deg)

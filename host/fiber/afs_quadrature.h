@@ -16,6 +16,10 @@ struct AfsValues {
 // theta in radians; sigma_a relative to the radius; eta > 1.
 AfsValues afs_reference(double eta, double sigma_a, double theta);
 
+// AFS_TT^avg(theta) for --indirect afs: HT_AFS_TT_TABLE_N + 1 nodes in theta over [0, pi/2],
+// (r, g, b, 0) each, for one material (kernels/fiber/afs.h ht_afs_tt_lookup).
+std::vector<float> afs_tt_table(double eta, const float sigma_a[3]);
+
 // Fig. 4 curves: rows over theta = 0..theta_max_deg in steps (degrees).
 struct AfsRow {
     double theta_deg;

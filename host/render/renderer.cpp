@@ -14,6 +14,8 @@
 #include "render/features.h"
 #include "render/memory_plan.h"
 #include "render/scene_upload.h"
+#include "fiber/afs_quadrature.h"
+#include "kernels/fiber/afs.h"
 #include "kernels/surface/texture.h"
 
 #include <algorithm>
@@ -78,13 +80,15 @@ struct Renderer::Impl {
     cl::Buffer rays[2], ray_path[2], hits, paths, shadow_rays, shadow_contrib, occluded, counters;
     cl::Buffer stage_rays, stage_path, group_sums;  // uncompacted extension rays, per-group counts
     cl::Buffer transmittance;                        // --indirect afs: per shadow slot, rgb
+    cl::Buffer afs_table;                            // --indirect afs: AFS_TT^avg(theta) per material
 
     Impl(ClContext& c, const Scene& scene, const RenderSettings& s) : cl(c), settings(s) {
         geometry = build_geometry(scene);
         device_geometry = upload_geometry(cl, geometry);
         std::vector<uint32_t> mat_of_strand(scene.strands.material.begin(), scene.strands.material.end());
         strand_material = device_array(cl.context(), mat_of_strand);
-        materials = device_array(cl.context(), make_kernel_materials(scene.materials));
+        const std::vector<HtMaterial> kmats = make_kernel_materials(scene.materials);
+        materials = device_array(cl.context(), kmats);
         auto kl = make_kernel_lights(scene.lights);
         light_count = uint32_t(kl.size());
         lights = device_array(cl.context(), kl);
@@ -96,7 +100,7 @@ struct Renderer::Impl {
         env_conditional = device_array(cl.context(), environment.conditional);
 
         const bool afs = s.indirect == RenderSettings::Indirect::Afs;
-        options = kernel_build_options(scene, s.fiber_field, afs);
+        options = kernel_build_options(scene, s.fiber_field, afs, s.features);
         stats.clamp_indirect = s.clamp_indirect;
         if (stats.clamp_indirect > 0) {
             char def[64];
@@ -115,6 +119,13 @@ struct Renderer::Impl {
         k_accumulate = cl::Kernel(program, "accumulate");
         k_compact_count = cl::Kernel(program, "compact_count");
         if (afs) {
+            std::vector<float> table;
+            for (const HtMaterial& m : kmats) {
+                const std::vector<float> t = afs_tt_table(m.eta, m.sigma_a);
+                table.insert(table.end(), t.begin(), t.end());
+            }
+            if (table.empty()) table.assign(4 * (HT_AFS_TT_TABLE_N + 1), 0.0f);  // no buffer of size 0
+            afs_table = device_array(cl.context(), table);
             k_shadow_afs = cl::Kernel(program, "intersect_shadow_afs");
             k_resolve_afs = cl::Kernel(program, "resolve_shadows_afs");
         }
@@ -278,7 +289,7 @@ struct Renderer::Impl {
         k_shadow_afs.setArg(1, device_geometry.segments);
         k_shadow_afs.setArg(2, device_geometry.points);
         k_shadow_afs.setArg(3, strand_material);
-        k_shadow_afs.setArg(4, materials);
+        k_shadow_afs.setArg(4, afs_table);
         k_shadow_afs.setArg(5, shadow_rays);
         k_shadow_afs.setArg(6, transmittance);
         k_shadow_afs.setArg(7, count);

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "cl/device.h"
+#include "render/features.h"
 #include "scene/scene.h"
 
 #include <cstdint>
@@ -26,6 +27,7 @@ struct RenderSettings {
     bool profile_stages = false;           // time each stage kernel (drains the queue after each)
     // Cap on each indirect sample's contribution (largest channel; 0: none), compiled into shade.
     float clamp_indirect = 0.0f;
+    FeatureMode features = FeatureMode::Scene;  // --features: what is compiled in
 };
 
 // Linear radiance film: per pixel (sum r, sum g, sum b, sample count).

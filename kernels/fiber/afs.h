@@ -113,4 +113,58 @@ HT_FN real ht_afs_fast(real eta, real sigma_a, real theta, int p) {
     return s;
 }
 
+/* AFS_TT for three absorption coefficients at once: ht_afs_fast(eta, sigma_a[c], theta, 1) for each
+ * channel, with the same nodes and the same arithmetic per node, sharing everything but the chord
+ * transmittance (Fresnel, ray density, node angles), which is most of the work. */
+HT_FN real3 ht_afs_tt3(real eta, real3 sigma_a, real theta) {
+    const real x[8] = {HT_R(0.0950125098376374), HT_R(0.2816035507792589), HT_R(0.4580167776572274), HT_R(0.6178762444026438),
+                       HT_R(0.7554044083550030), HT_R(0.8656312023878318), HT_R(0.9445750230732326), HT_R(0.9894009349916499)};
+    const real w[8] = {HT_R(0.1894506104550685), HT_R(0.1826034150449236), HT_R(0.1691565193950025), HT_R(0.1495959888165767),
+                       HT_R(0.1246289712555339), HT_R(0.0951585116824928), HT_R(0.0622535239386479), HT_R(0.0271524594117541)};
+    HtAfsParams a;
+    ht_afs_params(&a, eta, HT_R(0), theta);
+    const real inv_ep = ht_inv_eta_prime(eta, a.sin_t, a.cos_t);
+    const real inv_ct = HT_R(1) / ht_cos_theta_t(eta, a.sin_t);
+    const real uc = ht_afs_split(&a);
+    real3 total = ht_splat(HT_R(0));
+    for (int piece = 0; piece < 2; ++piece) {
+        const real lo = piece == 0 ? HT_R(0) : uc, hi = piece == 0 ? uc : HT_HALF_PI;
+        if (piece == 1 && !(uc < HT_HALF_PI)) break;
+        const real c = HT_R(0.5) * (lo + hi), r = HT_R(0.5) * (hi - lo);
+        real3 s = ht_splat(HT_R(0));
+        for (int k = 0; k < 8; ++k)
+            for (int sg = -1; sg <= 1; sg += 2) {
+                real su, cu;
+                ht_sincos(c + (real)sg * r * x[k], &su, &cu);
+                const real h = ht_clamp(su, HT_R(0), HT_R(1));
+                const real f = ht_fresnel_dielectric(a.cos_t * ht_safe_sqrt(HT_R(1) - h * h), eta);
+                const real hq = h * inv_ep;
+                const real chord = HT_R(2) * ht_safe_sqrt(HT_R(1) - hq * hq) * inv_ct;
+                const real geo = (HT_R(1) - f) * (HT_R(1) - f) * ht_inv_dphi_dh(1, h, inv_ep);
+                s += ht_exp3(sigma_a * (-chord)) * (w[k] * geo * cu);
+            }
+        total += s * r;
+    }
+    return total;
+}
+
+/* AFS_TT^avg(theta) tabulated for the --indirect afs shadow rays, which need it at every fibre
+ * crossing: the 2 x 16-node quadrature per channel was ~80 % of that stage's time.  Per material
+ * HT_AFS_TT_TABLE_N + 1 nodes theta_i = i (pi/2) / N, 4 floats each (r, g, b, 0), filled on the
+ * host with ht_afs_tt3 in double (host/fiber/afs_quadrature.cpp); linear interpolation in theta.
+ * 1024 intervals (0.09 deg; 16 KB per material): AFS_TT bends sharply toward 0 over the last
+ * degrees before grazing, where 256 intervals left 1e-4 of interpolation error; 1024 leave < 1e-5
+ * against ht_afs_fast (tests/unit/fiber_afs_test AfsTableInterpolationError). */
+#define HT_AFS_TT_TABLE_N 1024
+HT_FN real3 ht_afs_tt_lookup(HT_CONST_GLOBAL float* table, uint material, real theta) {
+    HT_CONST_GLOBAL float* t = table + material * (4u * (HT_AFS_TT_TABLE_N + 1u));
+    const real x = ht_clamp(theta, HT_R(0), HT_HALF_PI) * ((real)HT_AFS_TT_TABLE_N / HT_HALF_PI);
+    int i = (int)x;
+    i = i < HT_AFS_TT_TABLE_N - 1 ? i : HT_AFS_TT_TABLE_N - 1;
+    const real f = x - (real)i;
+    const real3 a = make_real3(t[4 * i], t[4 * i + 1], t[4 * i + 2]);
+    const real3 b = make_real3(t[4 * i + 4], t[4 * i + 5], t[4 * i + 6]);
+    return a + (b - a) * f;
+}
+
 #endif

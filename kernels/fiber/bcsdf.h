@@ -12,7 +12,8 @@
  * (including non-unit / degenerate directions and h outside [-1, 1], which are clamped).
  *
  * Lobes (ht_bcsdf_eval_lobes): [0] R, [1] TT, [2] TRT (marschner/zinke: including the glint),
- * [3] residual (chiang: TRRT+; kajiya: the diffuse term, [0] its specular term). */
+ * [3] residual (chiang: TRRT+; kajiya: the diffuse term, [0] its specular term).  Lobes compiled out
+ * for the scene (lobes.h) are 0 and have no share in the pdf. */
 #ifndef HT_FIBER_BCSDF_H
 #define HT_FIBER_BCSDF_H
 
@@ -32,8 +33,11 @@
 #ifndef HT_FEATURE_MODEL_CHIANG
 #define HT_FEATURE_MODEL_CHIANG 1
 #endif
-/* shared building blocks; each model header below includes what it needs of them too */
+/* shared building blocks; each model header below includes what it needs of them too.  They are
+ * included here unconditionally because the host's kernel assembler (host/cl/kernel_source.cpp)
+ * includes a file once, at its first textual #include, even inside an #if that is false. */
 #include "math.h"
+#include "lobes.h"
 #include "fresnel.h"
 #include "longitudinal.h"
 #include "azimuthal.h"

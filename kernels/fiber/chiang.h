@@ -11,6 +11,7 @@
 
 #include "../types.h"
 #include "azimuthal.h"
+#include "lobes.h"
 
 /* Per-query quantities shared by eval and sample. */
 typedef struct {
@@ -37,12 +38,16 @@ HT_FN void ht_chiang_setup(const HtMaterial* m, real3 wo, real h, HtChiangSetup*
     /* residual: A_2 F T / (1 - F T); 0/0 at h = +-1 with sigma_a = 0 (§14.3) -> denominator floor */
     real3 tf = T * f;
     c->ap[3] = ht_div3(c->ap[2] * tf, ht_max3s(ht_splat(HT_R(1)) - tf, HT_R(1e-7)));
+    /* compiled-out lobes (lobes.h) carry nothing: not evaluated, never sampled */
+    for (int p = 1; p < 4; ++p)
+        if (!HT_LOBE_ON(p)) c->ap[p] = ht_splat(HT_R(0));
     real sum = HT_R(0);
     for (int p = 0; p < 4; ++p) {
         c->ap_pdf[p] = ht_max(ht_luminance(c->ap[p]), HT_R(0));
         sum += c->ap_pdf[p];
     }
-    for (int p = 0; p < 4; ++p) c->ap_pdf[p] = sum > HT_R(0) ? c->ap_pdf[p] / sum : HT_R(0.25);
+    for (int p = 0; p < 4; ++p)
+        c->ap_pdf[p] = sum > HT_R(0) ? c->ap_pdf[p] / sum : (HT_LOBE_ON(p) ? HT_R(1) / (real)HT_LOBES_ON : HT_R(0));
 }
 
 /* log normaliser of lobe p: exact from v on the host, precomputed (mp_c) in the float kernels. */
@@ -74,6 +79,7 @@ HT_FN void ht_chiang_eval_setup(const HtMaterial* m, const HtChiangSetup* c, rea
     real3 sum = ht_splat(HT_R(0));
     real pd = HT_R(0);
     for (int p = 0; p < 3; ++p) {
+        if (!HT_LOBE_ON(p)) { lobes[p] = ht_splat(HT_R(0)); continue; }
         real sp, cp;
         ht_chiang_tilt(m, p, c->sin_o, c->cos_o, &sp, &cp);
         real mp = ht_mp_n(cos_i, sin_i, cp, sp, m->v[p], ht_chiang_log_norm(m, p));
@@ -83,10 +89,14 @@ HT_FN void ht_chiang_eval_setup(const HtMaterial* m, const HtChiangSetup* c, rea
         sum += l;
         pd += mp * np * c->ap_pdf[p];
     }
+#if HT_FEATURE_LOBE_TRT
     real m3 = ht_mp_n(cos_i, sin_i, c->cos_o, c->sin_o, m->v[3], ht_chiang_log_norm(m, 3)) * HT_INV_TWO_PI;
     lobes[3] = c->ap[3] * m3;
     sum += lobes[3];
     pd += m3 * c->ap_pdf[3];
+#else
+    lobes[3] = ht_splat(HT_R(0));
+#endif
     *value = ht_sanitize3(sum);
     *pdf = ht_sanitize(pd);
 }
@@ -107,6 +117,8 @@ HT_FN int ht_chiang_sample(const HtMaterial* m, real3 wo, real h, real u0, real 
         acc += c.ap_pdf[k];
         if (u0 < acc) { p = k; break; }
     }
+    /* rounding past the last compiled-in lobe's cumulative sum: take that lobe */
+    while (p > 0 && !(c.ap_pdf[p] > HT_R(0)) && !HT_LOBE_ON(p)) --p;
     real sp, cp;
     ht_chiang_tilt(m, p, c.sin_o, c.cos_o, &sp, &cp);
     real sin_i, cos_i;

@@ -19,6 +19,7 @@
 
 #include "../types.h"
 #include "azimuthal.h"
+#include "lobes.h"
 
 typedef struct {
     real sin_o, cos_o, sin_i, cos_i, theta_o, theta_i, theta_h, sin_d, cos_d, phi;
@@ -139,17 +140,33 @@ HT_FN real3 ht_marschner_ntrt(const HtMaterial* m, real phi, real eta, real sin_
     return n * ((HT_R(1) - t * r1) * (HT_R(1) - t * r2)) + glint;
 }
 
+/* Normalises lobe weights pr[0..2] (sum s) into selection probabilities, each compiled-in lobe
+ * floored at 2 % so that no lobe the model evaluates goes unsampled; compiled-out lobes get 0. */
+HT_FN void ht_lobe_probs_finish(real* pr, real s) {
+    s = ht_max(s, HT_R(1e-12));
+    real t = HT_R(0);
+    for (int p = 0; p < 3; ++p) { pr[p] = HT_LOBE_ON(p) ? ht_max(pr[p] / s, HT_R(0.02)) : HT_R(0); t += pr[p]; }
+    for (int p = 0; p < 3; ++p) pr[p] /= t;
+}
+
+/* Lobe for the uniform u0 and u0 remapped to [0, 1) within it.  Rounding can leave u0 past the
+ * cumulative sum of the last compiled-in lobe: that lobe is taken then (never one with pr = 0). */
+HT_FN int ht_pick_lobe(const real* pr, real u0, real* ur) {
+    int p = u0 < pr[0] ? 0 : (u0 < pr[0] + pr[1] ? 1 : 2);
+    while (p > 0 && !(pr[p] > HT_R(0))) --p;
+    real r = p == 0 ? u0 / pr[0] : (p == 1 ? (u0 - pr[0]) / pr[1] : (u0 - pr[0] - pr[1]) / pr[2]);
+    *ur = ht_clamp(r, HT_R(0), HT_R(0.99999994));
+    return p;
+}
+
 /* Lobe selection probabilities (depend on wo only). */
 HT_FN void ht_marschner_probs(const HtMaterial* m, real sin_o, real cos_o, real* pr) {
     real s = HT_R(0);
     for (int p = 0; p < 3; ++p) {
-        pr[p] = ht_luminance(ht_marschner_ap(m, p, HT_R(0.5), m->eta, sin_o, cos_o));
+        pr[p] = HT_LOBE_ON(p) ? ht_luminance(ht_marschner_ap(m, p, HT_R(0.5), m->eta, sin_o, cos_o)) : HT_R(0);
         s += pr[p];
     }
-    s = ht_max(s, HT_R(1e-12));
-    real t = HT_R(0);
-    for (int p = 0; p < 3; ++p) { pr[p] = ht_max(pr[p] / s, HT_R(0.02)); t += pr[p]; }
-    for (int p = 0; p < 3; ++p) pr[p] /= t;
+    ht_lobe_probs_finish(pr, s);
 }
 
 #define HT_MARSCHNER_TRT_UNIFORM HT_R(0.10)
@@ -162,6 +179,7 @@ HT_FN real ht_marschner_pdf(const HtMaterial* m, const HtMarschnerAngles* a, con
     ht_marschner_probs(m, a->sin_o, a->cos_o, pr);
     real pd = HT_R(0);
     for (int p = 0; p < 3; ++p) {
+        if (!HT_LOBE_ON(p)) continue;
         real pth = ht_mz_theta_pdf(m, p, a->sin_o, a->cos_o, a->sin_i, a->cos_i); /* per solid angle / dphi */
         real dens = dens_in[p];
         if (dens < HT_R(0)) {
@@ -187,10 +205,13 @@ HT_FN void ht_marschner_eval(const HtMaterial* m, real3 wo, real3 wi, real h, re
     HtMarschnerAngles a;
     ht_marschner_angles(wo, wi, &a);
     real geo = HT_R(0.5) * a.cos_i / ht_max(a.cos_d * a.cos_d, HT_R(1e-6));
-    real dens[3];
-    real3 n0, n1;
+    real dens[3] = {HT_R(0), HT_R(0), HT_R(0)};
+    real3 n0, n1 = ht_splat(HT_R(0)), n2 = ht_splat(HT_R(0));
     ht_marschner_np_raw(m, 0, a.phi, m->eta, a.sin_d, a.cos_d, &n0, &dens[0]);
+#if HT_FEATURE_LOBE_TT
     ht_marschner_np_raw(m, 1, a.phi, m->eta, a.sin_d, a.cos_d, &n1, &dens[1]);
+#endif
+#if HT_FEATURE_LOBE_TRT
     real eta_trt = m->eta;
     if (m->eccentricity < HT_R(1)) {
         /* cos(2 phi_h) = cos(2 phi_o + phi), phi_h = (phi_i + phi_o)/2 */
@@ -200,8 +221,9 @@ HT_FN void ht_marschner_eval(const HtMaterial* m, real3 wo, real3 wi, real h, re
         ht_sincos(a.phi, &sp, &cp);
         eta_trt = ht_marschner_eta_star(m, c2o * cp - s2o * sp);
     }
-    real3 n2 = ht_marschner_ntrt(m, a.phi, eta_trt, a.sin_d, a.cos_d, &dens[2]);
+    n2 = ht_marschner_ntrt(m, a.phi, eta_trt, a.sin_d, a.cos_d, &dens[2]);
     if (eta_trt != m->eta) dens[2] = HT_R(-1); /* the sampling proxy uses eta, not eta* */
+#endif
     lobes[0] = n0 * (geo * ht_gaussian(a.theta_h - m->alpha_r, m->beta_r));
     lobes[1] = n1 * (geo * ht_gaussian(a.theta_h - m->alpha_tt, m->beta_tt));
     lobes[2] = n2 * (geo * ht_gaussian(a.theta_h - m->alpha_trt, m->beta_trt));
@@ -228,9 +250,8 @@ HT_FN int ht_marschner_sample(const HtMaterial* m, real3 wo, real h, real u0, re
     ht_theta(wo, &sin_o, &cos_o);
     real pr[3];
     ht_marschner_probs(m, sin_o, cos_o, pr);
-    int p = u0 < pr[0] ? 0 : (u0 < pr[0] + pr[1] ? 1 : 2);
-    real ur = p == 0 ? u0 / pr[0] : (p == 1 ? (u0 - pr[0]) / pr[1] : (u0 - pr[0] - pr[1]) / pr[2]);
-    ur = ht_clamp(ur, HT_R(0), HT_R(0.99999994));
+    real ur;
+    int p = ht_pick_lobe(pr, u0, &ur);
     real sin_i, cos_i, sin_d, cos_d;
     ht_mz_theta_sample(m, p, sin_o, cos_o, u1, u2, &sin_i, &cos_i);
     real theta_o = ht_asin(sin_o), theta_i = ht_asin(sin_i);

@@ -43,11 +43,8 @@ HT_FN void ht_zinke_probs(const HtMaterial* m, real h, real sin_o, real cos_o, r
     real phis[3];
     ht_zinke_w(m, h, sin_o, cos_o, w, phis);
     real s = HT_R(0);
-    for (int p = 0; p < 3; ++p) { pr[p] = ht_max(ht_luminance(w[p]), HT_R(0)); s += pr[p]; }
-    s = ht_max(s, HT_R(1e-12));
-    real t = HT_R(0);
-    for (int p = 0; p < 3; ++p) { pr[p] = ht_max(pr[p] / s, HT_R(0.02)); t += pr[p]; }
-    for (int p = 0; p < 3; ++p) pr[p] /= t;
+    for (int p = 0; p < 3; ++p) { pr[p] = HT_LOBE_ON(p) ? ht_max(ht_luminance(w[p]), HT_R(0)) : HT_R(0); s += pr[p]; }
+    ht_lobe_probs_finish(pr, s);
 }
 
 HT_FN void ht_zinke_eval(const HtMaterial* m, real3 wo, real3 wi, real h, real3* lobes, real3* value, real* pdf) {
@@ -64,6 +61,7 @@ HT_FN void ht_zinke_eval(const HtMaterial* m, real3 wo, real3 wi, real h, real3*
     real pd = HT_R(0);
     real3 sum = ht_splat(HT_R(0));
     for (int p = 0; p < 3; ++p) {
+        if (!HT_LOBE_ON(p)) { lobes[p] = ht_splat(HT_R(0)); continue; }
         real g = ht_gaussian(a.theta_h - ab[p], bb[p]);
         real d = ht_wrapped_gaussian(a.phi - phis[p], m->azim_sigma);
         lobes[p] = ht_sanitize3(w[p] * (geo * g * d));
@@ -81,9 +79,8 @@ HT_FN int ht_zinke_sample(const HtMaterial* m, real3 wo, real h, real u0, real u
     ht_theta(wo, &sin_o, &cos_o);
     real pr[3];
     ht_zinke_probs(m, h, sin_o, cos_o, pr);
-    int p = u0 < pr[0] ? 0 : (u0 < pr[0] + pr[1] ? 1 : 2);
-    real ur = p == 0 ? u0 / pr[0] : (p == 1 ? (u0 - pr[0]) / pr[1] : (u0 - pr[0] - pr[1]) / pr[2]);
-    ur = ht_clamp(ur, HT_R(0), HT_R(0.99999994));
+    real ur;
+    int p = ht_pick_lobe(pr, u0, &ur);
     real sin_i, cos_i, sin_d, cos_d;
     ht_mz_theta_sample(m, p, sin_o, cos_o, u1, u2, &sin_i, &cos_i);
     real theta_o = ht_asin(sin_o), theta_i = ht_asin(sin_i);

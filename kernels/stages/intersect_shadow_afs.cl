@@ -3,33 +3,81 @@
  * Zinke 2004 §5/§7: beyond the traced bounces, hair-to-hair scattering is approximated by the
  * averaged attenuation coefficients -- light crossing a fibre keeps AFS_TT^avg(theta) of its
  * energy (theta = inclination of the ray to that fibre), as in deep shadow maps / pixel blending
- * with averaged attenuation factors.  Each slot's ray is followed through every fibre it crosses
- * (closest hit, then on from beyond that fibre) and transmittance[j] = prod AFS_TT per crossing.
- * Crossings stop counting once the transmittance is negligible or after HT_AFS_MAX_CROSSINGS.
- * Approximation kept: at a strand joint the next segment may be entered from inside and counted
- * as a second crossing (slightly too dark where rays run along a strand).  Triangles (meshes)
- * block the ray completely. */
+ * with averaged attenuation factors: transmittance[j] = prod AFS_TT over the fibres the ray crosses
+ * in (tmin, tmax).
+ *
+ * AFS_TT^avg(theta) per material comes from a table (fiber/afs.h ht_afs_tt_lookup).
+ *
+ * A product does not depend on the order of its factors, so one traversal visits every leaf the
+ * ray's segment (tmin, tmax) touches and multiplies in each crossing as it comes (an "all hits"
+ * traversal: the ray is never shortened), instead of a closest-hit traversal restarted beyond every
+ * fibre (the previous version: up to 64 restarts).  It stops as soon as the running transmittance
+ * of every channel is below HT_AFS_MIN_TRANSMITTANCE (factors are <= 1, so the final product would
+ * be too: the result does not depend on the visiting order) or at the first triangle (meshes are
+ * opaque).
+ *
+ * What counts as one crossing: a capsule the ray intersects, except that a run of consecutive
+ * capsules of one strand that the ray all intersects (it enters the next segment at a joint, or runs
+ * along a bend) is one crossing, counted at the run's first segment: segment k counts unless the ray
+ * also intersects segment k - 1 of the same strand.  That is a local test, so it too is independent
+ * of the visiting order.  Entry and exit of one capsule are one intersection test, never two.
+ * The previous closest-hit loop skipped to the exit of the hit segment's infinite cylinder and could
+ * count the next segment of the same strand a second time (darker where rays run along strands),
+ * and ignored crossings after the 64th; both differences are measured in docs/PAPER.md. */
 #include "../types.h"
 #include "../geometry/bvh_traverse.h"
 #include "../fiber/afs.h"
 
-#define HT_AFS_MAX_CROSSINGS 64
 #define HT_AFS_MIN_TRANSMITTANCE 1e-4f
 
-/* Parameter along the ray where it leaves the infinite cylinder (axis a + s u, radius r). */
-HT_FN float ht_cylinder_exit(float3 o, float3 d, float3 a, float3 u, float r, float t_hit) {
-    float3 w = (o - a) - dot(o - a, u) * u;
-    float3 dp = d - dot(d, u) * u;
-    float A = dot(dp, dp), B = dot(w, dp), C = dot(w, w) - r * r;
-    if (A < 1e-12f) return t_hit + 2.0f * r;  /* along the axis: step a diameter */
-    float disc = B * B - A * C;
-    float t1 = (-B + sqrt(max(disc, 0.0f))) / A;
-    return max(t1, t_hit) + 1e-3f * r;
+/* Multiplies T by the crossings of the leaf [first, first + count); returns 1 when the ray is
+ * blocked (a triangle, or T negligible in every channel), with T set to 0. */
+HT_FN int ht_afs_leaf(__global const HtSegment* segs, __global const HtPoint* points,
+                      __global const uint* strand_material, __global const float* afs_tt_table,
+                      uint first, uint count, float3 o, float3 d, float tmin, float tmax, float3* T) {
+    for (uint k = first; k < first + count; ++k) {
+        const HtSegment s = segs[k];
+#if HT_FEATURE_MESHES
+        if (s.flags & HT_SEG_TRIANGLE) {
+            float b1, b2;
+            const float t = ht_triangle_intersect(o, d, ht_point_pos(points[s.point]),
+                                                  ht_point_pos(points[s.point + 1u]),
+                                                  ht_point_pos(points[s.point + 2u]), tmin, tmax, &b1, &b2);
+            if (t < tmax) {
+                *T = (float3)(0.0f);
+                return 1;
+            }
+            continue;
+        }
+#endif
+        const HtPoint a = points[s.point];
+        const HtPoint b = points[s.point + 1u];
+        const float3 pa = ht_point_pos(a), pb = ht_point_pos(b);
+        if (!(ht_capsule_intersect(o, d, pa, pb, ht_hit_radius(a, b), s.flags & HT_SEG_FIRST, tmin, tmax) < tmax))
+            continue;
+        if (!(s.flags & HT_SEG_FIRST)) {
+            /* the strand's previous segment: points are stored strand by strand.  Its begin sphere
+             * (a root's) is left out: a joint is owned by the segment that ends there. */
+            const HtPoint z = points[s.point - 1u];
+            if (ht_capsule_intersect(o, d, ht_point_pos(z), pa, ht_hit_radius(z, a), 0u, tmin, tmax) < tmax)
+                continue;
+        }
+        const float3 u = pb - pa;
+        const float len2 = dot(u, u);
+        const float3 axis = len2 > 0.0f ? u * rsqrt(len2) : (float3)(1.0f, 0.0f, 0.0f);
+        const float theta = asin(clamp(fabs(dot(d, axis)), 0.0f, 1.0f));
+        *T *= ht_afs_tt_lookup(afs_tt_table, strand_material[s.strand], theta);
+        if (max(T->x, max(T->y, T->z)) < HT_AFS_MIN_TRANSMITTANCE) {
+            *T = (float3)(0.0f);
+            return 1;
+        }
+    }
+    return 0;
 }
 
 __kernel void intersect_shadow_afs(__global const HtBvhNode* nodes, __global const HtSegment* segs,
                                    __global const HtPoint* points, __global const uint* strand_material,
-                                   __global const HtMaterial* materials, __global const HtRay* rays,
+                                   __global const float* afs_tt_table, __global const HtRay* rays,
                                    __global float4* transmittance, uint count) {
     uint j = get_global_id(0);
     if (j >= count) return;
@@ -38,33 +86,51 @@ __kernel void intersect_shadow_afs(__global const HtBvhNode* nodes, __global con
         transmittance[j] = (float4)(0.0f);
         return;
     }
-    float3 o = (float3)(ray.ox, ray.oy, ray.oz), d = (float3)(ray.dx, ray.dy, ray.dz);
+    const float3 o = (float3)(ray.ox, ray.oy, ray.oz), d = (float3)(ray.dx, ray.dy, ray.dz);
+    const float tmin = ray.tmin, tmax = ray.tmax < HT_T_FAR ? ray.tmax : HT_T_FAR;
     float3 T = (float3)(1.0f);
-    for (int n = 0; n < HT_AFS_MAX_CROSSINGS; ++n) {
-        HtHit hit;
-        ht_trace_closest(nodes, segs, points, ray, &hit);
-        if (hit.segment == HT_NO_HIT || hit.t >= ray.tmax) break;
-        HtSegment s = segs[hit.segment];
-#if HT_FEATURE_MESHES
-        /* surfaces are opaque: only hair is translucent */
-        if (s.flags & HT_SEG_TRIANGLE) {
-            T = (float3)(0.0f);
-            break;
+
+    /* The slab test of ht_traverse (geometry/bvh_traverse.h, where the layout is explained) with a
+     * fixed far end: every leaf box the segment touches is visited once, in any order. */
+    const float ix = ht_safe_inv(d.x), iy = ht_safe_inv(d.y), iz = ht_safe_inv(d.z);
+    const float8 inv8 = (float8)(ix, ix, iy, iy, iz, iz, 0.0f, 0.0f);
+    const float8 oi8 = (float8)(o.x * ix, o.x * ix, o.y * iy, o.y * iy, o.z * iz, o.z * iz, 0.0f, 0.0f);
+    uint stack[HT_STACK_SIZE];
+    int sp = 0;
+    uint cur = 0;
+    for (;;) {
+        __global const HtBvhNode* n = nodes + cur;
+        const float8 lo = vload8(0, n->lo);
+        const float8 hi = vload8(0, n->hi);
+        const float8 ta = lo * inv8 - oi8;
+        const float8 tb = hi * inv8 - oi8;
+        const float8 tn = ta < tb ? ta : tb;
+        const float8 tf = ta < tb ? tb : ta;
+        const float near0 = max(max(tn.s0, tn.s2), max(tn.s4, tmin));
+        const float near1 = max(max(tn.s1, tn.s3), max(tn.s5, tmin));
+        const float far0 = min(min(tf.s0, tf.s2), min(tf.s4, tmax));
+        const float far1 = min(min(tf.s1, tf.s3), min(tf.s5, tmax));
+        const uint c0 = as_uint(lo.s6), c1 = as_uint(lo.s7);
+        const uint n0 = as_uint(hi.s6), n1 = as_uint(hi.s7);
+        int h0 = near0 <= far0 && (c0 | n0) != 0u;
+        int h1 = near1 <= far1 && (c1 | n1) != 0u;
+        if (h0 && n0 != 0u) {
+            if (ht_afs_leaf(segs, points, strand_material, afs_tt_table, c0, n0, o, d, tmin, tmax, &T)) break;
+            h0 = 0;
         }
-#endif
-        HtMaterial m = materials[strand_material[s.strand]];
-        float3 t = (float3)(hit.tx, hit.ty, hit.tz);
-        float theta = asin(clamp(fabs(dot(d, t)), 0.0f, 1.0f));
-        T.x *= ht_afs_fast(m.eta, m.sigma_a[0], theta, 1);
-        T.y *= ht_afs_fast(m.eta, m.sigma_a[1], theta, 1);
-        T.z *= ht_afs_fast(m.eta, m.sigma_a[2], theta, 1);
-        if (max(T.x, max(T.y, T.z)) < HT_AFS_MIN_TRANSMITTANCE) {
-            T = (float3)(0.0f);
-            break;
+        if (h1 && n1 != 0u) {
+            if (ht_afs_leaf(segs, points, strand_material, afs_tt_table, c1, n1, o, d, tmin, tmax, &T)) break;
+            h1 = 0;
         }
-        HtPoint a = points[s.point];
-        ray.tmin = ht_cylinder_exit(o, d, (float3)(a.x, a.y, a.z), t, hit.radius, hit.t);
-        if (!(ray.tmin < ray.tmax)) break;
+        if (h0 && h1) {
+            cur = c0;
+            stack[sp++] = c1;
+            continue;
+        }
+        if (h0) { cur = c0; continue; }
+        if (h1) { cur = c1; continue; }
+        if (sp == 0) break;
+        cur = stack[--sp];
     }
     if (!(ht_isfinite(T.x) && ht_isfinite(T.y) && ht_isfinite(T.z))) T = (float3)(0.0f);
     transmittance[j] = (float4)(T, 0.0f);

@@ -1,0 +1,5 @@
+// The fibre models compiled with HT_FEATURE_LOBE_TT=1, HT_FEATURE_LOBE_TRT=0 (fiber_lobes_test_body.h).
+#define HT_FEATURE_LOBE_TT 1
+#define HT_FEATURE_LOBE_TRT 0
+#define HT_LOBES_SUITE FiberLobesOffTRT
+#include "fiber_lobes_test_body.h"
