@@ -237,13 +237,6 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
     if (!quiet)
         std::fprintf(stderr, "scene: %s, %zu strands, %zu segments\n", scene.source.c_str(),
                      scene.strands.strand_count(), scene.strands.segment_count());
-    if (p.has("--verbose")) {
-        const bool afs = rs.indirect == RenderSettings::Indirect::Afs;
-        for (auto& line : describe_features(scene_features(scene, rs.fiber_field, afs)))
-            std::fprintf(stderr, "feature %s\n", line.c_str());
-        std::fprintf(stderr, "kernel options: %s\n", kernel_build_options(scene, rs.fiber_field, afs).c_str());
-    }
-
     std::vector<std::unique_ptr<Renderer>> renderers;
     std::vector<Renderer*> devices;
     for (auto& c : contexts) {
@@ -251,6 +244,13 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
         devices.push_back(renderers.back().get());
     }
     const Renderer& renderer = *renderers.front();
+    if (p.has("--verbose")) {
+        // after the upload: the geometry's paging depends on the device
+        KernelFeatures f = scene_features(scene, rs.fiber_field, rs.indirect == RenderSettings::Indirect::Afs);
+        f.paging = renderer.geometry_paging();
+        for (auto& line : describe_features(f)) std::fprintf(stderr, "feature %s\n", line.c_str());
+        std::fprintf(stderr, "kernel options: %s\n", renderer.stats().kernel_options.c_str());
+    }
     const uint64_t key = render_key(scene, rs, renderer.kernel_options(), grid.chunk);
     SampleAccumulator acc(grid, rs.width, rs.height);
     if (p.has("--resume")) {

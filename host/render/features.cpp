@@ -1,5 +1,6 @@
 #include "render/features.h"
 
+#include "bvh/device_geometry.h"
 #include "cl/device.h"
 #include "kernels/types.h"
 
@@ -39,8 +40,10 @@ KernelFeatures scene_features(const Scene& scene, uint32_t fiber_field, bool ind
     return f;
 }
 
-std::string kernel_build_options(const Scene& scene, uint32_t fiber_field, bool indirect_afs) {
+std::string kernel_build_options(const Scene& scene, uint32_t fiber_field, bool indirect_afs,
+                                 const GeometryPaging& paging) {
     KernelFeatures f = scene_features(scene, fiber_field, indirect_afs);
+    f.paging = paging;
     std::string o = base_kernel_options();
     auto def = [&](const char* name, bool on) { o += std::string(" -D") + name + "=" + (on ? "1" : "0"); };
     def("HT_FEATURE_LIGHT_POINT", f.light_point);
@@ -53,6 +56,7 @@ std::string kernel_build_options(const Scene& scene, uint32_t fiber_field, bool 
     def("HT_FEATURE_MODEL_CHIANG", f.model[HT_MODEL_CHIANG]);
     def("HT_FEATURE_INDIRECT_AFS", f.indirect_afs);
     def("HT_FEATURE_MESHES", f.meshes);
+    o += geometry_page_options(f.paging);
     return o;
 }
 
@@ -66,6 +70,9 @@ std::vector<std::string> describe_features(const KernelFeatures& f) {
     for (int i = 0; i < 4; ++i) add((std::string("model ") + kModelNames[i]).c_str(), f.model[i]);
     add("translucent AFS shadow rays", f.indirect_afs);
     add("triangle meshes", f.meshes);
+    out.push_back(f.paging.pages > 1 ? "geometry: " + std::to_string(f.paging.pages) + " buffers per array of " +
+                                           format_bytes(f.paging.page_bytes()) + " (paged: larger than one allocation)"
+                                     : std::string("geometry: one buffer per array"));
     return out;
 }
 

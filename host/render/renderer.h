@@ -2,6 +2,7 @@
 #pragma once
 
 #include "cl/device.h"
+#include "render/memory_plan.h"
 #include "scene/scene.h"
 
 #include <cstdint>
@@ -79,6 +80,8 @@ public:
     const RenderStats& stats() const;
 
     const std::string& kernel_options() const;
+    // How the scene's geometry was cut into device buffers on this device.
+    const GeometryPaging& geometry_paging() const;
 
 private:
     struct Impl;

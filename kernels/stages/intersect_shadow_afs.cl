@@ -27,8 +27,7 @@ HT_FN float ht_cylinder_exit(float3 o, float3 d, float3 a, float3 u, float r, fl
     return max(t1, t_hit) + 1e-3f * r;
 }
 
-__kernel void intersect_shadow_afs(__global const HtBvhNode* nodes, __global const HtSegment* segs,
-                                   __global const HtPoint* points, __global const uint* strand_material,
+__kernel void intersect_shadow_afs(HT_GEOMETRY_PARAMS, __global const uint* strand_material,
                                    __global const HtMaterial* materials, __global const HtRay* rays,
                                    __global float4* transmittance, uint count) {
     uint j = get_global_id(0);
@@ -42,9 +41,9 @@ __kernel void intersect_shadow_afs(__global const HtBvhNode* nodes, __global con
     float3 T = (float3)(1.0f);
     for (int n = 0; n < HT_AFS_MAX_CROSSINGS; ++n) {
         HtHit hit;
-        ht_trace_closest(nodes, segs, points, ray, &hit);
+        ht_trace_closest(HT_GEOMETRY_ARGS, ray, &hit);
         if (hit.segment == HT_NO_HIT || hit.t >= ray.tmax) break;
-        HtSegment s = segs[hit.segment];
+        HtSegment s = HT_SEG(hit.segment);
 #if HT_FEATURE_MESHES
         /* surfaces are opaque: only hair is translucent */
         if (s.flags & HT_SEG_TRIANGLE) {
@@ -62,7 +61,7 @@ __kernel void intersect_shadow_afs(__global const HtBvhNode* nodes, __global con
             T = (float3)(0.0f);
             break;
         }
-        HtPoint a = points[s.point];
+        HtPoint a = HT_POINT(s.point);
         ray.tmin = ht_cylinder_exit(o, d, (float3)(a.x, a.y, a.z), t, hit.radius, hit.t);
         if (!(ray.tmin < ray.tmax)) break;
     }
