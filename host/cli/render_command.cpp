@@ -321,8 +321,13 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
     save();
     const double render_seconds = since(t0);
     const int my_done = acc.samples();
-    const double reduce_seconds = reduce_to_rank0(dist, acc);
+    RankReport mine;
+    mine.samples = my_done;
+    mine.render_seconds = render_seconds;
+    reduce_to_rank0(dist, acc, &mine);
+    const double reduce_seconds = mine.reduce_seconds;
     const double total_seconds = since(t0);
+    const std::vector<RankReport> reports = gather_reports(dist, mine);  // collective: before any return
     if (!root) return g_stop_signal ? 128 + int(g_stop_signal) : kExitOk;
     const int done = acc.samples();
     const Film film = acc.compose();
@@ -353,6 +358,11 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
             std::fprintf(stderr, "MPI: %d ranks; rank 0 rendered %d samples in %.2f s; all ranks done after %.2f s; "
                                  "reduction %.3f s\n", dist.ranks, my_done, render_seconds, total_seconds - reduce_seconds,
                          reduce_seconds);
+        if (dist.ranks > 1)
+            for (size_t r = 0; r < reports.size(); ++r)
+                std::fprintf(stderr, "MPI rank %zu: %.0f samples, render %.3f s, reduction %.3f s, sent %.0f bytes, "
+                                     "received %.0f bytes\n", r, reports[r].samples, reports[r].render_seconds,
+                             reports[r].reduce_seconds, reports[r].bytes_sent, reports[r].bytes_received);
         std::fprintf(stderr, "done: %d spp in %.2f s; %llu camera + %llu extension + %llu shadow rays; kernel build %.0f ms%s\n",
                      done, render_seconds, (unsigned long long)st.camera_rays, (unsigned long long)st.extension_rays,
                      (unsigned long long)st.shadow_rays, st.build_ms, st.build_cached ? " (cached)" : "");
