@@ -67,8 +67,12 @@ DeviceGeometry upload_geometry(ClContext& cl, const SceneGeometry& geo, uint64_t
     const size_t sb = geo.segments.size() * sizeof(HtSegment);
     const size_t pb = geo.points.size() * sizeof(HtPoint);
     const size_t tb = geo.triangles.size() * sizeof(HtTriangleShading);
-    d.paging = plan_geometry_pages({{"BVH node", nb}, {"segment", sb}, {"point", pb}, {"triangle shading", tb}},
-                                   max_alloc ? max_alloc : cl.info().max_alloc);
+    try {
+        d.paging = plan_geometry_pages({{"BVH node", nb}, {"segment", sb}, {"point", pb}, {"triangle shading", tb}},
+                                       max_alloc ? max_alloc : cl.info().max_alloc);
+    } catch (const DeviceError& e) {
+        throw DeviceError(std::string(e.what()) + " (device: " + cl.info().name + ")");
+    }
     d.nodes = make_pages(cl, "BVH node", geo.nodes, d.paging);
     d.segments = make_pages(cl, "segment", geo.segments, d.paging);
     d.points = make_pages(cl, "point", geo.points, d.paging);
