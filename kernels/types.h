@@ -56,14 +56,15 @@ typedef struct {
 /* No texture: HtTriangleShading.texture of an untextured triangle. */
 #define HT_NO_TEXTURE 0xFFFFFFFFu
 
-/* Per-triangle shading data, indexed by HtSegment.strand of a triangle record.  96 bytes. */
+/* Per-triangle shading data, indexed by HtSegment.strand of a triangle record.  128 bytes: a power
+ * of two so that paged geometry (geometry/pages.h) finds a record by shift and mask. */
 typedef struct {
     float n0[4], n1[4], n2[4]; /* vertex shading normals xyz (w = 1 when present, 0: use the
                                 * geometric normal) */
     float albedo[4];           /* Lambertian albedo rgb (glTF baseColorFactor), w unused */
     float uv[6];               /* TEXCOORD_0 of vertices 0, 1, 2 (u0 v0 u1 v1 u2 v2), 0 without */
     uint texture;              /* index into the HtTexture array, or HT_NO_TEXTURE */
-    uint pad0;
+    uint pad0, pad1[8];
 } HtTriangleShading;
 
 /* Texture wrap modes (glTF sampler wrapS / wrapT, same meaning as OpenGL's). */

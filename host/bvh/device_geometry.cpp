@@ -1,5 +1,8 @@
 #include "bvh/device_geometry.h"
 
+#include "kernels/geometry/pages.h"
+
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -18,16 +21,14 @@ template <typename F> void device_step(const char* what, F&& f) {
 }  // namespace
 
 namespace {
-cl::Buffer make_buffer(ClContext& cl, const char* what, const void* data, size_t bytes) {
-    const unsigned long long max_alloc = cl.info().max_alloc;
-    if (max_alloc && bytes > max_alloc) {
-        char msg[256];
-        std::snprintf(msg, sizeof msg,
-                      "the scene's %s array needs %.1f MiB but the device %s allocates at most "
-                      "%.1f MiB per buffer; use a smaller scene or another device",
-                      what, bytes / 1048576.0, cl.info().name.c_str(), max_alloc / 1048576.0);
-        throw DeviceError(msg);
-    }
+static_assert(sizeof(HtBvhNode) == 1u << HT_NODE_BYTES_LOG2, "kernels/geometry/pages.h: HtBvhNode size");
+static_assert(sizeof(HtSegment) == 1u << HT_SEGMENT_BYTES_LOG2, "kernels/geometry/pages.h: HtSegment size");
+static_assert(sizeof(HtPoint) == 1u << HT_POINT_BYTES_LOG2, "kernels/geometry/pages.h: HtPoint size");
+static_assert(sizeof(HtTriangleShading) == 1u << HT_TRIANGLE_BYTES_LOG2,
+              "kernels/geometry/pages.h: HtTriangleShading size");
+static_assert(kMaxGeometryPages == HT_MAX_GEOMETRY_PAGES, "one page limit for host and kernels");
+
+cl::Buffer make_buffer(ClContext& cl, const std::string& what, const void* data, size_t bytes) {
     // A zero-sized buffer is invalid in OpenCL; an empty array still gets one element.
     const size_t n = bytes ? bytes : 16;
     try {
@@ -40,21 +41,56 @@ cl::Buffer make_buffer(ClContext& cl, const char* what, const void* data, size_t
                           cl_error_name(e.err()));
     }
 }
+
+// The array as paging.pages buffers; pages past its end repeat its last buffer (never read:
+// no index reaches them, but every kernel argument must be a valid buffer).
+template <typename T>
+std::vector<cl::Buffer> make_pages(ClContext& cl, const char* what, const std::vector<T>& v,
+                                   const GeometryPaging& paging) {
+    const size_t bytes = v.size() * sizeof(T);
+    if (paging.pages == 1) return {make_buffer(cl, what, v.data(), bytes)};
+    const size_t per_page = size_t(paging.page_bytes() / sizeof(T));
+    std::vector<cl::Buffer> out;
+    for (size_t first = 0; first < v.size() || out.empty(); first += per_page) {
+        const size_t n = std::min(per_page, v.size() - first);
+        out.push_back(make_buffer(cl, std::string(what) + " page " + std::to_string(out.size()),
+                                  v.data() + first, n * sizeof(T)));
+    }
+    while (out.size() < paging.pages) out.push_back(out.back());
+    return out;
+}
 }  // namespace
 
-DeviceGeometry upload_geometry(ClContext& cl, const SceneGeometry& geo) {
+DeviceGeometry upload_geometry(ClContext& cl, const SceneGeometry& geo, uint64_t max_alloc) {
     DeviceGeometry d;
     const size_t nb = geo.nodes.size() * sizeof(HtBvhNode);
     const size_t sb = geo.segments.size() * sizeof(HtSegment);
     const size_t pb = geo.points.size() * sizeof(HtPoint);
-    d.nodes = make_buffer(cl, "BVH node", geo.nodes.data(), nb);
-    d.segments = make_buffer(cl, "segment", geo.segments.data(), sb);
-    d.points = make_buffer(cl, "point", geo.points.data(), pb);
     const size_t tb = geo.triangles.size() * sizeof(HtTriangleShading);
-    d.triangles = make_buffer(cl, "triangle shading", geo.triangles.data(), tb);
+    try {
+        d.paging = plan_geometry_pages({{"BVH node", nb}, {"segment", sb}, {"point", pb}, {"triangle shading", tb}},
+                                       max_alloc ? max_alloc : cl.info().max_alloc);
+    } catch (const DeviceError& e) {
+        throw DeviceError(std::string(e.what()) + " (device: " + cl.info().name + ")");
+    }
+    d.nodes = make_pages(cl, "BVH node", geo.nodes, d.paging);
+    d.segments = make_pages(cl, "segment", geo.segments, d.paging);
+    d.points = make_pages(cl, "point", geo.points, d.paging);
+    d.triangles = make_pages(cl, "triangle shading", geo.triangles, d.paging);
     d.triangle_count = geo.triangles.size();
     d.bytes = nb + sb + pb + tb;
     return d;
+}
+
+cl_uint set_paged_args(cl::Kernel& k, cl_uint arg, const std::vector<cl::Buffer>& pages) {
+    for (const cl::Buffer& b : pages) k.setArg(arg++, b);
+    return arg;
+}
+
+std::string geometry_page_options(const GeometryPaging& paging) {
+    std::string o = " -DHT_GEOMETRY_PAGES=" + std::to_string(paging.pages);
+    if (paging.pages > 1) o += " -DHT_GEOMETRY_PAGE_LOG2=" + std::to_string(paging.page_log2);
+    return o;
 }
 
 DeviceTracer::DeviceTracer(ClContext& cl, const DeviceGeometry& geo, const std::string& options)
@@ -62,6 +98,7 @@ DeviceTracer::DeviceTracer(ClContext& cl, const DeviceGeometry& geo, const std::
     std::string opts = options;
     if (opts.find("HT_FEATURE_MESHES") == std::string::npos)
         opts += geo.triangle_count ? " -DHT_FEATURE_MESHES=1" : " -DHT_FEATURE_MESHES=0";
+    opts += geometry_page_options(geo.paging);
     program_ = cl.build("stages/intersect.cl", opts);  // throws DeviceError with the log
     build_ms_ = cl.last_build_ms();
     build_cached_ = cl.last_build_cached();
@@ -101,12 +138,12 @@ void DeviceTracer::set_rays(const std::vector<HtRay>& rays) {
 void DeviceTracer::enqueue(cl::Kernel& k, cl::Buffer& out) {
     if (!count_) return;
     device_step("kernel launch", [&] {
-        k.setArg(0, geo_.nodes);
-        k.setArg(1, geo_.segments);
-        k.setArg(2, geo_.points);
-        k.setArg(3, rays_);
-        k.setArg(4, out);
-        k.setArg(5, (cl_uint)count_);
+        cl_uint a = set_paged_args(k, 0, geo_.nodes);
+        a = set_paged_args(k, a, geo_.segments);
+        a = set_paged_args(k, a, geo_.points);
+        k.setArg(a++, rays_);
+        k.setArg(a++, out);
+        k.setArg(a++, (cl_uint)count_);
         cl_.queue().enqueueNDRangeKernel(k, cl::NullRange,
                                          cl::NDRange(round_up(count_, kLocalSize)),
                                          cl::NDRange(kLocalSize));

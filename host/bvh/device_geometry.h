@@ -3,21 +3,33 @@
 
 #include "bvh/bvh.h"
 #include "cl/device.h"
+#include "render/memory_plan.h"
 
+#include <string>
 #include <vector>
 
 namespace ht {
 
+// Each array holds paging.pages buffers, in kernel-argument order (kernels/geometry/pages.h).
 struct DeviceGeometry {
-    cl::Buffer nodes, segments, points;
-    cl::Buffer triangles;       // HtTriangleShading per triangle (one dummy element when none)
+    std::vector<cl::Buffer> nodes, segments, points;
+    std::vector<cl::Buffer> triangles;  // HtTriangleShading per triangle (one dummy element when none)
+    GeometryPaging paging;
     size_t triangle_count = 0;  // decides HT_FEATURE_MESHES for DeviceTracer
     size_t bytes = 0;
 };
 
-// Copies the three arrays into read-only device buffers.  Throws DeviceError naming the array
-// and its size when one exceeds the device's maximum allocation.
-DeviceGeometry upload_geometry(ClContext& cl, const SceneGeometry& geo);
+// Copies the arrays into read-only device buffers, paged (plan_geometry_pages) when one exceeds
+// max_alloc (0: the device's maximum allocation, which HAIRTRACE_MAX_ALLOC may lower).  Throws
+// DeviceError naming the array and the sizes when even kMaxGeometryPages pages are too few.
+DeviceGeometry upload_geometry(ClContext& cl, const SceneGeometry& geo, uint64_t max_alloc = 0);
+
+// Sets one paged array's kernel arguments from index `arg` on; returns the next free index.
+cl_uint set_paged_args(cl::Kernel& k, cl_uint arg, const std::vector<cl::Buffer>& pages);
+
+// " -DHT_GEOMETRY_PAGES=K [-DHT_GEOMETRY_PAGE_LOG2=S]": what programs indexing this geometry are
+// built with.
+std::string geometry_page_options(const GeometryPaging& paging);
 
 // Owns a program with the intersect_closest / intersect_shadow stages (kernels/stages/
 // intersect.cl) and traces ray arrays against one uploaded geometry.  Ray and result buffers

@@ -1,7 +1,10 @@
 #include "cl/device.h"
 
 #include "cl/kernel_source.h"
+#include "cli/args.h"
+#include "render/memory_plan.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -50,6 +53,20 @@ struct Found {
     DeviceInfo info;
 };
 
+// HAIRTRACE_MAX_ALLOC=SIZE lowers every device's maximum allocation, so that the code paths of
+// devices with small allocations (paged geometry, the memory planner's refusals) can be run and
+// tested on a CPU device whose limit is gigabytes.
+unsigned long long max_alloc_cap() {
+    const char* e = std::getenv("HAIRTRACE_MAX_ALLOC");
+    if (!e || !*e) return ~0ull;
+    try {
+        return parse_bytes(e);
+    } catch (const std::exception& x) {
+        throw UsageError(std::string("HAIRTRACE_MAX_ALLOC='") + e + "' is not a size like 64K, 512M or 1G (" +
+                         x.what() + ")");
+    }
+}
+
 std::vector<Found> enumerate() {
     std::vector<cl::Platform> platforms;
     try {
@@ -80,7 +97,7 @@ std::vector<Found> enumerate() {
             i.type = type_name(d.getInfo<CL_DEVICE_TYPE>());
             i.compute_units = d.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
             i.global_mem = d.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
-            i.max_alloc = d.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
+            i.max_alloc = std::min<unsigned long long>(d.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>(), max_alloc_cap());
             i.max_work_group = d.getInfo<CL_DEVICE_MAX_WORK_GROUP_SIZE>();
             out.push_back(f);
         }

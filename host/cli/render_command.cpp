@@ -270,16 +270,6 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
     if (!quiet)
         std::fprintf(stderr, "scene: %s, %zu strands, %zu segments\n", scene.source.c_str(),
                      scene.strands.strand_count(), scene.strands.segment_count());
-    if (p.has("--verbose")) {
-        const bool afs = rs.indirect == RenderSettings::Indirect::Afs;
-        for (auto& line : describe_features(scene_features(scene, rs.fiber_field, afs, rs.features)))
-            std::fprintf(stderr, "feature %s\n", line.c_str());
-        std::fprintf(stderr, "kernel options: %s\n", kernel_build_options(scene, rs.fiber_field, afs, rs.features).c_str());
-        for (const Texture& t : scene.textures)
-            std::fprintf(stderr, "texture %s: %u x %u, %s on the device\n", t.name.c_str(), t.width, t.height,
-                         format_bytes(t.texels.size() * sizeof(uint32_t)).c_str());
-    }
-
     std::vector<std::unique_ptr<Renderer>> renderers;
     std::vector<Renderer*> devices;
     for (auto& c : contexts) {
@@ -290,6 +280,16 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
     if (!quiet && renderer.stats().clamp_indirect > 0)
         std::fprintf(stderr, "indirect light clamped at %g per sample (--clamp-indirect)\n",
                      double(renderer.stats().clamp_indirect));
+    if (p.has("--verbose")) {
+        // after the upload: the geometry's paging depends on the device
+        KernelFeatures f = scene_features(scene, rs.fiber_field, rs.indirect == RenderSettings::Indirect::Afs, rs.features);
+        f.paging = renderer.geometry_paging();
+        for (auto& line : describe_features(f)) std::fprintf(stderr, "feature %s\n", line.c_str());
+        std::fprintf(stderr, "kernel options: %s\n", renderer.stats().kernel_options.c_str());
+        for (const Texture& t : scene.textures)
+            std::fprintf(stderr, "texture %s: %u x %u, %s on the device\n", t.name.c_str(), t.width, t.height,
+                         format_bytes(t.texels.size() * sizeof(uint32_t)).c_str());
+    }
     const uint64_t key = render_key(scene, rs, renderer.kernel_options(), grid.chunk);
     SampleAccumulator acc(grid, rs.width, rs.height);
     if (p.has("--resume")) {
@@ -360,8 +360,13 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
     save();
     const double render_seconds = since(t0);
     const int my_done = acc.samples();
-    const double reduce_seconds = reduce_to_rank0(dist, acc);
+    RankReport mine;
+    mine.samples = my_done;
+    mine.render_seconds = render_seconds;
+    reduce_to_rank0(dist, acc, &mine);
+    const double reduce_seconds = mine.reduce_seconds;
     const double total_seconds = since(t0);
+    const std::vector<RankReport> reports = gather_reports(dist, mine);  // collective: before any return
     if (!root) return g_stop_signal ? 128 + int(g_stop_signal) : kExitOk;
     const int done = acc.samples();
     const Film film = acc.compose();
@@ -392,6 +397,11 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
             std::fprintf(stderr, "MPI: %d ranks; rank 0 rendered %d samples in %.2f s; all ranks done after %.2f s; "
                                  "reduction %.3f s\n", dist.ranks, my_done, render_seconds, total_seconds - reduce_seconds,
                          reduce_seconds);
+        if (dist.ranks > 1)
+            for (size_t r = 0; r < reports.size(); ++r)
+                std::fprintf(stderr, "MPI rank %zu: %.0f samples, render %.3f s, reduction %.3f s, sent %.0f bytes, "
+                                     "received %.0f bytes\n", r, reports[r].samples, reports[r].render_seconds,
+                             reports[r].reduce_seconds, reports[r].bytes_sent, reports[r].bytes_received);
         std::fprintf(stderr, "done: %d spp in %.2f s; %llu camera + %llu extension + %llu shadow rays; kernel build %.0f ms%s\n",
                      done, render_seconds, (unsigned long long)st.camera_rays, (unsigned long long)st.extension_rays,
                      (unsigned long long)st.shadow_rays, st.build_ms, st.build_cached ? " (cached)" : "");

@@ -62,14 +62,17 @@ void dist_abort(const DistContext& d, int code) {
 namespace {
 constexpr int kTagCount = 17, kTagHeader = 18, kTagFilm = 19;
 
-void send_segments(const std::vector<FilmSegment>& segs, int to) {
+double send_segments(const std::vector<FilmSegment>& segs, int to) {
     int n = int(segs.size());
+    double bytes = 0;
     MPI_Send(&n, 1, MPI_INT, to, kTagCount, MPI_COMM_WORLD);
     for (auto& s : segs) {
         int h[2] = {s.first, s.count};
         MPI_Send(h, 2, MPI_INT, to, kTagHeader, MPI_COMM_WORLD);
         MPI_Send(s.film.rgba.data(), int(s.film.rgba.size()), MPI_FLOAT, to, kTagFilm, MPI_COMM_WORLD);
+        bytes += double(s.film.rgba.size()) * sizeof(float);
     }
+    return bytes;
 }
 
 std::vector<FilmSegment> recv_segments(int from, int width, int height) {
@@ -89,10 +92,16 @@ std::vector<FilmSegment> recv_segments(int from, int width, int height) {
     }
     return out;
 }
+
+double payload(const std::vector<FilmSegment>& segs) {
+    double b = 0;
+    for (auto& s : segs) b += double(s.film.rgba.size()) * sizeof(float);
+    return b;
+}
 }  // namespace
 
-double reduce_to_rank0(const DistContext& d, SampleAccumulator& acc) {
-    if (d.ranks == 1) return 0;
+void reduce_to_rank0(const DistContext& d, SampleAccumulator& acc, RankReport* report) {
+    if (d.ranks == 1) return;
     // Wait for the slowest rank first, so the time returned is the reduction alone and not the
     // load imbalance of the render (which the caller sees in its own render time).
     MPI_Barrier(MPI_COMM_WORLD);
@@ -102,19 +111,39 @@ double reduce_to_rank0(const DistContext& d, SampleAccumulator& acc) {
     // order, so rank r can add its chunks only after ranks 0..r-1 have added theirs.  Each rank
     // still sends a single film when the render starts at sample 0 (its prefix), and the
     // rendering itself ran fully in parallel before this.
+    double sent = 0, received = 0;
     if (d.rank == 0) {
-        send_segments(acc.segments(), 1);
+        sent = send_segments(acc.segments(), 1);
         SampleAccumulator all(acc.grid(), w, h);
-        for (auto& s : recv_segments(d.ranks - 1, w, h)) all.add(std::move(s));
+        auto in = recv_segments(d.ranks - 1, w, h);
+        received = payload(in);
+        for (auto& s : in) all.add(std::move(s));
         acc = std::move(all);
     } else {
         SampleAccumulator merged(acc.grid(), w, h);
-        for (auto& s : recv_segments(d.rank - 1, w, h)) merged.add(std::move(s));
+        auto in = recv_segments(d.rank - 1, w, h);
+        received = payload(in);
+        for (auto& s : in) merged.add(std::move(s));
         for (auto& s : acc.release()) merged.add(std::move(s));
-        send_segments(merged.segments(), d.rank + 1 == d.ranks ? 0 : d.rank + 1);
+        sent = send_segments(merged.segments(), d.rank + 1 == d.ranks ? 0 : d.rank + 1);
         acc = std::move(merged);
     }
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (report) {
+        report->reduce_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        report->bytes_sent = sent;
+        report->bytes_received = received;
+    }
+}
+
+std::vector<RankReport> gather_reports(const DistContext& d, const RankReport& mine) {
+    if (d.ranks == 1) return {mine};
+    const double v[5] = {mine.samples, mine.render_seconds, mine.reduce_seconds, mine.bytes_sent, mine.bytes_received};
+    std::vector<double> all(d.rank == 0 ? 5 * size_t(d.ranks) : 0);
+    MPI_Gather(v, 5, MPI_DOUBLE, all.data(), 5, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+    std::vector<RankReport> out;
+    for (size_t r = 0; r < all.size() / 5; ++r)
+        out.push_back({all[5 * r], all[5 * r + 1], all[5 * r + 2], all[5 * r + 3], all[5 * r + 4]});
+    return out;
 }
 
 #else  // no MPI in this build
@@ -127,7 +156,8 @@ DistContext dist_init() {
 }
 void dist_finalize(const DistContext&) {}
 void dist_abort(const DistContext&, int code) { std::exit(code); }
-double reduce_to_rank0(const DistContext&, SampleAccumulator&) { return 0; }
+void reduce_to_rank0(const DistContext&, SampleAccumulator&, RankReport*) {}
+std::vector<RankReport> gather_reports(const DistContext&, const RankReport& mine) { return {mine}; }
 
 #endif
 

@@ -9,6 +9,7 @@
 #include "dist/accumulation.h"
 
 #include <string>
+#include <vector>
 
 namespace ht {
 
@@ -30,9 +31,19 @@ void dist_finalize(const DistContext& d);
 // The part of `range` (whole chunks, contiguous, in rank order) that rank `rank` renders.
 SampleRange rank_range(const SampleRange& range, const ChunkGrid& grid, int rank, int ranks);
 
+// What one rank did, for the cost model of docs/SCALING.md (tools/scaling-bench reads it).
+struct RankReport {
+    double samples = 0, render_seconds = 0, reduce_seconds = 0;
+    double bytes_sent = 0, bytes_received = 0;  // film payload of the reduction (headers left out)
+};
+
 // Chain reduction in rank order.  On return rank 0's acc holds every rank's segments, folded in
-// the canonical order; rank r's holds ranks 0..r.  Returns the seconds spent in
-// the chain itself (after a barrier that absorbs the ranks' different render times).
-double reduce_to_rank0(const DistContext& d, SampleAccumulator& acc);
+// the canonical order; rank r's holds ranks 0..r.  Fills report->reduce_seconds with the time
+// spent in the chain itself (after a barrier that absorbs the ranks' different render times)
+// and the bytes this rank sent and received.
+void reduce_to_rank0(const DistContext& d, SampleAccumulator& acc, RankReport* report);
+
+// Every rank's report, on rank 0 (in rank order); other ranks get an empty list.
+std::vector<RankReport> gather_reports(const DistContext& d, const RankReport& mine);
 
 }  // namespace ht

@@ -1,5 +1,6 @@
 #include "render/features.h"
 
+#include "bvh/device_geometry.h"
 #include "cl/device.h"
 #include "fiber/afs_quadrature.h"
 #include "fiber/material.h"
@@ -158,8 +159,10 @@ KernelFeatures scene_features(const Scene& scene, uint32_t fiber_field, bool ind
     return f;
 }
 
-std::string kernel_build_options(const Scene& scene, uint32_t fiber_field, bool indirect_afs, FeatureMode mode) {
+std::string kernel_build_options(const Scene& scene, uint32_t fiber_field, bool indirect_afs, FeatureMode mode,
+                                 const GeometryPaging& paging) {
     KernelFeatures f = scene_features(scene, fiber_field, indirect_afs, mode);
+    f.paging = paging;
     std::string o = base_kernel_options();
     auto def = [&](const char* name, bool on) { o += std::string(" -D") + name + "=" + (on ? "1" : "0"); };
     def("HT_FEATURE_LIGHT_POINT", f.light_point);
@@ -175,6 +178,7 @@ std::string kernel_build_options(const Scene& scene, uint32_t fiber_field, bool 
     def("HT_FEATURE_TEXTURES", f.textures);
     def("HT_FEATURE_LOBE_TT", f.lobe_tt);
     def("HT_FEATURE_LOBE_TRT", f.lobe_trt);
+    o += geometry_page_options(f.paging);
     return o;
 }
 
@@ -194,6 +198,9 @@ std::vector<std::string> describe_features(const KernelFeatures& f) {
         add(lobe[k], k == 0 ? f.lobe_tt : f.lobe_trt);
         if (!f.lobe_why[k].empty()) out.back() += " (" + f.lobe_why[k] + ")";
     }
+    out.push_back(f.paging.pages > 1 ? "geometry: " + std::to_string(f.paging.pages) + " buffers per array of " +
+                                           format_bytes(f.paging.page_bytes()) + " (paged: larger than one allocation)"
+                                     : std::string("geometry: one buffer per array"));
     return out;
 }
 

@@ -2,6 +2,7 @@
 // out, so the shading kernel carries no code for lights, models or lobes it never uses.
 #pragma once
 
+#include "render/memory_plan.h"
 #include "scene/scene.h"
 
 #include <cstdint>
@@ -20,6 +21,7 @@ struct KernelFeatures {
     // negligible for every material (lobe_bounds); lobe_why says which material kept it or why.
     bool lobe_tt = true, lobe_trt = true;
     std::string lobe_why[2];
+    GeometryPaging paging;                          // geometry in several buffers per array
 };
 
 // Which features to compile in: what the scene needs (default), everything (A/B, debugging), or
@@ -45,8 +47,9 @@ KernelFeatures scene_features(const Scene& scene, uint32_t fiber_field = 0, bool
                               FeatureMode mode = FeatureMode::Scene);
 
 // "-cl-std=CL1.2 ... -DHT_FEATURE_..=1": the options the render program is built with.
+// paging: how upload_geometry cut the scene's arrays (it depends on the device, not the scene).
 std::string kernel_build_options(const Scene& scene, uint32_t fiber_field = 0, bool indirect_afs = false,
-                                 FeatureMode mode = FeatureMode::Scene);
+                                 FeatureMode mode = FeatureMode::Scene, const GeometryPaging& paging = {});
 
 // One line per chosen feature, for --verbose.
 std::vector<std::string> describe_features(const KernelFeatures& f);

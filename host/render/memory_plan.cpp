@@ -35,9 +35,38 @@ uint64_t parse_bytes(const std::string& text) {
     return uint64_t(v * scale);
 }
 
+GeometryPaging plan_geometry_pages(const std::vector<GeometryArray>& arrays, uint64_t max_alloc) {
+    GeometryPaging g;
+    uint64_t largest = 0;
+    const GeometryArray* worst = nullptr;
+    for (const GeometryArray& a : arrays)
+        if (a.bytes > largest) largest = a.bytes, worst = &a;
+    if (!max_alloc || largest <= max_alloc) return g;
+    // A power of two so the kernels find (page, offset) by shift and mask; at least one 128-byte
+    // record (the largest paged record, HtTriangleShading) per page.
+    uint32_t log2 = 7;
+    while (log2 < 35 && (uint64_t(1) << (log2 + 1)) <= max_alloc) ++log2;
+    const uint64_t page = uint64_t(1) << log2;
+    const uint64_t pages = (largest + page - 1) / page;
+    if (max_alloc < 128)
+        throw DeviceError("the device allocates at most " + format_bytes(max_alloc) +
+                          " per buffer, less than one 128-byte geometry record; the scene's " + worst->name +
+                          " array needs " + format_bytes(largest));
+    if (pages > kMaxGeometryPages)
+        throw DeviceError("the scene's " + std::string(worst->name) + " array needs " + format_bytes(largest) +
+                          ", which would take " + std::to_string(pages) + " buffers of " + format_bytes(page) +
+                          " (the largest power of two within the device's maximum allocation of " +
+                          format_bytes(max_alloc) + "); at most " + std::to_string(kMaxGeometryPages) +
+                          " buffers per array are supported: use a device with larger allocations or a smaller scene");
+    g.pages = uint32_t(pages);
+    g.page_log2 = log2;
+    return g;
+}
+
 MemoryPlan plan_device_memory(uint64_t pixels, uint64_t scene_bytes, uint64_t max_alloc, uint64_t global_mem,
-                              uint64_t user_limit, size_t max_paths_per_pass) {
+                              uint64_t user_limit, size_t max_paths_per_pass, const GeometryPaging& paging) {
     MemoryPlan p;
+    p.paging = paging;
     const uint64_t budget = user_limit ? std::min(user_limit, global_mem) : global_mem;
     p.film_bytes = pixels * 16;
     p.scene_bytes = scene_bytes;
@@ -51,6 +80,9 @@ MemoryPlan plan_device_memory(uint64_t pixels, uint64_t scene_bytes, uint64_t ma
     if (fixed + min_pass > budget)
         throw DeviceError("the render needs " + format_bytes(fixed + min_pass) + " of device memory (film " +
                           format_bytes(p.film_bytes) + ", scene " + format_bytes(p.scene_bytes) +
+                          (paging.pages > 1 ? " in " + std::to_string(paging.pages) + " pages of " +
+                                                  format_bytes(paging.page_bytes()) + " per array"
+                                            : std::string()) +
                           ") but only " + format_bytes(budget) + " is available" +
                           (user_limit ? " under --max-memory" : ""));
     uint64_t paths = std::min<uint64_t>({pixels, max_paths_per_pass, (budget - fixed) / kBytesPerPath,

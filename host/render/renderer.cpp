@@ -100,17 +100,22 @@ struct Renderer::Impl {
         env_conditional = device_array(cl.context(), environment.conditional);
 
         const bool afs = s.indirect == RenderSettings::Indirect::Afs;
-        options = kernel_build_options(scene, s.fiber_field, afs, s.features);
+        // The render's identity (checkpoint and part keys) leaves the paging out: it depends on
+        // the device, and paged and unpaged renders give the same bits (tested).
         stats.clamp_indirect = s.clamp_indirect;
+        std::string clamp;
         if (stats.clamp_indirect > 0) {
             char def[64];
             std::snprintf(def, sizeof def, " -DHT_CLAMP_INDIRECT=%.9ef", double(stats.clamp_indirect));
-            options += def;
+            clamp = def;
         }
-        program = cl.build("stages/wavefront.cl", options);
+        options = kernel_build_options(scene, s.fiber_field, afs, s.features) + clamp;
+        const std::string build_options =
+            kernel_build_options(scene, s.fiber_field, afs, s.features, device_geometry.paging) + clamp;
+        program = cl.build("stages/wavefront.cl", build_options);
         stats.build_ms = cl.last_build_ms();
         stats.build_cached = cl.last_build_cached();
-        stats.kernel_options = options;
+        stats.kernel_options = build_options;
         k_generate = cl::Kernel(program, "generate_camera_rays");
         k_closest = cl::Kernel(program, "intersect_closest");
         k_shade = cl::Kernel(program, "shade");
@@ -139,7 +144,7 @@ struct Renderer::Impl {
                                      texel_bytes + texture_headers.size() * sizeof(HtTexture);
         MemoryPlan plan = plan_device_memory(uint64_t(s.width) * uint64_t(s.height), scene_bytes,
                                              cl.info().max_alloc, cl.info().global_mem, s.max_device_bytes,
-                                             std::max<size_t>(s.max_paths_per_pass, 1));
+                                             std::max<size_t>(s.max_paths_per_pass, 1), device_geometry.paging);
         upload_textures(scene.textures, texture_headers, texel_bytes);
         allocate(plan.paths_per_pass);
     }
@@ -188,6 +193,13 @@ struct Renderer::Impl {
     }
 
     // ---- stages ---------------------------------------------------------------------------
+    // The traversal's arrays, paged or not (kernels/geometry/pages.h); returns the next argument.
+    cl_uint set_geometry_args(cl::Kernel& k) {
+        cl_uint a = set_paged_args(k, 0, device_geometry.nodes);
+        a = set_paged_args(k, a, device_geometry.segments);
+        return set_paged_args(k, a, device_geometry.points);
+    }
+
     void generate_camera_rays(uint32_t offset, uint32_t count, uint32_t sample) {
         k_generate.setArg(0, camera);
         k_generate.setArg(1, offset);
@@ -201,22 +213,20 @@ struct Renderer::Impl {
     }
 
     void intersect_closest(int q, uint32_t count) {
-        k_closest.setArg(0, device_geometry.nodes);
-        k_closest.setArg(1, device_geometry.segments);
-        k_closest.setArg(2, device_geometry.points);
-        k_closest.setArg(3, rays[q]);
-        k_closest.setArg(4, hits);
-        k_closest.setArg(5, count);
+        cl_uint a = set_geometry_args(k_closest);
+        k_closest.setArg(a++, rays[q]);
+        k_closest.setArg(a++, hits);
+        k_closest.setArg(a++, count);
         launch(k_closest, count);
     }
 
     void shade(int q, uint32_t count, uint32_t sample, uint32_t bounce) {
         static const uint32_t zero[HT_COUNTER_COUNT] = {0, 0, 0, 0};
         cl.queue().enqueueWriteBuffer(counters, CL_FALSE, 0, sizeof zero, zero);
-        int a = 0;
-        k_shade.setArg(a++, device_geometry.segments);
-        k_shade.setArg(a++, device_geometry.points);
-        k_shade.setArg(a++, device_geometry.triangles);
+        cl_uint a = 0;
+        a = set_paged_args(k_shade, a, device_geometry.segments);
+        a = set_paged_args(k_shade, a, device_geometry.points);
+        a = set_paged_args(k_shade, a, device_geometry.triangles);
         k_shade.setArg(a++, textures);
         k_shade.setArg(a++, texture_count);
         k_shade.setArg(a++, texels);
@@ -275,24 +285,20 @@ struct Renderer::Impl {
     }
 
     void intersect_shadow(uint32_t count) {
-        k_shadow.setArg(0, device_geometry.nodes);
-        k_shadow.setArg(1, device_geometry.segments);
-        k_shadow.setArg(2, device_geometry.points);
-        k_shadow.setArg(3, shadow_rays);
-        k_shadow.setArg(4, occluded);
-        k_shadow.setArg(5, count);
+        cl_uint a = set_geometry_args(k_shadow);
+        k_shadow.setArg(a++, shadow_rays);
+        k_shadow.setArg(a++, occluded);
+        k_shadow.setArg(a++, count);
         launch(k_shadow, count);
     }
 
     void intersect_shadow_afs(uint32_t count) {
-        k_shadow_afs.setArg(0, device_geometry.nodes);
-        k_shadow_afs.setArg(1, device_geometry.segments);
-        k_shadow_afs.setArg(2, device_geometry.points);
-        k_shadow_afs.setArg(3, strand_material);
-        k_shadow_afs.setArg(4, afs_table);
-        k_shadow_afs.setArg(5, shadow_rays);
-        k_shadow_afs.setArg(6, transmittance);
-        k_shadow_afs.setArg(7, count);
+        cl_uint a = set_geometry_args(k_shadow_afs);
+        k_shadow_afs.setArg(a++, strand_material);
+        k_shadow_afs.setArg(a++, afs_table);
+        k_shadow_afs.setArg(a++, shadow_rays);
+        k_shadow_afs.setArg(a++, transmittance);
+        k_shadow_afs.setArg(a++, count);
         launch(k_shadow_afs, count);
     }
 
@@ -348,6 +354,7 @@ Renderer::Renderer(ClContext& cl, const Scene& scene, const RenderSettings& sett
 }
 Renderer::~Renderer() { delete impl_; }
 const std::string& Renderer::kernel_options() const { return impl_->options; }
+const GeometryPaging& Renderer::geometry_paging() const { return impl_->device_geometry.paging; }
 const RenderStats& Renderer::stats() const { return impl_->stats; }
 
 void Renderer::upload_film(const Film& film) {

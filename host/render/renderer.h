@@ -3,6 +3,7 @@
 
 #include "cl/device.h"
 #include "render/features.h"
+#include "render/memory_plan.h"
 #include "scene/scene.h"
 
 #include <cstdint>
@@ -84,6 +85,8 @@ public:
     const RenderStats& stats() const;
 
     const std::string& kernel_options() const;
+    // How the scene's geometry was cut into device buffers on this device.
+    const GeometryPaging& geometry_paging() const;
 
 private:
     struct Impl;

@@ -24,6 +24,7 @@
 #include "capsule.h"
 #include "triangle.h"
 #include "fiber_frame.h"
+#include "pages.h"
 
 /* Stack entries; the builder caps the tree depth below this (host/bvh/bvh.h kMaxDepth). */
 #define HT_STACK_SIZE 64
@@ -40,18 +41,17 @@ HT_FN real ht_hit_radius(HtPoint a, HtPoint b) { return HT_R(0.5) * ((real)a.r +
 
 /* Intersects the leaf [first, first + count) against the ray; updates *tbest / *best.
  * Returns 1 if something was hit (any-hit callers stop then). */
-HT_FN int ht_intersect_leaf(HT_CONST_GLOBAL HtSegment* segs, HT_CONST_GLOBAL HtPoint* points,
-                            uint first, uint count, real3 o, real3 d, real tmin, real* tbest,
+HT_FN int ht_intersect_leaf(HT_SEGS_PARAM, HT_POINTS_PARAM, uint first, uint count, real3 o, real3 d, real tmin, real* tbest,
                             uint* best) {
     int found = 0;
     for (uint k = first; k < first + count; ++k) {
-        const HtSegment s = segs[k];
+        const HtSegment s = HT_SEG(k);
 #if HT_FEATURE_MESHES
         if (s.flags & HT_SEG_TRIANGLE) {
             real b1, b2;
-            const real t = ht_triangle_intersect(o, d, ht_point_pos(points[s.point]),
-                                                 ht_point_pos(points[s.point + 1u]),
-                                                 ht_point_pos(points[s.point + 2u]), tmin, *tbest,
+            const real t = ht_triangle_intersect(o, d, ht_point_pos(HT_POINT(s.point)),
+                                                 ht_point_pos(HT_POINT(s.point + 1u)),
+                                                 ht_point_pos(HT_POINT(s.point + 2u)), tmin, *tbest,
                                                  &b1, &b2);
             if (t < *tbest) {
                 *tbest = t;
@@ -61,8 +61,8 @@ HT_FN int ht_intersect_leaf(HT_CONST_GLOBAL HtSegment* segs, HT_CONST_GLOBAL HtP
             continue;
         }
 #endif
-        const HtPoint a = points[s.point];
-        const HtPoint b = points[s.point + 1];
+        const HtPoint a = HT_POINT(s.point);
+        const HtPoint b = HT_POINT(s.point + 1u);
         const real t = ht_capsule_intersect(o, d, ht_point_pos(a), ht_point_pos(b),
                                             ht_hit_radius(a, b), s.flags & HT_SEG_FIRST, tmin,
                                             *tbest);
@@ -77,8 +77,7 @@ HT_FN int ht_intersect_leaf(HT_CONST_GLOBAL HtSegment* segs, HT_CONST_GLOBAL HtP
 
 /* Core traversal.  any_hit: stop at the first intersection in (tmin, tmax).  Returns the leaf
  * segment index of the hit (HT_NO_HIT for none) and its distance in *t_out. */
-HT_FN uint ht_traverse(HT_CONST_GLOBAL HtBvhNode* nodes, HT_CONST_GLOBAL HtSegment* segs,
-                       HT_CONST_GLOBAL HtPoint* points, HtRay ray, int any_hit, real* t_out) {
+HT_FN uint ht_traverse(HT_GEOMETRY_PARAMS, HtRay ray, int any_hit, real* t_out) {
     const real3 o = make_real3(ray.ox, ray.oy, ray.oz);
     const real3 d = make_real3(ray.dx, ray.dy, ray.dz);
     const real tmin = ray.tmin;
@@ -103,7 +102,7 @@ HT_FN uint ht_traverse(HT_CONST_GLOBAL HtBvhNode* nodes, HT_CONST_GLOBAL HtSegme
     uint cur = 0;
 
     for (;;) {
-        HT_CONST_GLOBAL HtBvhNode* n = nodes + cur;
+        HT_CONST_GLOBAL HtBvhNode* n = HT_NODE_PTR(cur);
 #ifdef HT_OPENCL
         const float8 lo = vload8(0, n->lo);
         const float8 hi = vload8(0, n->hi);
@@ -137,15 +136,15 @@ HT_FN uint ht_traverse(HT_CONST_GLOBAL HtBvhNode* nodes, HT_CONST_GLOBAL HtSegme
 
         /* Leaves now, the nearer one first. */
         if (h0 && n0 != 0u && h1 && n1 != 0u && near1 < near0) {
-            if (ht_intersect_leaf(segs, points, c1, n1, o, d, tmin, &tbest, &best) && any_hit) break;
+            if (ht_intersect_leaf(HT_SEGS_ARG, HT_POINTS_ARG, c1, n1, o, d, tmin, &tbest, &best) && any_hit) break;
             h1 = 0;
         }
         if (h0 && n0 != 0u) {
-            if (ht_intersect_leaf(segs, points, c0, n0, o, d, tmin, &tbest, &best) && any_hit) break;
+            if (ht_intersect_leaf(HT_SEGS_ARG, HT_POINTS_ARG, c0, n0, o, d, tmin, &tbest, &best) && any_hit) break;
             h0 = 0;
         }
         if (h1 && n1 != 0u) {
-            if (ht_intersect_leaf(segs, points, c1, n1, o, d, tmin, &tbest, &best) && any_hit) break;
+            if (ht_intersect_leaf(HT_SEGS_ARG, HT_POINTS_ARG, c1, n1, o, d, tmin, &tbest, &best) && any_hit) break;
             h1 = 0;
         }
         /* A leaf may have shortened the ray. */
@@ -185,10 +184,9 @@ HT_FN uint ht_traverse(HT_CONST_GLOBAL HtBvhNode* nodes, HT_CONST_GLOBAL HtSegme
 }
 
 /* Closest hit with the fibre quantities the shading stages need (see HtHit). */
-HT_FN void ht_trace_closest(HT_CONST_GLOBAL HtBvhNode* nodes, HT_CONST_GLOBAL HtSegment* segs,
-                            HT_CONST_GLOBAL HtPoint* points, HtRay ray, HtHit* hit) {
+HT_FN void ht_trace_closest(HT_GEOMETRY_PARAMS, HtRay ray, HtHit* hit) {
     real t;
-    const uint best = ht_traverse(nodes, segs, points, ray, 0, &t);
+    const uint best = ht_traverse(HT_GEOMETRY_ARGS, ray, 0, &t);
     hit->segment = best;
     if (best == HT_NO_HIT) {
         hit->t = (float)HT_REAL_MAX;
@@ -200,14 +198,14 @@ HT_FN void ht_trace_closest(HT_CONST_GLOBAL HtBvhNode* nodes, HT_CONST_GLOBAL Ht
         hit->radius = 0.0f;
         return;
     }
-    const HtSegment s = segs[best];
+    const HtSegment s = HT_SEG(best);
     const real3 o = make_real3(ray.ox, ray.oy, ray.oz);
     const real3 d = make_real3(ray.dx, ray.dy, ray.dz);
 #if HT_FEATURE_MESHES
     if (s.flags & HT_SEG_TRIANGLE) {
-        const real3 p0 = ht_point_pos(points[s.point]);
-        const real3 p1 = ht_point_pos(points[s.point + 1u]);
-        const real3 p2 = ht_point_pos(points[s.point + 2u]);
+        const real3 p0 = ht_point_pos(HT_POINT(s.point));
+        const real3 p1 = ht_point_pos(HT_POINT(s.point + 1u));
+        const real3 p2 = ht_point_pos(HT_POINT(s.point + 2u));
         /* The same arithmetic as in the traversal, so the same t and barycentrics come out. */
         real b1 = HT_R(0), b2 = HT_R(0);
         (void)ht_triangle_intersect(o, d, p0, p1, p2, ray.tmin, HT_T_FAR, &b1, &b2);
@@ -222,8 +220,8 @@ HT_FN void ht_trace_closest(HT_CONST_GLOBAL HtBvhNode* nodes, HT_CONST_GLOBAL Ht
         return;
     }
 #endif
-    const HtPoint a = points[s.point];
-    const HtPoint b = points[s.point + 1];
+    const HtPoint a = HT_POINT(s.point);
+    const HtPoint b = HT_POINT(s.point + 1u);
     real3 tangent;
     real u;
     const real3 off = ht_capsule_hit_offset(o, d, ht_point_pos(a), ht_point_pos(b), t, &tangent, &u);
@@ -240,10 +238,9 @@ HT_FN void ht_trace_closest(HT_CONST_GLOBAL HtBvhNode* nodes, HT_CONST_GLOBAL Ht
 }
 
 /* Shadow rays: 1 if anything lies in (tmin, tmax). */
-HT_FN uint ht_trace_any(HT_CONST_GLOBAL HtBvhNode* nodes, HT_CONST_GLOBAL HtSegment* segs,
-                        HT_CONST_GLOBAL HtPoint* points, HtRay ray) {
+HT_FN uint ht_trace_any(HT_GEOMETRY_PARAMS, HtRay ray) {
     real t;
-    return ht_traverse(nodes, segs, points, ray, 1, &t) != HT_NO_HIT ? 1u : 0u;
+    return ht_traverse(HT_GEOMETRY_ARGS, ray, 1, &t) != HT_NO_HIT ? 1u : 0u;
 }
 
 #endif /* HT_GEOMETRY_BVH_TRAVERSE_H */

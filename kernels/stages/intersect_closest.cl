@@ -3,12 +3,11 @@
  * bound check.  Self-contained so the render loop can include it in its own program. */
 #include "../geometry/bvh_traverse.h"
 
-__kernel void intersect_closest(__global const HtBvhNode* nodes, __global const HtSegment* segs,
-                                __global const HtPoint* points, __global const HtRay* rays,
-                                __global HtHit* hits, uint count) {
+__kernel void intersect_closest(HT_GEOMETRY_PARAMS, __global const HtRay* rays, __global HtHit* hits,
+                                uint count) {
     const uint i = (uint)get_global_id(0);
     if (i >= count) return;
     HtHit hit;
-    ht_trace_closest(nodes, segs, points, rays[i], &hit);
+    ht_trace_closest(HT_GEOMETRY_ARGS, rays[i], &hit);
     hits[i] = hit;
 }

@@ -2,12 +2,11 @@
  * occluded[i] = 1 if rays[i] is blocked, else 0.  Self-contained like intersect_closest.cl. */
 #include "../geometry/bvh_traverse.h"
 
-__kernel void intersect_shadow(__global const HtBvhNode* nodes, __global const HtSegment* segs,
-                               __global const HtPoint* points, __global const HtRay* rays,
-                               __global uint* occluded, uint count) {
+__kernel void intersect_shadow(HT_GEOMETRY_PARAMS, __global const HtRay* rays, __global uint* occluded,
+                               uint count) {
     const uint i = (uint)get_global_id(0);
     if (i >= count) return;
     HtRay r = rays[i];
     /* an empty slot (tmax < tmin) counts as occluded: nothing to add */
-    occluded[i] = r.tmax > r.tmin ? ht_trace_any(nodes, segs, points, r) : 1u;
+    occluded[i] = r.tmax > r.tmin ? ht_trace_any(HT_GEOMETRY_ARGS, r) : 1u;
 }

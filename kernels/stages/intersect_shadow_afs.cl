@@ -32,17 +32,16 @@
 
 /* Multiplies T by the crossings of the leaf [first, first + count); returns 1 when the ray is
  * blocked (a triangle, or T negligible in every channel), with T set to 0. */
-HT_FN int ht_afs_leaf(__global const HtSegment* segs, __global const HtPoint* points,
-                      __global const uint* strand_material, __global const float* afs_tt_table,
+HT_FN int ht_afs_leaf(HT_SEGS_PARAM, HT_POINTS_PARAM, __global const uint* strand_material, __global const float* afs_tt_table,
                       uint first, uint count, float3 o, float3 d, float tmin, float tmax, float3* T) {
     for (uint k = first; k < first + count; ++k) {
-        const HtSegment s = segs[k];
+        const HtSegment s = HT_SEG(k);
 #if HT_FEATURE_MESHES
         if (s.flags & HT_SEG_TRIANGLE) {
             float b1, b2;
-            const float t = ht_triangle_intersect(o, d, ht_point_pos(points[s.point]),
-                                                  ht_point_pos(points[s.point + 1u]),
-                                                  ht_point_pos(points[s.point + 2u]), tmin, tmax, &b1, &b2);
+            const float t = ht_triangle_intersect(o, d, ht_point_pos(HT_POINT(s.point)),
+                                                  ht_point_pos(HT_POINT(s.point + 1u)),
+                                                  ht_point_pos(HT_POINT(s.point + 2u)), tmin, tmax, &b1, &b2);
             if (t < tmax) {
                 *T = (float3)(0.0f);
                 return 1;
@@ -50,15 +49,15 @@ HT_FN int ht_afs_leaf(__global const HtSegment* segs, __global const HtPoint* po
             continue;
         }
 #endif
-        const HtPoint a = points[s.point];
-        const HtPoint b = points[s.point + 1u];
+        const HtPoint a = HT_POINT(s.point);
+        const HtPoint b = HT_POINT(s.point + 1u);
         const float3 pa = ht_point_pos(a), pb = ht_point_pos(b);
         if (!(ht_capsule_intersect(o, d, pa, pb, ht_hit_radius(a, b), s.flags & HT_SEG_FIRST, tmin, tmax) < tmax))
             continue;
         if (!(s.flags & HT_SEG_FIRST)) {
             /* the strand's previous segment: points are stored strand by strand.  Its begin sphere
              * (a root's) is left out: a joint is owned by the segment that ends there. */
-            const HtPoint z = points[s.point - 1u];
+            const HtPoint z = HT_POINT(s.point - 1u);
             if (ht_capsule_intersect(o, d, ht_point_pos(z), pa, ht_hit_radius(z, a), 0u, tmin, tmax) < tmax)
                 continue;
         }
@@ -75,8 +74,7 @@ HT_FN int ht_afs_leaf(__global const HtSegment* segs, __global const HtPoint* po
     return 0;
 }
 
-__kernel void intersect_shadow_afs(__global const HtBvhNode* nodes, __global const HtSegment* segs,
-                                   __global const HtPoint* points, __global const uint* strand_material,
+__kernel void intersect_shadow_afs(HT_GEOMETRY_PARAMS, __global const uint* strand_material,
                                    __global const float* afs_tt_table, __global const HtRay* rays,
                                    __global float4* transmittance, uint count) {
     uint j = get_global_id(0);
@@ -99,7 +97,7 @@ __kernel void intersect_shadow_afs(__global const HtBvhNode* nodes, __global con
     int sp = 0;
     uint cur = 0;
     for (;;) {
-        __global const HtBvhNode* n = nodes + cur;
+        HT_CONST_GLOBAL HtBvhNode* n = HT_NODE_PTR(cur);
         const float8 lo = vload8(0, n->lo);
         const float8 hi = vload8(0, n->hi);
         const float8 ta = lo * inv8 - oi8;
@@ -115,11 +113,11 @@ __kernel void intersect_shadow_afs(__global const HtBvhNode* nodes, __global con
         int h0 = near0 <= far0 && (c0 | n0) != 0u;
         int h1 = near1 <= far1 && (c1 | n1) != 0u;
         if (h0 && n0 != 0u) {
-            if (ht_afs_leaf(segs, points, strand_material, afs_tt_table, c0, n0, o, d, tmin, tmax, &T)) break;
+            if (ht_afs_leaf(HT_SEGS_ARG, HT_POINTS_ARG, strand_material, afs_tt_table, c0, n0, o, d, tmin, tmax, &T)) break;
             h0 = 0;
         }
         if (h1 && n1 != 0u) {
-            if (ht_afs_leaf(segs, points, strand_material, afs_tt_table, c1, n1, o, d, tmin, tmax, &T)) break;
+            if (ht_afs_leaf(HT_SEGS_ARG, HT_POINTS_ARG, strand_material, afs_tt_table, c1, n1, o, d, tmin, tmax, &T)) break;
             h1 = 0;
         }
         if (h0 && h1) {

@@ -17,6 +17,7 @@
  * HT_NO_PATH); compact.cl then packs the extension queue in a thread-independent order.
  * Every path ends each call in exactly one of: terminated, continued (stage slot filled). */
 #include "../types.h"
+#include "../geometry/pages.h"
 #include "../rng.h"
 #include "../lights.h"
 #include "../environment.h"
@@ -130,8 +131,7 @@ HT_FN float3 ht_surface_spawn(float3 p, float t, float3 ng, float3 w) {
 }
 #endif
 
-__kernel void shade(__global const HtSegment* segs, __global const HtPoint* points,
-                    __global const HtTriangleShading* tri_shading,
+__kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM,
                     __global const HtTexture* textures, uint texture_count,
                     __global const uint* texels,
                     __global const uint* strand_material, __global const HtMaterial* materials,
@@ -175,11 +175,11 @@ __kernel void shade(__global const HtSegment* segs, __global const HtPoint* poin
                 atomic_inc(&counters[HT_COUNTER_NAN]);
             }
         } else {
-            HtSegment seg = segs[hit.segment];
+            HtSegment seg = HT_SEG(hit.segment);
 #if HT_FEATURE_MESHES
           if (seg.flags & HT_SEG_TRIANGLE) {
             /* ---- Lambertian surface */
-            HtTriangleShading ts = tri_shading[seg.strand];
+            HtTriangleShading ts = HT_TRI_SHADING(seg.strand);
             float3 wo = -dir;
             float3 p_hit = (float3)(ray.ox, ray.oy, ray.oz) + dir * hit.t;
             float3 ng = (float3)(hit.tx, hit.ty, hit.tz);
@@ -250,7 +250,7 @@ __kernel void shade(__global const HtSegment* segs, __global const HtPoint* poin
                                    2.0f * hit.radius >= HT_FIELD_AUTO_COVERAGE * hit.t * pixel_angle));
                 mat.model = near_field ? HT_MODEL_ZINKE : HT_MODEL_MARSCHNER;
             }
-            HtPoint a = points[seg.point], b = points[seg.point + 1u];
+            HtPoint a = HT_POINT(seg.point), b = HT_POINT(seg.point + 1u);
             float3 pa = (float3)(a.x, a.y, a.z), pb = (float3)(b.x, b.y, b.z);
             float3 axis_point = pa + (pb - pa) * hit.u;
             float3 t = (float3)(hit.tx, hit.ty, hit.tz);

@@ -3,7 +3,8 @@
 
 HT_PACKAGES=(build-essential cmake pkg-config git pocl-opencl-icd ocl-icd-opencl-dev opencl-clhpp-headers
              clinfo libopenimageio-dev libglm-dev libtinygltf-dev nlohmann-json3-dev libgtest-dev
-             libgmock-dev libbenchmark-dev clang libclang-rt-14-dev fonts-dejavu-core)
+             libgmock-dev libbenchmark-dev clang libclang-rt-14-dev fonts-dejavu-core
+             libopenmpi-dev openmpi-bin)
 
 ht_missing_packages() {
     local missing=()
