@@ -45,20 +45,21 @@ std::vector<float> transmittance(const ht::SceneGeometry& geo, const float sigma
     ht::ClContext& cl = afs_cl();
     ht::DeviceGeometry g = ht::upload_geometry(cl, geo);
     cl::Program prog = cl.build("stages/wavefront.cl", std::string(ht::base_kernel_options()) +
-                                                         " -DHT_FEATURE_INDIRECT_AFS=1 -DHT_FEATURE_MESHES=0");
+                                                         " -DHT_FEATURE_INDIRECT_AFS=1 -DHT_FEATURE_MESHES=0" +
+                                                         ht::geometry_page_options(g.paging));
     cl::Kernel k(prog, "intersect_shadow_afs");
     const std::vector<uint32_t> strand_material(64, 0u);
     const std::vector<float> table = ht::afs_tt_table(1.55, sigma_a);
     cl::Buffer sm = input(cl, strand_material), tb = input(cl, table), rb = input(cl, rays);
     cl::Buffer out(cl.context(), CL_MEM_WRITE_ONLY, rays.size() * 4 * sizeof(float));
-    k.setArg(0, g.nodes);
-    k.setArg(1, g.segments);
-    k.setArg(2, g.points);
-    k.setArg(3, sm);
-    k.setArg(4, tb);
-    k.setArg(5, rb);
-    k.setArg(6, out);
-    k.setArg(7, (cl_uint)rays.size());
+    cl_uint a = ht::set_paged_args(k, 0, g.nodes);
+    a = ht::set_paged_args(k, a, g.segments);
+    a = ht::set_paged_args(k, a, g.points);
+    k.setArg(a++, sm);
+    k.setArg(a++, tb);
+    k.setArg(a++, rb);
+    k.setArg(a++, out);
+    k.setArg(a++, (cl_uint)rays.size());
     const size_t global = (rays.size() + 63) / 64 * 64;
     cl.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(global), cl::NDRange(64));
     std::vector<float> t(rays.size() * 4);
