@@ -128,7 +128,7 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
     p.option("-o", "OUT", "output image; the extension picks the format (.exr linear float, .png sRGB 8-bit)", "", true)
         .option("--width", "W", "image width in pixels", "512")
         .option("--height", "H", "image height in pixels", "512")
-        .option("--spp", "N", "samples per pixel", "16")
+        .option("--spp", "N", "samples per pixel (hair-to-hair light through narrow fibre lobes sparkles below ~64)", "64")
         .option("--time-limit", "SECONDS", "stop after the sample that crosses this wall time (0 = none)", "0")
         .option("--seed", "S", "random seed; the image depends only on seed, spp and scene", "1")
         .option("--max-depth", "D|auto", "path length in fibre bounces (1 = direct light only); auto: from the materials' averaged attenuation (AFS_TT^avg^D < 0.2, Zinke 2004 §5)", "auto")
