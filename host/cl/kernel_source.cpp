@@ -1,5 +1,7 @@
 #include "cl/kernel_source.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cstdlib>
 #include <fstream>
 #include <set>
@@ -48,25 +50,55 @@ bool file_exists(const std::string& rel) {
     return false;
 }
 
-void assemble(const std::string& file, std::set<std::string>& once, std::ostringstream& out,
-              int depth) {
-    if (depth > 32) throw std::runtime_error("kernels/" + file + ": #include nesting too deep");
+// The directive a line holds ("if", "ifdef", "include", ...), or "" for none.
+std::string directive_of(const std::string& line) {
+    size_t p = line.find_first_not_of(" \t");
+    if (p == std::string::npos || line[p] != '#') return "";
+    p = line.find_first_not_of(" \t", p + 1);
+    if (p == std::string::npos) return "";
+    size_t e = p;
+    while (e < line.size() && std::isalpha((unsigned char)line[e])) ++e;
+    return line.substr(p, e - p);
+}
+
+// Inlines #include "..." recursively.  A header is inlined once it has been included
+// unconditionally; an include inside #if/#ifdef/#ifndef (other than the header's own include
+// guard) is inlined but does not count, because that block may be compiled out and a later
+// unconditional include must still bring the header in (the include guards drop the repeat).
+// `conditional`: this file itself was included inside such a block.
+void assemble(const std::string& file, std::set<std::string>& once, std::vector<std::string>& stack,
+              bool conditional, std::ostringstream& out) {
+    if (stack.size() > 32) throw std::runtime_error("kernels/" + file + ": #include nesting too deep");
     std::istringstream in(kernel_file(file));
     std::string line;
-    int line_no = 0;
+    int line_no = 0, depth = 0, guard_depth = -1;
+    bool first_directive = true;
     out << "#line 1 \"kernels/" << file << "\"\n";
     while (std::getline(in, line)) {
         ++line_no;
-        size_t p = line.find_first_not_of(" \t");
-        if (p != std::string::npos && line.compare(p, 8, "#include") == 0) {
-            size_t q1 = line.find('"', p), q2 = q1 == std::string::npos ? q1 : line.find('"', q1 + 1);
+        const std::string d = directive_of(line);
+        if (d == "if" || d == "ifdef" || d == "ifndef") {
+            // the header's own guard (its first directive, #ifndef) does not make its body conditional
+            if (first_directive && d == "ifndef") guard_depth = depth;
+            ++depth;
+        } else if (d == "endif") {
+            --depth;
+        }
+        if (!d.empty()) first_directive = false;
+        if (d == "include") {
+            size_t q1 = line.find('"'), q2 = q1 == std::string::npos ? q1 : line.find('"', q1 + 1);
             if (q1 != std::string::npos && q2 != std::string::npos) {
                 std::string name = line.substr(q1 + 1, q2 - q1 - 1);
                 std::string rel = normalize_path(dirname_of(file) + name);
                 if (!file_exists(rel)) rel = normalize_path(name);  // relative to kernels/
-                if (!once.count(rel)) {
-                    once.insert(rel);
-                    assemble(rel, once, out, depth + 1);
+                const int open = depth - (guard_depth >= 0 ? 1 : 0);
+                const bool in_block = conditional || open > 0;
+                const bool on_stack = std::find(stack.begin(), stack.end(), rel) != stack.end();
+                if (!once.count(rel) && !on_stack) {
+                    if (!in_block) once.insert(rel);
+                    stack.push_back(rel);
+                    assemble(rel, once, stack, in_block, out);
+                    stack.pop_back();
                 }
                 out << "#line " << (line_no + 1) << " \"kernels/" << file << "\"\n";
                 continue;
@@ -95,8 +127,9 @@ std::string kernel_file(const std::string& rel_path) {
 
 std::string assemble_kernel_source(const std::string& main_file) {
     std::set<std::string> once{main_file};
+    std::vector<std::string> stack{main_file};
     std::ostringstream out;
-    assemble(main_file, once, out, 0);
+    assemble(main_file, once, stack, false, out);
     return out.str();
 }
 
