@@ -257,6 +257,10 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
     }
     if (!quiet)
         for (auto& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    if (!quiet && dist.mpi) {
+        const std::string w = cpu_binding_warning(local_rank_count());
+        if (!w.empty()) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    }
 
     std::vector<std::unique_ptr<ClContext>> contexts;
     std::vector<std::string> device_names;

@@ -11,6 +11,10 @@
 #ifdef HT_HAVE_MPI
 #include <mpi.h>
 #endif
+#ifdef __linux__
+#include <sched.h>
+#include <unistd.h>
+#endif
 
 namespace ht {
 
@@ -25,6 +29,33 @@ int launcher_world_size() {
     return std::getenv("PMIX_RANK") ? 1 : 0;  // PMIx without a size: initialise, the size comes from MPI
 }
 }  // namespace
+
+std::string cpu_binding_warning(int local_ranks) {
+#ifdef __linux__
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    if (sched_getaffinity(0, sizeof set, &set) != 0) return "";
+    const long online = sysconf(_SC_NPROCESSORS_ONLN);
+    const int allowed = CPU_COUNT(&set);
+    if (online <= 0 || local_ranks < 1 || allowed * long(local_ranks) >= online) return "";
+    return "this rank may use " + std::to_string(allowed) + " of the node's " + std::to_string(online) +
+           " CPUs (the launcher's CPU binding) and " + std::to_string(local_ranks) +
+           " rank(s) run on this node, so " + std::to_string(online - allowed * long(local_ranks)) +
+           " CPUs stay idle; with one rank per node run `mpirun --bind-to none` (Slurm: --cpu-bind=none)";
+#else
+    (void)local_ranks;
+    return "";
+#endif
+}
+
+int local_rank_count() {
+    for (const char* v : {"OMPI_COMM_WORLD_LOCAL_SIZE", "MPI_LOCALNRANKS", "SLURM_NTASKS_PER_NODE"})
+        if (const char* s = std::getenv(v)) {
+            const int n = std::atoi(s);
+            if (n > 0) return n;
+        }
+    return 1;
+}
 
 SampleRange rank_range(const SampleRange& range, const ChunkGrid& grid, int rank, int ranks) {
     const int c0 = grid.chunk_of(range.first);

@@ -22,6 +22,14 @@ struct DistContext {
 // In a build without MPI, a launch as one of several ranks is refused (UsageError) rather than
 // letting every rank render and write the whole image.
 DistContext dist_init();
+
+// Ranks on this node, from the launcher's environment (1 when it does not say).
+int local_rank_count();
+
+// A warning when CPU binding leaves cores of this node idle: the CPUs this process may run on,
+// times the ranks on the node, are fewer than the node has (Open MPI binds a rank to one core
+// when it starts at most two, so `mpirun -np 1` renders on one core of many).  "" when fine.
+std::string cpu_binding_warning(int local_ranks);
 void dist_finalize(const DistContext& d);
 
 // Ends every rank with `code` after an error on one of them (a rank that stops talking would
