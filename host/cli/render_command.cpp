@@ -137,6 +137,7 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
         .option("--features", "scene|all|all-lobes", "what the kernels are compiled with: what the scene needs (lights, models, meshes, fibre lobes above 1e-3 of R's energy for some material; --verbose lists them), everything, or the scene's choice with every lobe kept (A/B comparisons)", "scene")
         .option("--indirect", "exact|afs|none", "hair-to-hair light: exact = path traced to --max-depth; afs = traced to --max-depth (auto: 1), then the paper's averaged attenuation: the last bounce's shadow rays cross hair with AFS_TT^avg per fibre; none = direct light with opaque hair (depth 1)", "exact")
         .option("--clamp-indirect", "C|off", "cap the contribution of every light path that scattered at two or more surfaces at C (radiance, largest rgb channel, hue kept): fewer sparkles at low sample counts at the cost of a bias that must be measured per scene (builtin:strand, irradiance 1: C = 3 removes 2.8 % of the light, C = 1 14.5 %)", "off")
+        .option("--regularize", "DEG|off", "path regularisation: where a path meets hair after a first scattering, widen the marschner/zinke lobes to at least DEG degrees (longitudinal widths and zinke's azimuthal spread); bright two-lobe sparkles become a blur of indirect highlights (biased; measured in docs/PERFORMANCE.md)", "off")
         .option("--fiber-field", "near|far|auto|material", "for marschner/zinke materials: near field (zinke) everywhere, far field (marschner) everywhere, or auto: near where a fibre covers at least half a camera pixel's footprint and for hair-to-hair light, far elsewhere; with --model and no --fiber-field: material", "auto")
         .option("--background", "R,G,B", "uniform environment radiance (importance sampled like any light); replaces the scene's")
         .option("--environment", "FILE", "lat-long HDR environment map (.exr/.hdr, +y up); replaces the scene's")
@@ -189,6 +190,7 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
     rs.fiber_field = parse_fiber_field("--fiber-field", p.has("--model") && !p.has("--fiber-field")
                                                            ? std::string("material") : p.get("--fiber-field"));
     rs.clamp_indirect = parse_clamp_indirect(p.get("--clamp-indirect"));
+    if (p.get("--regularize") != "off") rs.regularize_deg = float(p.get_double("--regularize", 0.1, 90));
     const double time_limit = p.get_double("--time-limit", 0, 1e9);
     const double checkpoint_every = p.get_double("--checkpoint-every", 0.01, 1e9);
     const bool auto_expose = p.get("--exposure") == "auto";

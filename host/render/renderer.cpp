@@ -103,11 +103,16 @@ struct Renderer::Impl {
         // The render's identity (checkpoint and part keys) leaves the paging out: it depends on
         // the device, and paged and unpaged renders give the same bits (tested).
         stats.clamp_indirect = s.clamp_indirect;
-        std::string clamp;
+        std::string clamp;  // options that change the estimator, not the scene: part of the render key
         if (stats.clamp_indirect > 0) {
             char def[64];
             std::snprintf(def, sizeof def, " -DHT_CLAMP_INDIRECT=%.9ef", double(stats.clamp_indirect));
             clamp = def;
+        }
+        if (s.regularize_deg > 0) {
+            char def[64];
+            std::snprintf(def, sizeof def, " -DHT_REGULARIZE_WIDTH=%.9ef", double(s.regularize_deg) * 3.14159265358979323846 / 180.0);
+            clamp += def;
         }
         options = kernel_build_options(scene, s.fiber_field, afs, s.features) + clamp;
         const std::string build_options =

@@ -28,6 +28,8 @@ struct RenderSettings {
     bool profile_stages = false;           // time each stage kernel (drains the queue after each)
     // Cap on each indirect sample's contribution (largest channel; 0: none), compiled into shade.
     float clamp_indirect = 0.0f;
+    // Path regularisation: minimum lobe width (degrees) at hair reached after a scattering (0: off).
+    float regularize_deg = 0.0f;
     FeatureMode features = FeatureMode::Scene;  // --features: what is compiled in
 };
 

@@ -40,6 +40,23 @@
  * largest channel, hue kept.  Biased (energy is removed) but bounded variance: narrow fibre lobes
  * lit by small lights make rare, very bright hair-to-hair paths (sparkles at low sample counts).
  * Undefined: compiled out. */
+/* --regularize B (path regularisation, Kaplanyan & Dachsbacher 2013; Cycles' "filter glossy"):
+ * at hair hit by a path that has already scattered, the Marschner-family lobes are widened to at
+ * least HT_REGULARIZE_WIDTH radians (longitudinal betas; zinke's azimuthal sigma).  Light reaching
+ * the camera through two narrow lobes is then no longer a rare, bright sample; the lobes keep
+ * their energy (normalised Gaussians), so the bias is a blur of indirect highlights, measured in
+ * docs/PERFORMANCE.md.  Undefined: compiled out. */
+HT_FN void ht_regularize(HtMaterial* m, uint bounce) {
+#ifdef HT_REGULARIZE_WIDTH
+    if (bounce > 0u && (m->model == HT_MODEL_MARSCHNER || m->model == HT_MODEL_ZINKE)) {
+        m->beta_r = max(m->beta_r, HT_REGULARIZE_WIDTH);
+        m->beta_tt = max(m->beta_tt, HT_REGULARIZE_WIDTH);
+        m->beta_trt = max(m->beta_trt, HT_REGULARIZE_WIDTH);
+        m->azim_sigma = max(m->azim_sigma, HT_REGULARIZE_WIDTH);
+    }
+#endif
+}
+
 HT_FN float3 ht_clamp_indirect(float3 c, uint scatterings) {
 #ifdef HT_CLAMP_INDIRECT
     float m = max(c.x, max(c.y, c.z));
@@ -250,6 +267,7 @@ __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM,
                                    2.0f * hit.radius >= HT_FIELD_AUTO_COVERAGE * hit.t * pixel_angle));
                 mat.model = near_field ? HT_MODEL_ZINKE : HT_MODEL_MARSCHNER;
             }
+            ht_regularize(&mat, bounce);
             HtPoint a = HT_POINT(seg.point), b = HT_POINT(seg.point + 1u);
             float3 pa = (float3)(a.x, a.y, a.z), pb = (float3)(b.x, b.y, b.z);
             float3 axis_point = pa + (pb - pa) * hit.u;

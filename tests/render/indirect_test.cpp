@@ -124,3 +124,22 @@ TEST(Indirect, ClampBoundsEveryIndirectSampleAndLeavesDirectLightAlone) {
             EXPECT_LE(d, 2.0f * cap * (1.0f + 1e-5f)) << i;
         }
 }
+
+TEST(Indirect, RegularisationLeavesDirectLightAndKeepsTheEnergyOfIndirectLight) {
+    // Widening the lobes after the first scattering changes nothing a camera ray sees directly
+    // (depth 1: same bits) and, the lobes being normalised, moves the image's total energy only
+    // a little: within 10 % at depth 3 (measured +3 % / -4 % at 10 / 20 degrees on the full strand).
+    Scene s = strand();
+    RenderSettings rs = small();
+    rs.spp = 16;
+    rs.max_depth = 1;
+    Film direct = render(s, rs);
+    rs.regularize_deg = 20.0f;
+    EXPECT_EQ(render(s, rs).rgba, direct.rgba);
+    rs.max_depth = 3;
+    Film regularised = render(s, rs);
+    rs.regularize_deg = 0.0f;
+    Film exact = render(s, rs);
+    EXPECT_NE(regularised.rgba, exact.rgba) << "the option must reach the kernels";
+    EXPECT_NEAR(total(regularised), total(exact), 0.10 * total(exact));
+}
