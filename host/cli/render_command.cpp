@@ -437,6 +437,7 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
     meta.ints["hairtrace:max_depth"] = rs.max_depth;
     meta.ints["hairtrace:chunk"] = grid.chunk;
     meta.floats["hairtrace:clamp_indirect"] = renderers.front()->stats().clamp_indirect;
+    meta.floats["hairtrace:regularize_deg"] = rs.regularize_deg;
     meta.floats["hairtrace:render_seconds"] = float(since(t0));
     meta.text["hairtrace:device"] = cl.info().name + " / " + cl.info().platform + " " + cl.info().driver;
     meta.text["hairtrace:version"] = HT_VERSION;
