@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include "cli_test_util.h"
+
 #include <chrono>
 #include <csignal>
 #include <cstdlib>
@@ -17,21 +19,11 @@
 #ifdef HT_BINARY
 namespace fs = std::filesystem;
 using namespace ht;
+using clitest::TempDir;
+using clitest::run;
+using clitest::slurp;
 
 namespace {
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        path = fs::temp_directory_path() / ("ht_ckpt_" + std::to_string(::getpid()) + "_" +
-                                            std::to_string(std::rand()));
-        fs::create_directories(path);
-    }
-    ~TempDir() { fs::remove_all(path); }
-    std::string operator/(const std::string& f) const { return (path / f).string(); }
-};
-
-int run(const std::string& cmd) { return WEXITSTATUS(std::system(cmd.c_str())); }
-
 const std::string kRender = std::string(HT_BINARY) +
     " render 'builtin:strand?hairs=120&segments=12' --width 40 --height 32 --max-depth 3 --seed 5 --quiet";
 
@@ -42,7 +34,7 @@ std::vector<float> image(const std::string& p) {
 }  // namespace
 
 TEST(Checkpoint, ResumedRenderEqualsUninterruptedBitForBit) {
-    TempDir d;
+    TempDir d("ht_ckpt_");
     ASSERT_EQ(run(kRender + " --spp 6 -o " + (d / "full.exr")), 0);
     ASSERT_EQ(run(kRender + " --spp 2 --checkpoint " + (d / "c.ckpt") + " -o " + (d / "part.exr")), 0);
     Checkpoint c = load_checkpoint(d / "c.ckpt");
@@ -52,7 +44,7 @@ TEST(Checkpoint, ResumedRenderEqualsUninterruptedBitForBit) {
 }
 
 TEST(Checkpoint, ResumeOfADifferentRenderIsRefused) {
-    TempDir d;
+    TempDir d("ht_ckpt_");
     ASSERT_EQ(run(kRender + " --spp 1 --checkpoint " + (d / "c.ckpt") + " -o " + (d / "a.exr")), 0);
     std::string other = std::string(HT_BINARY) +
         " render 'builtin:strand?hairs=120&segments=12' --width 40 --height 32 --max-depth 3 --seed 6 --quiet";
@@ -60,7 +52,7 @@ TEST(Checkpoint, ResumeOfADifferentRenderIsRefused) {
 }
 
 TEST(Checkpoint, CorruptOrTruncatedCheckpointIsBadInput) {
-    TempDir d;
+    TempDir d("ht_ckpt_");
     ASSERT_EQ(run(kRender + " --spp 1 --checkpoint " + (d / "c.ckpt") + " -o " + (d / "a.exr")), 0);
     auto size = fs::file_size(d / "c.ckpt");
     {
@@ -75,7 +67,7 @@ TEST(Checkpoint, CorruptOrTruncatedCheckpointIsBadInput) {
 }
 
 TEST(Checkpoint, SigtermLeavesCheckpointAndValidImage) {
-    TempDir d;
+    TempDir d("ht_ckpt_");
     std::string cmd = kRender + " --spp 100000 --checkpoint-every 0.01 --checkpoint " + (d / "c.ckpt") + " -o " +
                       (d / "i.exr");
     pid_t pid = fork();

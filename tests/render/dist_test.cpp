@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include "cli_test_util.h"
+
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -17,9 +19,11 @@
 
 namespace fs = std::filesystem;
 using namespace ht;
+using clitest::TempDir;
+using clitest::run;
+using clitest::slurp;
 
 namespace {
-
 Film random_film(std::mt19937& rng, int w, int h, int samples) {
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
     Film f;
@@ -100,18 +104,6 @@ TEST(Accumulation, RankRangesAreContiguousWholeChunks) {
 
 #ifdef HT_BINARY
 namespace {
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        path = fs::temp_directory_path() / ("ht_dist_" + std::to_string(::getpid()) + "_" + std::to_string(std::rand()));
-        fs::create_directories(path);
-    }
-    ~TempDir() { fs::remove_all(path); }
-    std::string operator/(const std::string& f) const { return (path / f).string(); }
-};
-
-int run(const std::string& cmd) { return WEXITSTATUS(std::system(cmd.c_str())); }
-
 const std::string kScene = " render 'builtin:strand?hairs=120&segments=12' --width 40 --height 32 --max-depth 3 --quiet";
 const std::string kRender = std::string(HT_BINARY) + kScene + " --seed 9";
 
@@ -122,7 +114,7 @@ std::vector<float> image(const std::string& p) {
 }  // namespace
 
 TEST(RenderFarm, MergeOfFourPartsEqualsTheFullRender) {
-    TempDir d;
+    TempDir d("ht_dist_");
     const std::string opts = " --spp 16 --chunk 4";
     ASSERT_EQ(run(kRender + opts + " -o " + (d / "full.exr")), 0);
     for (int i = 0; i < 4; ++i)
@@ -143,7 +135,7 @@ TEST(RenderFarm, MergeOfFourPartsEqualsTheFullRender) {
 }
 
 TEST(RenderFarm, MergeReportsGapsOverlapsAndForeignParts) {
-    TempDir d;
+    TempDir d("ht_dist_");
     const std::string opts = " --spp 12 --chunk 4";
     for (const char* r : {"0:4", "4:8", "8:12", "4:12"})
         ASSERT_EQ(run(kRender + opts + " --sample-range " + r + " -o " + (d / (std::string(r).replace(1, 1, "_") + ".exr"))), 0);
@@ -159,7 +151,7 @@ TEST(RenderFarm, MergeReportsGapsOverlapsAndForeignParts) {
 }
 
 TEST(RenderFarm, SampleRangeIsValidated) {
-    TempDir d;
+    TempDir d("ht_dist_");
     const std::string o = " -o " + (d / "x.exr") + " 2>/dev/null";
     EXPECT_EQ(run(kRender + " --spp 16 --chunk 4 --sample-range 8:4" + o), 2);
     EXPECT_EQ(run(kRender + " --spp 16 --chunk 4 --sample-range 0:20" + o), 2);
@@ -169,7 +161,7 @@ TEST(RenderFarm, SampleRangeIsValidated) {
 }
 
 TEST(RenderFarm, ResumeAcrossChunksEqualsUninterrupted) {
-    TempDir d;
+    TempDir d("ht_dist_");
     ASSERT_EQ(run(kRender + " --spp 16 --chunk 4 -o " + (d / "full.exr")), 0);
     ASSERT_EQ(run(kRender + " --spp 6 --chunk 4 --checkpoint " + (d / "c.ckpt") + " -o " + (d / "a.exr")), 0);
     ASSERT_EQ(run(kRender + " --spp 16 --chunk 4 --resume " + (d / "c.ckpt") + " -o " + (d / "r.exr")), 0);
@@ -178,7 +170,7 @@ TEST(RenderFarm, ResumeAcrossChunksEqualsUninterrupted) {
 
 // PoCL exposes one CPU device per entry of POCL_DEVICES: two `pthread` devices share the cores.
 TEST(MultiDevice, SplitAcrossDevicesEqualsOneDevice) {
-    TempDir d;
+    TempDir d("ht_dist_");
     const std::string env = "POCL_DEVICES='pthread basic' ";
     ASSERT_EQ(run(env + kRender + " --spp 12 --chunk 2 --device 0 -o " + (d / "one.exr")), 0);
     ASSERT_EQ(run(env + kRender + " --spp 12 --chunk 2 --device 0,1 -o " + (d / "two.exr")), 0);
@@ -192,7 +184,7 @@ TEST(MultiDevice, SplitAcrossDevicesEqualsOneDevice) {
 // Work stealing: the devices together render every chunk exactly once.  (Which device takes how
 // many depends on timing; on a loaded machine one device may legitimately take them all.)
 TEST(MultiDevice, DevicesRenderEveryChunkOnce) {
-    TempDir d;
+    TempDir d("ht_dist_");
     std::string cmd = "POCL_DEVICES='pthread basic' " + std::string(HT_BINARY) +
                       " render 'builtin:strand?hairs=120&segments=12' --width 40 --height 32 --max-depth 3"
                       " --seed 9 --spp 12 --chunk 2 --device all -o " + (d / "x.exr") + " 2>" + (d / "log.txt");
@@ -237,7 +229,7 @@ int run_logged(const std::string& cmd, const std::string& log, std::string& text
 // The launcher itself, so that a broken MPI set-up reads as such and not as a render bug.  Both
 // ranks must have initialised MPI: a rank that did not would report itself as rank 0 of 1.
 TEST(Mpi, LauncherStartsRanksThatSeeEachOther) {
-    TempDir d;
+    TempDir d("ht_dist_");
     std::string log;
     const std::string loud = std::string(HT_BINARY) +
                              " render 'builtin:strand?hairs=120&segments=12' --width 40 --height 32 --max-depth 3";
@@ -246,7 +238,7 @@ TEST(Mpi, LauncherStartsRanksThatSeeEachOther) {
 }
 
 TEST(Mpi, RanksGiveTheOneProcessImage) {
-    TempDir d;
+    TempDir d("ht_dist_");
     ASSERT_EQ(run(kRender + " --spp 12 --chunk 2 -o " + (d / "one.exr")), 0);
     auto one = image(d / "one.exr");
     for (int np : {2, 4}) {
@@ -257,7 +249,7 @@ TEST(Mpi, RanksGiveTheOneProcessImage) {
 }
 
 TEST(Mpi, PerRankCheckpointsResumeTogether) {
-    TempDir d;
+    TempDir d("ht_dist_");
     std::string log;
     ASSERT_EQ(run(kRender + " --spp 12 --chunk 2 -o " + (d / "one.exr")), 0);
     // a time limit that stops each rank early, at a point that depends on timing

@@ -2,6 +2,8 @@
 // end in a clear message and a meaningful exit code, never a crash, and lose nothing.
 #include <gtest/gtest.h>
 
+#include "cli_test_util.h"
+
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -12,33 +14,17 @@
 
 #ifdef HT_BINARY
 namespace fs = std::filesystem;
+using clitest::TempDir;
+using clitest::run;
+using clitest::slurp;
 
 namespace {
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        path = fs::temp_directory_path() / ("ht_fail_" + std::to_string(::getpid()) + "_" + std::to_string(std::rand()));
-        fs::create_directories(path);
-    }
-    ~TempDir() { fs::remove_all(path); }
-    std::string operator/(const std::string& f) const { return (path / f).string(); }
-};
-
-int run(const std::string& cmd) { return WEXITSTATUS(std::system(cmd.c_str())); }
-
-std::string slurp(const std::string& p) {
-    std::ifstream f(p, std::ios::binary);
-    std::stringstream s;
-    s << f.rdbuf();
-    return s.str();
-}
-
 const std::string kBin = HT_BINARY;
 const std::string kSmall = " render 'builtin:strand?hairs=60&segments=8' --width 24 --height 24 --spp 1 --max-depth 1 --quiet";
 }  // namespace
 
 TEST(Failure, KernelBuildErrorPrintsTheLogWithTheFileAndExits3) {
-    TempDir d;
+    TempDir d("ht_fail_");
     fs::copy(fs::path(HT_SOURCE_DIR) / "kernels", d.path / "kernels", fs::copy_options::recursive);
     {
         std::ofstream f(d / "kernels/stages/shade.cl", std::ios::app);
@@ -54,7 +40,7 @@ TEST(Failure, KernelBuildErrorPrintsTheLogWithTheFileAndExits3) {
 }
 
 TEST(Failure, FilmLargerThanTheDeviceAllocationIsRefusedBeforeAllocating) {
-    TempDir d;
+    TempDir d("ht_fail_");
     std::string cmd = kBin + " render 'builtin:strand?hairs=60&segments=8' --width 16384 --height 16384 --spp 1 --quiet -o " +
                       (d / "x.exr") + " 2>" + (d / "err.txt");
     EXPECT_EQ(run(cmd), 3);
@@ -63,7 +49,7 @@ TEST(Failure, FilmLargerThanTheDeviceAllocationIsRefusedBeforeAllocating) {
 }
 
 TEST(Failure, MaxMemoryRefusesLargeInputsWithTheSize) {
-    TempDir d;
+    TempDir d("ht_fail_");
     std::string cmd = kBin + " render builtin:strand --max-memory 1M --spp 1 --quiet -o " + (d / "x.exr") + " 2>" +
                       (d / "err.txt");
     EXPECT_EQ(run(cmd), 2);
@@ -75,7 +61,7 @@ TEST(Failure, MaxMemoryRefusesLargeInputsWithTheSize) {
 // A scene whose texture image is missing: exit 2 with the scene file, the image and the
 // problem on one line, before any device work.
 TEST(Failure, MissingTextureImageExits2NamingTheFiles) {
-    TempDir d;
+    TempDir d("ht_fail_");
     std::string scene = slurp(std::string(HT_SOURCE_DIR) + "/scenes/strand_on_checker_floor.gltf");
     const size_t uri = scene.find("\"data:image/png;base64,");
     ASSERT_NE(uri, std::string::npos);
@@ -92,7 +78,7 @@ TEST(Failure, MissingTextureImageExits2NamingTheFiles) {
 }
 
 TEST(Failure, FullDiskKeepsThePreviousImage) {
-    TempDir d;
+    TempDir d("ht_fail_");
     fs::path mnt = d.path / "small_fs";
     fs::create_directories(mnt);
     if (::mount("tmpfs", mnt.c_str(), "tmpfs", 0, "size=96k") != 0) GTEST_SKIP() << "cannot mount a tmpfs here (not root?)";
@@ -125,7 +111,7 @@ TEST(Failure, FullDiskKeepsThePreviousImage) {
 // Driver failures that real devices produce only under pressure, injected at the device layer:
 // each must end in a one-line message and exit 3, with nothing written.
 TEST(Failure, DeviceOutOfResourcesAtLaunchExits3) {
-    TempDir d;
+    TempDir d("ht_fail_");
     std::string cmd = "HAIRTRACE_INJECT_FAULT=launch " + kBin + kSmall + " -o " + (d / "x.exr") + " 2>" + (d / "err.txt");
     EXPECT_EQ(run(cmd), 3);
     std::string err = slurp(d / "err.txt");
@@ -134,7 +120,7 @@ TEST(Failure, DeviceOutOfResourcesAtLaunchExits3) {
 }
 
 TEST(Failure, DeviceAllocationFailureExits3) {
-    TempDir d;
+    TempDir d("ht_fail_");
     std::string cmd = "HAIRTRACE_INJECT_FAULT=alloc " + kBin + kSmall + " -o " + (d / "x.exr") + " 2>" + (d / "err.txt");
     EXPECT_EQ(run(cmd), 3);
     std::string err = slurp(d / "err.txt");

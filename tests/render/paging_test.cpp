@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include "cli_test_util.h"
+
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -17,6 +19,9 @@
 
 namespace fs = std::filesystem;
 using namespace ht;
+using clitest::TempDir;
+using clitest::run;
+using clitest::slurp;
 
 TEST(GeometryPaging, OneBufferPerArrayWhenEverythingFits) {
     const GeometryPaging g = plan_geometry_pages({{"BVH node", 1000}, {"segment", 4096}, {"point", 0}}, 4096);
@@ -67,25 +72,6 @@ TEST(GeometryPaging, MemoryPlanCountsTheScenePagesNotOneAllocation) {
 
 #ifdef HT_BINARY
 namespace {
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        path = fs::temp_directory_path() / ("ht_page_" + std::to_string(::getpid()) + "_" + std::to_string(std::rand()));
-        fs::create_directories(path);
-    }
-    ~TempDir() { fs::remove_all(path); }
-    std::string operator/(const std::string& f) const { return (path / f).string(); }
-};
-
-int run(const std::string& cmd) { return WEXITSTATUS(std::system(cmd.c_str())); }
-
-std::string slurp(const std::string& p) {
-    std::ifstream f(p, std::ios::binary);
-    std::stringstream s;
-    s << f.rdbuf();
-    return s.str();
-}
-
 // 10,000 segments: 160 KB of segments, 168 KB of points, 450 KB of BVH nodes.  With 64 KiB
 // allocations that is 3, 3 and 7 pages (each array split at least twice, none past the limit of
 // 8), and the 48x48 film (36 KB) still fits one allocation.
@@ -99,7 +85,7 @@ std::vector<float> image(const std::string& p) {
 }  // namespace
 
 TEST(GeometryPaging, PagedRenderEqualsTheUnpagedRender) {
-    TempDir d;
+    TempDir d("ht_page_");
     ASSERT_EQ(run(kRender + " --spp 3 --quiet -o " + (d / "flat.exr")), 0);
     ASSERT_EQ(run("HAIRTRACE_MAX_ALLOC=64K " + kRender + " --spp 3 --verbose -o " + (d / "paged.exr") + " 2>" +
                   (d / "log.txt")), 0)
@@ -122,7 +108,7 @@ TEST(GeometryPaging, PagedRenderEqualsTheUnpagedRender) {
 }
 
 TEST(GeometryPaging, BenchHitsAreTheSameWhenPaged) {
-    TempDir d;
+    TempDir d("ht_page_");
     // 32x32 rays: the ray and hit buffers fit the 64 KiB allocations too
     const std::string bench = std::string(HT_BINARY) + " bench --scene " + kScene + " --res 32 --reps 1 --no-wavefront";
     ASSERT_EQ(run(bench + " >" + (d / "flat.txt") + " 2>&1"), 0) << slurp(d / "flat.txt");
@@ -140,7 +126,7 @@ TEST(GeometryPaging, BenchHitsAreTheSameWhenPaged) {
 }
 
 TEST(GeometryPaging, MorePagesThanSupportedExits3WithTheSizes) {
-    TempDir d;
+    TempDir d("ht_page_");
     // 32 KiB allocations: the node array would need 14 pages
     EXPECT_EQ(run("HAIRTRACE_MAX_ALLOC=32K " + kRender + " --spp 1 --quiet -o " + (d / "x.exr") +
                   " 2>" + (d / "err.txt")), 3);
@@ -152,7 +138,7 @@ TEST(GeometryPaging, MorePagesThanSupportedExits3WithTheSizes) {
 }
 
 TEST(GeometryPaging, MalformedMaxAllocIsAUsageError) {
-    TempDir d;
+    TempDir d("ht_page_");
     EXPECT_EQ(run("HAIRTRACE_MAX_ALLOC=lots " + kRender + " --spp 1 --quiet -o " + (d / "x.exr") + " 2>" + (d / "err.txt")), 2);
     EXPECT_NE(slurp(d / "err.txt").find("HAIRTRACE_MAX_ALLOC='lots'"), std::string::npos) << slurp(d / "err.txt");
 }
