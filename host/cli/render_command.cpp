@@ -288,9 +288,7 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
                      double(renderer.stats().clamp_indirect));
     if (p.has("--verbose")) {
         // after the upload: the geometry's paging depends on the device
-        KernelFeatures f = scene_features(scene, rs.fiber_field, rs.indirect == RenderSettings::Indirect::Afs, rs.features);
-        f.paging = renderer.geometry_paging();
-        for (auto& line : describe_features(f)) std::fprintf(stderr, "feature %s\n", line.c_str());
+        for (auto& line : describe_features(renderer.features())) std::fprintf(stderr, "feature %s\n", line.c_str());
         std::fprintf(stderr, "kernel options: %s\n", renderer.stats().kernel_options.c_str());
         for (const Texture& t : scene.textures)
             std::fprintf(stderr, "texture %s: %u x %u, %s on the device\n", t.name.c_str(), t.width, t.height,

@@ -159,10 +159,11 @@ KernelFeatures scene_features(const Scene& scene, uint32_t fiber_field, bool ind
     return f;
 }
 
-std::string kernel_build_options(const Scene& scene, uint32_t fiber_field, bool indirect_afs, FeatureMode mode,
-                                 const GeometryPaging& paging) {
-    KernelFeatures f = scene_features(scene, fiber_field, indirect_afs, mode);
-    f.paging = paging;
+std::string kernel_build_options(const Scene& scene, uint32_t fiber_field, bool indirect_afs, FeatureMode mode) {
+    return kernel_build_options(scene_features(scene, fiber_field, indirect_afs, mode));
+}
+
+std::string kernel_build_options(const KernelFeatures& f) {
     std::string o = base_kernel_options();
     auto def = [&](const char* name, bool on) { o += std::string(" -D") + name + "=" + (on ? "1" : "0"); };
     def("HT_FEATURE_LIGHT_POINT", f.light_point);

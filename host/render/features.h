@@ -47,9 +47,11 @@ KernelFeatures scene_features(const Scene& scene, uint32_t fiber_field = 0, bool
                               FeatureMode mode = FeatureMode::Scene);
 
 // "-cl-std=CL1.2 ... -DHT_FEATURE_..=1": the options the render program is built with.
-// paging: how upload_geometry cut the scene's arrays (it depends on the device, not the scene).
+// f.paging: how upload_geometry cut the scene's arrays (it depends on the device, not the scene).
+std::string kernel_build_options(const KernelFeatures& f);
+// The same for the features scene_features chooses (unpaged geometry).
 std::string kernel_build_options(const Scene& scene, uint32_t fiber_field = 0, bool indirect_afs = false,
-                                 FeatureMode mode = FeatureMode::Scene, const GeometryPaging& paging = {});
+                                 FeatureMode mode = FeatureMode::Scene);
 
 // One line per chosen feature, for --verbose.
 std::vector<std::string> describe_features(const KernelFeatures& f);

@@ -68,6 +68,7 @@ struct Renderer::Impl {
     HtCamera camera{};
     float pixel_angle = 0;  // radians per pixel at the image centre (ray footprint for --fiber-field auto)
     std::string options;
+    KernelFeatures features;
     cl::Program program;
     cl::Kernel k_generate, k_closest, k_shade, k_shadow, k_resolve, k_accumulate;
     cl::Kernel k_compact_count, k_compact_scan, k_compact_scatter;
@@ -114,9 +115,11 @@ struct Renderer::Impl {
             std::snprintf(def, sizeof def, " -DHT_REGULARIZE_WIDTH=%.9ef", double(s.regularize_deg) * 3.14159265358979323846 / 180.0);
             clamp += def;
         }
-        options = kernel_build_options(scene, s.fiber_field, afs, s.features) + clamp;
-        const std::string build_options =
-            kernel_build_options(scene, s.fiber_field, afs, s.features, device_geometry.paging) + clamp;
+        // The scene's features once (the lobe bounds are a quadrature per material).
+        features = scene_features(scene, s.fiber_field, afs, s.features);
+        options = kernel_build_options(features) + clamp;
+        features.paging = device_geometry.paging;
+        const std::string build_options = kernel_build_options(features) + clamp;
         program = cl.build("stages/wavefront.cl", build_options);
         stats.build_ms = cl.last_build_ms();
         stats.build_cached = cl.last_build_cached();
@@ -359,7 +362,7 @@ Renderer::Renderer(ClContext& cl, const Scene& scene, const RenderSettings& sett
 }
 Renderer::~Renderer() { delete impl_; }
 const std::string& Renderer::kernel_options() const { return impl_->options; }
-const GeometryPaging& Renderer::geometry_paging() const { return impl_->device_geometry.paging; }
+const KernelFeatures& Renderer::features() const { return impl_->features; }
 const RenderStats& Renderer::stats() const { return impl_->stats; }
 
 void Renderer::upload_film(const Film& film) {

@@ -88,7 +88,8 @@ public:
 
     const std::string& kernel_options() const;
     // How the scene's geometry was cut into device buffers on this device.
-    const GeometryPaging& geometry_paging() const;
+    // What the render program was compiled with (paging included: it depends on the device).
+    const KernelFeatures& features() const;
 
 private:
     struct Impl;

@@ -22,15 +22,12 @@ using namespace ht;
 using clitest::TempDir;
 using clitest::run;
 using clitest::slurp;
+using clitest::image;
 
 namespace {
 const std::string kRender = std::string(HT_BINARY) +
     " render 'builtin:strand?hairs=120&segments=12' --width 40 --height 32 --max-depth 3 --seed 5 --quiet";
 
-std::vector<float> image(const std::string& p) {
-    int w, h;
-    return read_rgb_image(p, w, h);
-}
 }  // namespace
 
 TEST(Checkpoint, ResumedRenderEqualsUninterruptedBitForBit) {

@@ -9,6 +9,9 @@
 #include <string>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <vector>
+
+#include "io/image_io.h"
 
 namespace clitest {
 
@@ -32,6 +35,12 @@ inline std::string slurp(const std::string& p) {
     std::stringstream s;
     s << f.rdbuf();
     return s.str();
+}
+
+// The rgb floats of an image file (width and height dropped: the tests compare equal-size images).
+inline std::vector<float> image(const std::string& p) {
+    int w, h;
+    return ht::read_rgb_image(p, w, h);
 }
 
 }  // namespace clitest

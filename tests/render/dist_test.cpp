@@ -22,6 +22,7 @@ using namespace ht;
 using clitest::TempDir;
 using clitest::run;
 using clitest::slurp;
+using clitest::image;
 
 namespace {
 Film random_film(std::mt19937& rng, int w, int h, int samples) {
@@ -107,10 +108,6 @@ namespace {
 const std::string kScene = " render 'builtin:strand?hairs=120&segments=12' --width 40 --height 32 --max-depth 3 --quiet";
 const std::string kRender = std::string(HT_BINARY) + kScene + " --seed 9";
 
-std::vector<float> image(const std::string& p) {
-    int w, h;
-    return read_rgb_image(p, w, h);
-}
 }  // namespace
 
 TEST(RenderFarm, MergeOfFourPartsEqualsTheFullRender) {

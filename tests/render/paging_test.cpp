@@ -22,6 +22,7 @@ using namespace ht;
 using clitest::TempDir;
 using clitest::run;
 using clitest::slurp;
+using clitest::image;
 
 TEST(GeometryPaging, OneBufferPerArrayWhenEverythingFits) {
     const GeometryPaging g = plan_geometry_pages({{"BVH node", 1000}, {"segment", 4096}, {"point", 0}}, 4096);
@@ -78,10 +79,6 @@ namespace {
 const std::string kScene = "'builtin:strand?hairs=500&segments=20'";
 const std::string kRender = std::string(HT_BINARY) + " render " + kScene + " --width 48 --height 48 --max-depth 4 --seed 3";
 
-std::vector<float> image(const std::string& p) {
-    int w, h;
-    return read_rgb_image(p, w, h);
-}
 }  // namespace
 
 TEST(GeometryPaging, PagedRenderEqualsTheUnpagedRender) {
