@@ -75,6 +75,68 @@ HT_FN int ht_intersect_leaf(HT_SEGS_PARAM, HT_POINTS_PARAM, uint first, uint cou
     return found;
 }
 
+/* The ray's constants for the slab test of a node's two child boxes (HtBvhNode stores them
+ * interleaved: lo/hi = x0 x1 y0 y1 z0 z1 + child fields), 1/d and o/d per axis, twice. */
+typedef struct {
+#ifdef HT_OPENCL
+    /* The only OpenCL-specific code: the 8-wide slab test PoCL compiles to one vector op. */
+    float8 inv, oi;
+#else
+    real inv[6], oi[6];
+#endif
+} HtSlabRay;
+
+HT_FN HtSlabRay ht_slab_ray(real3 o, real3 d) {
+    const real ix = ht_safe_inv(d.x), iy = ht_safe_inv(d.y), iz = ht_safe_inv(d.z);
+    HtSlabRay r;
+#ifdef HT_OPENCL
+    r.inv = (float8)(ix, ix, iy, iy, iz, iz, 0.0f, 0.0f);
+    r.oi = (float8)(o.x * ix, o.x * ix, o.y * iy, o.y * iy, o.z * iz, o.z * iz, 0.0f, 0.0f);
+#else
+    const real inv[6] = {ix, ix, iy, iy, iz, iz};
+    const real oi[6] = {o.x * ix, o.x * ix, o.y * iy, o.y * iy, o.z * iz, o.z * iz};
+    for (int k = 0; k < 6; ++k) r.inv[k] = inv[k], r.oi[k] = oi[k];
+#endif
+    return r;
+}
+
+/* Node n's two children against the ray segment [tmin, tfar]: entry distances near0/1, whether
+ * each child is hit (h0/1: boxes overlap the segment and the child exists) and the children's
+ * fields (c = first index, n = leaf count, 0 for an inner node). */
+HT_FN void ht_node_slabs(HT_CONST_GLOBAL HtBvhNode* n, const HtSlabRay* r, real tmin, real tfar, real* near0,
+                         real* near1, int* h0, int* h1, uint* c0, uint* c1, uint* n0, uint* n1) {
+#ifdef HT_OPENCL
+    const float8 lo = vload8(0, n->lo);
+    const float8 hi = vload8(0, n->hi);
+    const float8 ta = lo * r->inv - r->oi;
+    const float8 tb = hi * r->inv - r->oi;
+    const float8 tn = ta < tb ? ta : tb;
+    const float8 tf = ta < tb ? tb : ta;
+    *near0 = ht_max(ht_max(tn.s0, tn.s2), ht_max(tn.s4, tmin));
+    *near1 = ht_max(ht_max(tn.s1, tn.s3), ht_max(tn.s5, tmin));
+    const real far0 = ht_min(ht_min(tf.s0, tf.s2), ht_min(tf.s4, tfar));
+    const real far1 = ht_min(ht_min(tf.s1, tf.s3), ht_min(tf.s5, tfar));
+    *c0 = as_uint(lo.s6), *c1 = as_uint(lo.s7);
+    *n0 = as_uint(hi.s6), *n1 = as_uint(hi.s7);
+#else
+    real tn[6], tf[6];
+    for (int k = 0; k < 6; ++k) {
+        const real ta = (real)n->lo[k] * r->inv[k] - r->oi[k];
+        const real tb = (real)n->hi[k] * r->inv[k] - r->oi[k];
+        tn[k] = ta < tb ? ta : tb;
+        tf[k] = ta < tb ? tb : ta;
+    }
+    *near0 = ht_max(ht_max(tn[0], tn[2]), ht_max(tn[4], tmin));
+    *near1 = ht_max(ht_max(tn[1], tn[3]), ht_max(tn[5], tmin));
+    const real far0 = ht_min(ht_min(tf[0], tf[2]), ht_min(tf[4], tfar));
+    const real far1 = ht_min(ht_min(tf[1], tf[3]), ht_min(tf[5], tfar));
+    *c0 = ht_as_uint(n->lo[6]), *c1 = ht_as_uint(n->lo[7]);
+    *n0 = ht_as_uint(n->hi[6]), *n1 = ht_as_uint(n->hi[7]);
+#endif
+    *h0 = *near0 <= far0 && (*c0 | *n0) != 0u;
+    *h1 = *near1 <= far1 && (*c1 | *n1) != 0u;
+}
+
 /* Core traversal.  any_hit: stop at the first intersection in (tmin, tmax).  Returns the leaf
  * segment index of the hit (HT_NO_HIT for none) and its distance in *t_out. */
 HT_FN uint ht_traverse(HT_GEOMETRY_PARAMS, HtRay ray, int any_hit, real* t_out) {
@@ -85,16 +147,7 @@ HT_FN uint ht_traverse(HT_GEOMETRY_PARAMS, HtRay ray, int any_hit, real* t_out) 
     real tbest = (real)ray.tmax < HT_T_FAR ? (real)ray.tmax : HT_T_FAR;
     uint best = HT_NO_HIT;
 
-    const real ix = ht_safe_inv(d.x), iy = ht_safe_inv(d.y), iz = ht_safe_inv(d.z);
-#ifdef HT_OPENCL
-    /* The only OpenCL-specific code: the 8-wide slab test PoCL compiles to one vector op. */
-    const float8 inv8 = (float8)(ix, ix, iy, iy, iz, iz, 0.0f, 0.0f);
-    const float8 oi8 = (float8)(o.x * ix, o.x * ix, o.y * iy, o.y * iy, o.z * iz, o.z * iz, 0.0f,
-                                0.0f);
-#else
-    const real inv[6] = {ix, ix, iy, iy, iz, iz};
-    const real oi[6] = {o.x * ix, o.x * ix, o.y * iy, o.y * iy, o.z * iz, o.z * iz};
-#endif
+    const HtSlabRay slab = ht_slab_ray(o, d);
 
     uint stack_node[HT_STACK_SIZE];
     real stack_t[HT_STACK_SIZE];
@@ -103,36 +156,10 @@ HT_FN uint ht_traverse(HT_GEOMETRY_PARAMS, HtRay ray, int any_hit, real* t_out) 
 
     for (;;) {
         HT_CONST_GLOBAL HtBvhNode* n = HT_NODE_PTR(cur);
-#ifdef HT_OPENCL
-        const float8 lo = vload8(0, n->lo);
-        const float8 hi = vload8(0, n->hi);
-        const float8 ta = lo * inv8 - oi8;
-        const float8 tb = hi * inv8 - oi8;
-        const float8 tn = ta < tb ? ta : tb;
-        const float8 tf = ta < tb ? tb : ta;
-        const real near0 = ht_max(ht_max(tn.s0, tn.s2), ht_max(tn.s4, tmin));
-        const real near1 = ht_max(ht_max(tn.s1, tn.s3), ht_max(tn.s5, tmin));
-        const real far0 = ht_min(ht_min(tf.s0, tf.s2), ht_min(tf.s4, tbest));
-        const real far1 = ht_min(ht_min(tf.s1, tf.s3), ht_min(tf.s5, tbest));
-        const uint c0 = as_uint(lo.s6), c1 = as_uint(lo.s7);
-        const uint n0 = as_uint(hi.s6), n1 = as_uint(hi.s7);
-#else
-        real tn[6], tf[6];
-        for (int k = 0; k < 6; ++k) {
-            const real ta = (real)n->lo[k] * inv[k] - oi[k];
-            const real tb = (real)n->hi[k] * inv[k] - oi[k];
-            tn[k] = ta < tb ? ta : tb;
-            tf[k] = ta < tb ? tb : ta;
-        }
-        const real near0 = ht_max(ht_max(tn[0], tn[2]), ht_max(tn[4], tmin));
-        const real near1 = ht_max(ht_max(tn[1], tn[3]), ht_max(tn[5], tmin));
-        const real far0 = ht_min(ht_min(tf[0], tf[2]), ht_min(tf[4], tbest));
-        const real far1 = ht_min(ht_min(tf[1], tf[3]), ht_min(tf[5], tbest));
-        const uint c0 = ht_as_uint(n->lo[6]), c1 = ht_as_uint(n->lo[7]);
-        const uint n0 = ht_as_uint(n->hi[6]), n1 = ht_as_uint(n->hi[7]);
-#endif
-        int h0 = near0 <= far0 && (c0 | n0) != 0u;
-        int h1 = near1 <= far1 && (c1 | n1) != 0u;
+        real near0, near1;
+        uint c0, c1, n0, n1;
+        int h0, h1;
+        ht_node_slabs(n, &slab, tmin, tbest, &near0, &near1, &h0, &h1, &c0, &c1, &n0, &n1);
 
         /* Leaves now, the nearer one first. */
         if (h0 && n0 != 0u && h1 && n1 != 0u && near1 < near0) {

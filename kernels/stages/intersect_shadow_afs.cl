@@ -88,30 +88,18 @@ __kernel void intersect_shadow_afs(HT_GEOMETRY_PARAMS, __global const uint* stra
     const float tmin = ray.tmin, tmax = ray.tmax < HT_T_FAR ? ray.tmax : HT_T_FAR;
     float3 T = (float3)(1.0f);
 
-    /* The slab test of ht_traverse (geometry/bvh_traverse.h, where the layout is explained) with a
-     * fixed far end: every leaf box the segment touches is visited once, in any order. */
-    const float ix = ht_safe_inv(d.x), iy = ht_safe_inv(d.y), iz = ht_safe_inv(d.z);
-    const float8 inv8 = (float8)(ix, ix, iy, iy, iz, iz, 0.0f, 0.0f);
-    const float8 oi8 = (float8)(o.x * ix, o.x * ix, o.y * iy, o.y * iy, o.z * iz, o.z * iz, 0.0f, 0.0f);
+    /* The slab test of ht_traverse (geometry/bvh_traverse.h) with a fixed far end: every leaf box
+     * the segment touches is visited once, in any order. */
+    const HtSlabRay slab = ht_slab_ray(o, d);
     uint stack[HT_STACK_SIZE];
     int sp = 0;
     uint cur = 0;
     for (;;) {
         HT_CONST_GLOBAL HtBvhNode* n = HT_NODE_PTR(cur);
-        const float8 lo = vload8(0, n->lo);
-        const float8 hi = vload8(0, n->hi);
-        const float8 ta = lo * inv8 - oi8;
-        const float8 tb = hi * inv8 - oi8;
-        const float8 tn = ta < tb ? ta : tb;
-        const float8 tf = ta < tb ? tb : ta;
-        const float near0 = max(max(tn.s0, tn.s2), max(tn.s4, tmin));
-        const float near1 = max(max(tn.s1, tn.s3), max(tn.s5, tmin));
-        const float far0 = min(min(tf.s0, tf.s2), min(tf.s4, tmax));
-        const float far1 = min(min(tf.s1, tf.s3), min(tf.s5, tmax));
-        const uint c0 = as_uint(lo.s6), c1 = as_uint(lo.s7);
-        const uint n0 = as_uint(hi.s6), n1 = as_uint(hi.s7);
-        int h0 = near0 <= far0 && (c0 | n0) != 0u;
-        int h1 = near1 <= far1 && (c1 | n1) != 0u;
+        float near0, near1;
+        uint c0, c1, n0, n1;
+        int h0, h1;
+        ht_node_slabs(n, &slab, tmin, tmax, &near0, &near1, &h0, &h1, &c0, &c1, &n0, &n1);
         if (h0 && n0 != 0u) {
             if (ht_afs_leaf(HT_SEGS_ARG, HT_POINTS_ARG, strand_material, afs_tt_table, c0, n0, o, d, tmin, tmax, &T)) break;
             h0 = 0;
