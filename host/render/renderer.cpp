@@ -104,17 +104,16 @@ struct Renderer::Impl {
         // The render's identity (checkpoint and part keys) leaves the paging out: it depends on
         // the device, and paged and unpaged renders give the same bits (tested).
         stats.clamp_indirect = s.clamp_indirect;
-        std::string clamp;  // options that change the estimator, not the scene: part of the render key
-        if (stats.clamp_indirect > 0) {
-            char def[64];
-            std::snprintf(def, sizeof def, " -DHT_CLAMP_INDIRECT=%.9ef", double(stats.clamp_indirect));
-            clamp = def;
-        }
-        if (s.regularize_deg > 0) {
-            char def[64];
-            std::snprintf(def, sizeof def, " -DHT_REGULARIZE_WIDTH=%.9ef", double(s.regularize_deg) * 3.14159265358979323846 / 180.0);
-            clamp += def;
-        }
+        // Options that change the estimator, not the scene (part of the render key); off = undefined.
+        auto float_define = [](const char* name, double v) {
+            char def[80];
+            std::snprintf(def, sizeof def, " -D%s=%.9ef", name, v);
+            return std::string(def);
+        };
+        std::string clamp;
+        if (stats.clamp_indirect > 0) clamp += float_define("HT_CLAMP_INDIRECT", stats.clamp_indirect);
+        if (s.regularize_deg > 0)
+            clamp += float_define("HT_REGULARIZE_WIDTH", s.regularize_deg * 3.14159265358979323846 / 180.0);
         // The scene's features once (the lobe bounds are a quadrature per material).
         features = scene_features(scene, s.fiber_field, afs, s.features);
         options = kernel_build_options(features) + clamp;

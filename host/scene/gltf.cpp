@@ -401,6 +401,12 @@ private:
         return order;
     }
 
+    // A vertex attribute must have one value per POSITION.
+    void require_per_vertex(const std::string& label, const char* attribute, size_t values, size_t positions) const {
+        if (values != positions)
+            scene_fail(file_, label, ": ", attribute, " has ", values, " values for ", positions, " positions");
+    }
+
     void add_triangle_primitive(const tinygltf::Primitive& prim, int mode, const std::string& label,
                                 const glm::dmat4& world) {
         const std::vector<Vec3f> positions = read_positions(prim, label);
@@ -408,17 +414,13 @@ private:
         const auto nrm_it = prim.attributes.find("NORMAL");
         if (nrm_it != prim.attributes.end()) {
             normals = read_float_vec3_accessor(model_, nrm_it->second, file_, label + " NORMAL");
-            if (normals.size() != positions.size())
-                scene_fail(file_, label, ": NORMAL has ", normals.size(), " values for ",
-                           positions.size(), " positions");
+            require_per_vertex(label, "NORMAL", normals.size(), positions.size());
         }
         std::vector<std::array<float, 2>> uvs;
         const auto uv_it = prim.attributes.find("TEXCOORD_0");
         if (uv_it != prim.attributes.end()) {
             uvs = read_texcoord_accessor(model_, uv_it->second, file_, label + " TEXCOORD_0");
-            if (uvs.size() != positions.size())
-                scene_fail(file_, label, ": TEXCOORD_0 has ", uvs.size(), " values for ",
-                           positions.size(), " positions");
+            require_per_vertex(label, "TEXCOORD_0", uvs.size(), positions.size());
             for (size_t v = 0; v < uvs.size(); ++v)
                 if (!(std::isfinite(uvs[v][0]) && std::isfinite(uvs[v][1])))
                     scene_fail(file_, label, ": TEXCOORD_0 of vertex ", v, " is not finite (",
