@@ -130,6 +130,7 @@ typedef struct {
 #define HT_COUNTER_SHADOW 0
 #define HT_COUNTER_NEXT 1
 #define HT_COUNTER_NAN 2   /* non-finite values caught and zeroed (reported, never written) */
+#define HT_COUNTER_CUT 3   /* paths cut by --max-depth (kernels/stages/shade.cl says which) */
 #define HT_COUNTER_COUNT 4
 
 /* ---------------------------------------------------------------- camera and lights */

@@ -138,8 +138,9 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
         .option("--indirect", "exact|afs|none", "hair-to-hair light: exact = path traced to --max-depth; afs = traced to --max-depth (auto: 1), then the paper's averaged attenuation: the last bounce's shadow rays cross hair with AFS_TT^avg per fibre; none = direct light with opaque hair (depth 1)", "exact")
         .option("--clamp-indirect", "C|off", "cap the contribution of every light path that scattered at two or more surfaces at C (radiance, largest rgb channel, hue kept): fewer sparkles at low sample counts at the cost of a bias that must be measured per scene (builtin:strand, irradiance 1: C = 3 removes 2.8 % of the light, C = 1 14.5 %)", "off")
         .option("--regularize", "DEG|off", "path regularisation: where a path meets hair after a first scattering, widen the marschner/zinke lobes to at least DEG degrees (longitudinal widths and zinke's azimuthal spread); bright two-lobe sparkles become a blur of indirect highlights (biased; measured in docs/PERFORMANCE.md)", "off")
+        .option("--spawn-offset", "capsule|pbrt", "where rays leaving a fibre start: just outside its capsule, or 1-1.73 fibre diameters off it along the normal as pbrt-v4 offsets its curves' rays (a diagnostic for comparing with pbrt renders: rays then skip the nearest neighbours; docs/ESTIMATOR.md)", "capsule")
         .option("--fiber-field", "near|far|auto|material", "for marschner/zinke materials: near field (zinke) everywhere, far field (marschner) everywhere, or auto: near where a fibre covers at least half a camera pixel's footprint and for hair-to-hair light, far elsewhere; with --model and no --fiber-field: material", "auto")
-        .option("--background", "R,G,B", "uniform environment radiance (importance sampled like any light); replaces the scene's")
+        .option("--background", "R,G,B", "uniform environment radiance, found by the fibres' own sampling (uniform light directions would rarely meet narrow lobes: no next-event estimation); replaces the scene's")
         .option("--environment", "FILE", "lat-long HDR environment map (.exr/.hdr, +y up); replaces the scene's")
         .option("--environment-intensity", "K", "multiplier for the environment", "1")
         .option("--exposure", "E|auto", "multiplier applied before tone mapping 8-bit outputs; auto maps the 95th percentile of lit pixels to 0.8 (linear outputs are never scaled)", "auto")
@@ -191,6 +192,8 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
                                                            ? std::string("material") : p.get("--fiber-field"));
     rs.clamp_indirect = parse_clamp_indirect(p.get("--clamp-indirect"));
     if (p.get("--regularize") != "off") rs.regularize_deg = float(p.get_double("--regularize", 0.1, 90));
+    if (p.get("--spawn-offset") == "pbrt") rs.spawn_offset = RenderSettings::SpawnOffset::Pbrt;
+    else if (p.get("--spawn-offset") != "capsule") throw UsageError("--spawn-offset takes capsule or pbrt");
     const double time_limit = p.get_double("--time-limit", 0, 1e9);
     const double checkpoint_every = p.get_double("--checkpoint-every", 0.01, 1e9);
     const bool auto_expose = p.get("--exposure") == "auto";
@@ -376,22 +379,7 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
     const Film film = acc.compose();
 
     RenderStats st;
-    for (auto* r : devices) {
-        const RenderStats& rst = r->stats();
-        st.camera_rays += rst.camera_rays;
-        st.extension_rays += rst.extension_rays;
-        st.shadow_rays += rst.shadow_rays;
-        st.nonfinite_caught += rst.nonfinite_caught;
-        st.build_ms += rst.build_ms;
-        st.build_cached = rst.build_cached;
-        for (auto& [name, sec] : rst.stage_seconds) st.stage_seconds.push_back({name, sec});
-        if (st.bounces.size() < rst.bounces.size()) st.bounces.resize(rst.bounces.size());
-        for (size_t b = 0; b < rst.bounces.size(); ++b) {
-            st.bounces[b].paths += rst.bounces[b].paths;
-            st.bounces[b].shadow_rays += rst.bounces[b].shadow_rays;
-            st.bounces[b].seconds += rst.bounces[b].seconds;
-        }
-    }
+    for (auto* r : devices) st.add(r->stats());
     if (!quiet) {
         if (shares.size() > 1)
             for (auto& sh : shares)
@@ -409,14 +397,19 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
         std::fprintf(stderr, "done: %d spp in %.2f s; %llu camera + %llu extension + %llu shadow rays; kernel build %.0f ms%s\n",
                      done, render_seconds, (unsigned long long)st.camera_rays, (unsigned long long)st.extension_rays,
                      (unsigned long long)st.shadow_rays, st.build_ms, st.build_cached ? " (cached)" : "");
+        if (st.camera_rays)
+            std::fprintf(stderr, "max depth %d cut %llu of %llu paths (%.3g %%)\n", rs.max_depth,
+                         (unsigned long long)st.cut_paths, (unsigned long long)st.camera_rays,
+                         100.0 * double(st.cut_paths) / double(st.camera_rays));
         for (auto& [name, sec] : st.stage_seconds)
             std::fprintf(stderr, "stage %-22s %8.3f s\n", name.c_str(), sec);
         if (rs.profile_stages)
             for (size_t b = 0; b < st.bounces.size(); ++b) {
                 const BounceStats& bs = st.bounces[b];
                 const double rays = double(bs.paths + bs.shadow_rays);
-                std::fprintf(stderr, "bounce %zu: %llu paths, %llu shadow rays, %.3f s: %.2f M paths/s, %.2f M rays/s\n", b,
-                             (unsigned long long)bs.paths, (unsigned long long)bs.shadow_rays, bs.seconds,
+                std::fprintf(stderr, "bounce %zu: %llu paths, %llu shadow rays, %llu cut, %.3f s: %.2f M paths/s, %.2f M rays/s\n", b,
+                             (unsigned long long)bs.paths, (unsigned long long)bs.shadow_rays,
+                             (unsigned long long)bs.cut_paths, bs.seconds,
                              bs.seconds > 0 ? bs.paths / bs.seconds * 1e-6 : 0.0,
                              bs.seconds > 0 ? rays / bs.seconds * 1e-6 : 0.0);
             }

@@ -114,6 +114,7 @@ struct Renderer::Impl {
         if (stats.clamp_indirect > 0) clamp += float_define("HT_CLAMP_INDIRECT", stats.clamp_indirect);
         if (s.regularize_deg > 0)
             clamp += float_define("HT_REGULARIZE_WIDTH", s.regularize_deg * 3.14159265358979323846 / 180.0);
+        if (s.spawn_offset == RenderSettings::SpawnOffset::Pbrt) clamp += " -DHT_SPAWN_PBRT=1";
         // The scene's features once (the lobe bounds are a quadrature per material).
         features = scene_features(scene, s.fiber_field, afs, s.features);
         options = kernel_build_options(features) + clamp;
@@ -284,11 +285,14 @@ struct Renderer::Impl {
         launch(k_compact_scatter, count);
     }
 
-    // (shadow rays, next queue size, non-finite values caught) of the last bounce
-    std::array<uint32_t, 3> read_counters() {
+    // The last shade's queue counters (kernels/types.h)
+    struct ShadeCounters {
+        uint32_t shadow, next, nonfinite, cut;
+    };
+    ShadeCounters read_counters() {
         uint32_t out[HT_COUNTER_COUNT];
         cl.queue().enqueueReadBuffer(counters, CL_TRUE, 0, sizeof out, out);
-        return {out[HT_COUNTER_SHADOW], out[HT_COUNTER_NEXT], out[HT_COUNTER_NAN]};
+        return {out[HT_COUNTER_SHADOW], out[HT_COUNTER_NEXT], out[HT_COUNTER_NAN], out[HT_COUNTER_CUT]};
     }
 
     void intersect_shadow(uint32_t count) {
@@ -401,31 +405,36 @@ void Renderer::render_sample(uint32_t sample) {
             r.stats.camera_rays += count;
             int q = 0;
             uint32_t n = count;
-            for (uint32_t bounce = 0; n > 0 && bounce < uint32_t(s.max_depth); ++bounce) {
+            // max_depth scattering vertices; with an environment, the last vertex's BCSDF ray is
+            // traced too, for the environment light it sees (kernels/stages/shade.cl)
+            const uint32_t vertices = uint32_t(s.max_depth);
+            const uint32_t traced = vertices + (r.environment.header.enabled ? 1u : 0u);
+            for (uint32_t bounce = 0; n > 0 && bounce < traced; ++bounce) {
                 const auto t_bounce = std::chrono::steady_clock::now();
                 r.intersect_closest(q, n);
                 r.shade(q, n, sample, bounce);
-                const bool last = bounce + 1 == uint32_t(s.max_depth);
-                if (last && s.indirect == RenderSettings::Indirect::Afs) {
+                if (bounce + 1 == vertices && s.indirect == RenderSettings::Indirect::Afs) {
                     r.intersect_shadow_afs(n);
                     r.resolve_shadows_afs(n);
-                } else {
+                } else if (bounce < vertices) {
                     r.intersect_shadow(n);
                     r.resolve_shadows(n);
                 }
-                if (bounce + 1 < uint32_t(s.max_depth)) r.compact(1 - q, n);  // else no path continues
-                auto [shadows, next, nonfinite] = r.read_counters();
-                r.stats.nonfinite_caught += nonfinite;
-                r.stats.shadow_rays += shadows;
-                r.stats.extension_rays += next;
+                if (bounce + 1 < traced) r.compact(1 - q, n);  // else no path continues
+                const Impl::ShadeCounters c = r.read_counters();
+                r.stats.nonfinite_caught += c.nonfinite;
+                r.stats.shadow_rays += c.shadow;
+                r.stats.extension_rays += c.next;
+                r.stats.cut_paths += c.cut;
                 if (r.stats.bounces.size() <= bounce) r.stats.bounces.resize(bounce + 1);
                 BounceStats& bs = r.stats.bounces[bounce];
                 bs.paths += n;
-                bs.shadow_rays += shadows;
+                bs.shadow_rays += c.shadow;
+                bs.cut_paths += c.cut;
                 // read_counters() waited for the queue: this is the bounce's wall time
                 bs.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t_bounce).count();
                 q = 1 - q;
-                n = next;
+                n = c.next;
             }
             r.accumulate(r.film_buf, count);
         }
@@ -435,6 +444,24 @@ void Renderer::render_sample(uint32_t sample) {
     }
     r.stats.samples += 1;
     r.stats.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+void RenderStats::add(const RenderStats& o) {
+    camera_rays += o.camera_rays;
+    extension_rays += o.extension_rays;
+    shadow_rays += o.shadow_rays;
+    nonfinite_caught += o.nonfinite_caught;
+    cut_paths += o.cut_paths;
+    build_ms += o.build_ms;
+    build_cached = o.build_cached;
+    for (auto& stage : o.stage_seconds) stage_seconds.push_back(stage);
+    if (bounces.size() < o.bounces.size()) bounces.resize(o.bounces.size());
+    for (size_t b = 0; b < o.bounces.size(); ++b) {
+        bounces[b].paths += o.bounces[b].paths;
+        bounces[b].shadow_rays += o.bounces[b].shadow_rays;
+        bounces[b].cut_paths += o.bounces[b].cut_paths;
+        bounces[b].seconds += o.bounces[b].seconds;
+    }
 }
 
 RenderStats Renderer::render(Film& film, const ProgressFn& progress) {

@@ -30,6 +30,9 @@ struct RenderSettings {
     float clamp_indirect = 0.0f;
     // Path regularisation: minimum lobe width (degrees) at hair reached after a scattering (0: off).
     float regularize_deg = 0.0f;
+    // Where rays leaving a fibre start: just outside the capsule (the default), or offset as
+    // pbrt-v4 offsets its curves' rays (a diagnostic for comparisons with pbrt, docs/ESTIMATOR.md).
+    enum class SpawnOffset { Capsule, Pbrt } spawn_offset = SpawnOffset::Capsule;
     FeatureMode features = FeatureMode::Scene;  // --features: what is compiled in
 };
 
@@ -48,6 +51,7 @@ struct Film {
 // shadow rays queued, and wall seconds of its stages.
 struct BounceStats {
     uint64_t paths = 0, shadow_rays = 0;
+    uint64_t cut_paths = 0;  // paths this bounce ended because of max_depth
     double seconds = 0;
 };
 
@@ -56,6 +60,10 @@ struct RenderStats {
     bool build_cached = false;
     uint64_t camera_rays = 0, extension_rays = 0, shadow_rays = 0;
     uint64_t nonfinite_caught = 0;  // NaN/Inf values zeroed by the kernels
+    // Paths cut by max_depth: with an environment, those whose last vertex's BCSDF ray met a
+    // surface; without one, those that scattered at their last allowed vertex (an upper bound
+    // on the paths that would have gone on).
+    uint64_t cut_paths = 0;
     int samples = 0;
     std::string kernel_options;
     float clamp_indirect = 0.0f;  // the cap in effect (0: none)
@@ -63,6 +71,9 @@ struct RenderStats {
     // every launch, which costs some overlap, so only the proportions are meaningful).
     std::vector<std::pair<std::string, double>> stage_seconds;
     std::vector<BounceStats> bounces;  // wavefront throughput per bounce
+
+    // Adds another device's statistics (counts, times and per-bounce rows).
+    void add(const RenderStats& o);
 };
 
 // Called after each finished sample pass with (samples done, samples total); returning false

@@ -1,12 +1,18 @@
 /* Stage 3: closest hits -> shadow queue + next extension queue.
  *
- * For ray k (path p = ray_path[k]) with hit hits[k]:
+ * For ray k (path p = ray_path[k]) with hit hits[k] at bounce b (b scatterings behind it):
  *   miss      -> path radiance += throughput * environment (MIS-weighted against the
- *                environment's next-event estimate unless the ray came from the camera); ends.
- *   hair hit  -> next-event estimation: one light (or the environment) picked uniformly, the
+ *                environment's next-event estimate when the environment takes part in it and the
+ *                ray did not come from the camera); ends.
+ *   b = max_depth: the ray is the last vertex's BCSDF sample, traced only for the environment
+ *                it may see (the MIS partner of that vertex's next-event estimate); meeting a
+ *                surface, the path is cut by --max-depth and counted (HT_COUNTER_CUT).
+ *   hair hit  -> next-event estimation: one light (or an environment map) picked uniformly, the
  *                fibre's scattering function evaluated for it, and a shadow ray queued carrying
- *                the unoccluded contribution; then, below max_depth, the fibre model is sampled
- *                for the extension ray (Russian roulette from HT_RR_START_BOUNCE bounces on).
+ *                the unoccluded contribution; then the fibre model is sampled for the extension
+ *                ray (below max_depth; at the last vertex only when there is an environment),
+ *                with Russian roulette from HT_RR_START_BOUNCE bounces on
+ *                (kernels/integrator/roulette.h).
  *   triangle  -> (HT_FEATURE_MESHES) a Lambertian surface: the same light pick and MIS, shadow
  *                and extension rays spawned a small offset off the surface on their side of the
  *                geometric normal, cosine-weighted sampling (kernels/surface/lambert.h); the
@@ -24,6 +30,8 @@
 #include "../queue.h"
 #include "../geometry/fiber_frame.h"
 #include "../fiber/bcsdf.h"
+#include "../integrator/mis.h"
+#include "../integrator/roulette.h"
 #if HT_FEATURE_MESHES
 #include "../surface/lambert.h"
 #if HT_FEATURE_TEXTURES
@@ -68,11 +76,11 @@ HT_FN float3 ht_clamp_indirect(float3 c, uint scatterings) {
 
 HT_FN int ht_finite3(float3 v) { return ht_isfinite(v.x) && ht_isfinite(v.y) && ht_isfinite(v.z); }
 
-/* Power heuristic (Veach): weight of the strategy with pdf a against the one with pdf b. */
-HT_FN float ht_mis_power(float a, float b) {
-    float a2 = a * a, b2 = b * b;
-    return a2 + b2 > 0.0f ? a2 / (a2 + b2) : 0.0f;
-}
+/* Whether the environment takes part in next-event estimation.  A uniform environment does not:
+ * directions drawn uniformly over the sphere rarely land in fibre lobes a few degrees wide, so
+ * they add variance and nothing else; BCSDF sampling carries it alone (pbrt-v4 skips its uniform
+ * infinite light the same way).  A lat-long map is importance sampled and shares by MIS. */
+HT_FN uint ht_env_in_nee(const HtEnvironment* env) { return env->enabled && env->has_map ? 1u : 0u; }
 
 /* Origin for a ray leaving the fibre in direction w: the surface point on w's side of the axis,
  * a hair outside the fibre, so neither this capsule nor (for gentle bends) its neighbours are
@@ -82,11 +90,20 @@ HT_FN float3 ht_spawn_origin(float3 axis_point, float3 t, float3 fallback_side, 
     float3 side = w - dot(w, t) * t;
     float len2 = dot(side, side);
     side = len2 > 1e-12f ? side * rsqrt(len2) : fallback_side;
+#ifdef HT_SPAWN_PBRT
+    /* --spawn-offset pbrt, a diagnostic: pbrt-v4 offsets a curve's secondary rays from the hit
+     * (on the axis plane of its ray-facing ribbon) along the normal by width * |n|_1, 1 to 1.73
+     * fibre diameters, so they can skip the nearest neighbours (docs/ESTIMATOR.md measures it) */
+    return axis_point + side * (2.0f * radius * (fabs(side.x) + fabs(side.y) + fabs(side.z)));
+#else
     return axis_point + side * (radius * 1.01f);
+#endif
 }
 
-/* Next-event light pick shared by hair and surfaces: one of the lights or the environment,
- * uniformly; returns 0 when the chosen light gives nothing at p. */
+/* Next-event light pick shared by hair and surfaces: one of the lights or the environment map,
+ * uniformly; returns 0 when the chosen light gives nothing at p.  ls->pdf is the pdf that BCSDF
+ * sampling competes with by MIS: the environment's, and 0 (full weight) for every light, since
+ * BCSDF-sampled rays never meet a light's surface here (lights are not in the BVH). */
 HT_FN int ht_nee_sample(__global const HtLight* lights, uint light_count, const HtEnvironment* env,
                         __global const float* env_texels, __global const float* env_marginal,
                         __global const float* env_conditional, uint nee_count, uint seed,
@@ -97,7 +114,9 @@ HT_FN int ht_nee_sample(__global const HtLight* lights, uint light_count, const 
     float v = ht_uniform(seed, pixel, sample, ht_dim(bounce, HT_DIM_LIGHT_V));
     if (li < light_count) {
         HtLight light = lights[li];
-        return ht_sample_light(&light, p, u, v, ls);
+        int ok = ht_sample_light(&light, p, u, v, ls);
+        ls->pdf = 0.0f;
+        return ok;
     }
     float3 le;
     float pdf_env;
@@ -129,12 +148,10 @@ HT_FN int ht_continue_path(HtPathState* st, float3 nthr, float pdf, float3 o, fl
     return 1;
 }
 
-/* Russian roulette on the throughput's largest channel from HT_RR_START_BOUNCE on. */
-HT_FN float3 ht_roulette(float3 nthr, uint seed, uint pixel, uint sample, uint bounce) {
+/* Russian roulette from HT_RR_START_BOUNCE on. */
+HT_FN float3 ht_roulette_at(float3 nthr, uint seed, uint pixel, uint sample, uint bounce) {
     if (bounce + 1u < HT_RR_START_BOUNCE) return nthr;
-    float q = min(max(nthr.x, max(nthr.y, nthr.z)), 0.95f);
-    float ur = ht_uniform(seed, pixel, sample, ht_dim(bounce, HT_DIM_RR));
-    return ur < q ? nthr / q : (float3)(0.0f);
+    return ht_roulette(nthr, ht_uniform(seed, pixel, sample, ht_dim(bounce, HT_DIM_RR)));
 }
 
 #if HT_FEATURE_MESHES
@@ -164,7 +181,7 @@ __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM,
     __local uint lcount, lbase;
     uint k = get_global_id(0);
     int active = k < count;
-    int want_shadow = 0, want_next = 0;
+    int want_shadow = 0, want_next = 0, cut = 0;
     HtRay shadow_ray, next_ray;
     float3 shadow_value = (float3)(0.0f);
     uint p = 0u;
@@ -177,11 +194,14 @@ __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM,
         HtHit hit = hits[k];
         float3 thr = ht_load3(st.throughput);
         float3 dir = (float3)(ray.dx, ray.dy, ray.dz);
-        const uint nee_count = light_count + env.enabled;
+        const uint nee_count = light_count + ht_env_in_nee(&env);
+        /* the last vertex samples a BCSDF ray too when there is light it can find (the
+         * environment), so that both halves of the vertex's MIS estimate are there */
+        const uint ext_depth = env.enabled ? max_depth + 1u : max_depth;
         if (hit.segment == HT_NO_HIT) {
             float3 le = ht_env_eval(&env, env_texels, dir);
             float w = 1.0f;
-            if (!(st.flags & HT_PATH_FROM_CAMERA) && env.enabled) {
+            if (!(st.flags & HT_PATH_FROM_CAMERA) && ht_env_in_nee(&env)) {
                 float p_light = ht_env_pdf(&env, env_marginal, env_conditional, dir) / (float)nee_count;
                 w = ht_mis_power(st.last_pdf, p_light);
             }
@@ -191,7 +211,12 @@ __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM,
             } else {
                 atomic_inc(&counters[HT_COUNTER_NAN]);
             }
+        } else if (bounce >= max_depth) {
+            cut = 1;
         } else {
+            /* without an environment nothing is traced past the last vertex: a path counts as
+             * cut when it scatters there */
+            cut = bounce + 1u == max_depth && !env.enabled;
             HtSegment seg = HT_SEG(hit.segment);
 #if HT_FEATURE_MESHES
           if (seg.flags & HT_SEG_TRIANGLE) {
@@ -240,13 +265,13 @@ __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM,
                     }
                 }
             }
-            if (bounce + 1u < max_depth) {
+            if (bounce + 1u < ext_depth) {
                 float u0 = ht_uniform(seed, st.pixel, sample, ht_dim(bounce, HT_DIM_BSDF_0));
                 float u1 = ht_uniform(seed, st.pixel, sample, ht_dim(bounce, HT_DIM_BSDF_0 + 1u));
                 float3 wi;
                 float pdf = 0.0f;
                 if (ht_lambert_sample(ns, ng, u0, u1, &wi, &pdf)) {
-                    float3 nthr = ht_roulette(thr * albedo, seed, st.pixel, sample, bounce);
+                    float3 nthr = ht_roulette_at(thr * albedo, seed, st.pixel, sample, bounce);
                     want_next = ht_continue_path(&st, nthr, pdf, ht_surface_spawn(p_hit, hit.t, ng, wi), wi,
                                                  &next_ray, counters);
                 }
@@ -308,7 +333,7 @@ __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM,
             }
 
             /* extension ray */
-            if (bounce + 1u < max_depth) {
+            if (bounce + 1u < ext_depth) {
                 float3 wi_l = (float3)(0.0f), weight = (float3)(0.0f);
                 float pdf = 0.0f;
                 float u0 = ht_uniform(seed, st.pixel, sample, ht_dim(bounce, HT_DIM_BSDF_0));
@@ -316,7 +341,7 @@ __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM,
                 float u2 = ht_uniform(seed, st.pixel, sample, ht_dim(bounce, HT_DIM_BSDF_0 + 2u));
                 float u3 = ht_uniform(seed, st.pixel, sample, ht_dim(bounce, HT_DIM_BSDF_0 + 3u));
                 if (ht_bcsdf_sample(&mat, wo_l, h, u0, u1, u2, u3, &wi_l, &weight, &pdf)) {
-                    float3 nthr = ht_roulette(thr * weight, seed, st.pixel, sample, bounce);
+                    float3 nthr = ht_roulette_at(thr * weight, seed, st.pixel, sample, bounce);
                     float3 wi = fx * wi_l.x + fy * wi_l.y + fz * wi_l.z;
                     want_next = ht_continue_path(&st, nthr, pdf, ht_spawn_origin(axis_point, t, fz, hit.radius, wi),
                                                  wi, &next_ray, counters);
@@ -329,6 +354,7 @@ __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM,
 
     /* statistics only: the shadow queue is not compacted, its count is reported */
     ht_queue_append(want_shadow, &lcount, &lbase, &counters[HT_COUNTER_SHADOW]);
+    ht_queue_append(cut, &lcount, &lbase, &counters[HT_COUNTER_CUT]);
     if (active) {
         if (!want_shadow) {
             shadow_ray.ox = shadow_ray.oy = shadow_ray.oz = 0.0f;
