@@ -31,7 +31,7 @@ Scene furnace_scene(const std::string& source) {
         m.sigma_a = {0, 0, 0};
         m.beta_m = 0.3f;
         m.beta_n = 0.3f;
-        m.alpha_deg = 0.0f;
+        m.alpha_deg = 2.0f;
     }
     ensure_camera_and_light(scene);
     return scene;
