@@ -99,6 +99,7 @@ DeviceTracer::DeviceTracer(ClContext& cl, const DeviceGeometry& geo, const std::
     if (opts.find("HT_FEATURE_MESHES") == std::string::npos)
         opts += geo.triangle_count ? " -DHT_FEATURE_MESHES=1" : " -DHT_FEATURE_MESHES=0";
     opts += geometry_page_options(geo.paging);
+    options_ = opts;
     program_ = cl.build("stages/intersect.cl", opts);  // throws DeviceError with the log
     build_ms_ = cl.last_build_ms();
     build_cached_ = cl.last_build_cached();
@@ -125,8 +126,8 @@ void DeviceTracer::set_rays(const std::vector<HtRay>& rays) {
         });
     }
     if (!count_) return;
-    // The kernels clamp tmax too; replacing inf here keeps it out of the device entirely
-    // (-cl-fast-relaxed-math assumes finite values).
+    // The kernels clamp tmax too; replacing inf here keeps it out of the device entirely (a
+    // program built with -cl-fast-relaxed-math through `bench --options` assumes finite values).
     std::vector<HtRay> clean(rays);
     for (HtRay& r : clean)
         if (!(r.tmax <= 3.0e38f)) r.tmax = 3.0e38f;

@@ -43,7 +43,13 @@ public:
     DeviceTracer(ClContext& cl, const DeviceGeometry& geo,
                  const std::string& options = default_options());
 
-    static std::string default_options() { return "-cl-std=CL1.2 -cl-fast-relaxed-math"; }
+    // The render program's own options (host/cl/device.h), so that what `hairtrace bench`
+    // measures is the traversal the renderer runs; HT_FEATURE_MESHES and the paging options are
+    // added from the geometry exactly as the renderer adds them.
+    static std::string default_options() { return base_kernel_options(); }
+
+    // The options the program was built with (all of them).
+    const std::string& options() const { return options_; }
 
     // Build time of the program (ms) and whether it came from the binary cache.
     double build_ms() const { return build_ms_; }
@@ -73,6 +79,7 @@ private:
     size_t capacity_ = 0, count_ = 0;
     double build_ms_ = 0;
     bool build_cached_ = false;
+    std::string options_;
 };
 
 }  // namespace ht
