@@ -28,16 +28,9 @@
 #include "../lights.h"
 #include "../environment.h"
 #include "../queue.h"
-#include "../geometry/fiber_frame.h"
-#include "../fiber/bcsdf.h"
 #include "../integrator/mis.h"
 #include "../integrator/roulette.h"
-#if HT_FEATURE_MESHES
-#include "../surface/lambert.h"
-#if HT_FEATURE_TEXTURES
-#include "../surface/texture.h"
-#endif
-#endif
+#include "../integrator/shading_point.h"
 
 #ifndef HT_RR_START_BOUNCE
 #define HT_RR_START_BOUNCE 3u
@@ -48,23 +41,6 @@
  * largest channel, hue kept.  Biased (energy is removed) but bounded variance: narrow fibre lobes
  * lit by small lights make rare, very bright hair-to-hair paths (sparkles at low sample counts).
  * Undefined: compiled out. */
-/* --regularize B (path regularisation, Kaplanyan & Dachsbacher 2013; Cycles' "filter glossy"):
- * at hair hit by a path that has already scattered, the Marschner-family lobes are widened to at
- * least HT_REGULARIZE_WIDTH radians (longitudinal betas; zinke's azimuthal sigma).  Light reaching
- * the camera through two narrow lobes is then no longer a rare, bright sample; the lobes keep
- * their energy (normalised Gaussians), so the bias is a blur of indirect highlights, measured in
- * docs/PERFORMANCE.md.  Undefined: compiled out. */
-HT_FN void ht_regularize(HtMaterial* m, uint bounce) {
-#ifdef HT_REGULARIZE_WIDTH
-    if (bounce > 0u && (m->model == HT_MODEL_MARSCHNER || m->model == HT_MODEL_ZINKE)) {
-        m->beta_r = max(m->beta_r, HT_REGULARIZE_WIDTH);
-        m->beta_tt = max(m->beta_tt, HT_REGULARIZE_WIDTH);
-        m->beta_trt = max(m->beta_trt, HT_REGULARIZE_WIDTH);
-        m->azim_sigma = max(m->azim_sigma, HT_REGULARIZE_WIDTH);
-    }
-#endif
-}
-
 HT_FN float3 ht_clamp_indirect(float3 c, uint scatterings) {
 #ifdef HT_CLAMP_INDIRECT
     float m = max(c.x, max(c.y, c.z));
@@ -81,24 +57,6 @@ HT_FN int ht_finite3(float3 v) { return ht_isfinite(v.x) && ht_isfinite(v.y) && 
  * they add variance and nothing else; BCSDF sampling carries it alone (pbrt-v4 skips its uniform
  * infinite light the same way).  A lat-long map is importance sampled and shares by MIS. */
 HT_FN uint ht_env_in_nee(const HtEnvironment* env) { return env->enabled && env->has_map ? 1u : 0u; }
-
-/* Origin for a ray leaving the fibre in direction w: the surface point on w's side of the axis,
- * a hair outside the fibre, so neither this capsule nor (for gentle bends) its neighbours are
- * re-hit from the inside.  The BCSDF already accounts for the light's path through the fibre. */
-HT_FN float3 ht_spawn_origin(float3 axis_point, float3 t, float3 fallback_side, float radius,
-                             float3 w) {
-    float3 side = w - dot(w, t) * t;
-    float len2 = dot(side, side);
-    side = len2 > 1e-12f ? side * rsqrt(len2) : fallback_side;
-#ifdef HT_SPAWN_PBRT
-    /* --spawn-offset pbrt, a diagnostic: pbrt-v4 offsets a curve's secondary rays from the hit
-     * (on the axis plane of its ray-facing ribbon) along the normal by width * |n|_1, 1 to 1.73
-     * fibre diameters, so they can skip the nearest neighbours (docs/ESTIMATOR.md measures it) */
-    return axis_point + side * (2.0f * radius * (fabs(side.x) + fabs(side.y) + fabs(side.z)));
-#else
-    return axis_point + side * (radius * 1.01f);
-#endif
-}
 
 /* Next-event light pick shared by hair and surfaces: one of the lights or the environment map,
  * uniformly; returns 0 when the chosen light gives nothing at p.  ls->pdf is the pdf that BCSDF
@@ -154,16 +112,6 @@ HT_FN float3 ht_roulette_at(float3 nthr, uint seed, uint pixel, uint sample, uin
     return ht_roulette(nthr, ht_uniform(seed, pixel, sample, ht_dim(bounce, HT_DIM_RR)));
 }
 
-#if HT_FEATURE_MESHES
-/* Offset of ray origins off a surface: the hit point carries rounding of a few ulps of its
- * coordinates and of the ray's t, so the offset scales with both; 1e-5 relative is ~80 float
- * ulps, far below any modelled detail (a fibre radius is >= 1e-4 of the scene in practice). */
-HT_FN float3 ht_surface_spawn(float3 p, float t, float3 ng, float3 w) {
-    float scale = max(max(fabs(p.x), fabs(p.y)), max(fabs(p.z), t));
-    float eps = 1e-5f * scale + 1e-7f;
-    return p + ng * (dot(ng, w) > 0.0f ? eps : -eps);
-}
-#endif
 
 __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM,
                     __global const HtTexture* textures, uint texture_count,
@@ -218,114 +166,38 @@ __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM,
              * cut when it scatters there */
             cut = bounce + 1u == max_depth && !env.enabled;
             HtSegment seg = HT_SEG(hit.segment);
+            HtShadingPoint sp;
 #if HT_FEATURE_MESHES
-          if (seg.flags & HT_SEG_TRIANGLE) {
-            /* ---- Lambertian surface */
-            HtTriangleShading ts = HT_TRI_SHADING(seg.strand);
-            float3 wo = -dir;
-            float3 p_hit = (float3)(ray.ox, ray.oy, ray.oz) + dir * hit.t;
-            float3 ng = (float3)(hit.tx, hit.ty, hit.tz);
-            float b0 = 1.0f - hit.u - hit.h;
-            float3 ns = ts.n0[3] > 0.0f
-                            ? (float3)(ts.n0[0], ts.n0[1], ts.n0[2]) * b0 +
-                                  (float3)(ts.n1[0], ts.n1[1], ts.n1[2]) * hit.u +
-                                  (float3)(ts.n2[0], ts.n2[1], ts.n2[2]) * hit.h
-                            : ng;
-            ht_lambert_face_forward(wo, &ng, &ns);
-            float3 albedo = (float3)(ts.albedo[0], ts.albedo[1], ts.albedo[2]);
-#if HT_FEATURE_TEXTURES
-            if (ts.texture < texture_count) {
-                float tu = ts.uv[0] * b0 + ts.uv[2] * hit.u + ts.uv[4] * hit.h;
-                float tv = ts.uv[1] * b0 + ts.uv[3] * hit.u + ts.uv[5] * hit.h;
-                albedo *= ht_texture_sample(textures[ts.texture], texels, tu, tv);
-            }
+            if (seg.flags & HT_SEG_TRIANGLE)
+                ht_surface_point(HT_TRI_SHADING(seg.strand), &ray, &hit, textures, texture_count, texels, &sp);
+            else
 #endif
-
-            if (nee_count > 0u) {
-                HtLightSample ls;
-                if (ht_nee_sample(lights, light_count, &env, env_texels, env_marginal,
-                                  env_conditional, nee_count, seed, st.pixel, sample, bounce,
-                                  p_hit, &ls)) {
-                    float pdf_bsdf = 0.0f;
-                    float f = ht_lambert_eval(ns, ng, ls.wi, &pdf_bsdf);
-                    float w = ls.pdf > 0.0f ? ht_mis_power(ls.pdf / (float)nee_count, pdf_bsdf) : 1.0f;
-                    float3 c = ht_clamp_indirect(thr * albedo * (f * (float)nee_count * w) * ls.li_over_pdf,
-                                                 bounce + 1u);
-                    if (!ht_finite3(c)) {
-                        atomic_inc(&counters[HT_COUNTER_NAN]);
-                    } else if (c.x + c.y + c.z > 0.0f) {
-                        float3 o = ht_surface_spawn(p_hit, hit.t, ng, ls.wi);
-                        shadow_ray.ox = o.x; shadow_ray.oy = o.y; shadow_ray.oz = o.z;
-                        shadow_ray.dx = ls.wi.x; shadow_ray.dy = ls.wi.y; shadow_ray.dz = ls.wi.z;
-                        shadow_ray.tmin = 0.0f;
-                        /* stop short of the light's own surface (sphere lights) */
-                        shadow_ray.tmax = min(ls.distance * 0.9999f, 1e30f);
-                        shadow_value = c;
-                        want_shadow = shadow_ray.tmax > 0.0f;
-                    }
-                }
-            }
-            if (bounce + 1u < ext_depth) {
-                float u0 = ht_uniform(seed, st.pixel, sample, ht_dim(bounce, HT_DIM_BSDF_0));
-                float u1 = ht_uniform(seed, st.pixel, sample, ht_dim(bounce, HT_DIM_BSDF_0 + 1u));
-                float3 wi;
-                float pdf = 0.0f;
-                if (ht_lambert_sample(ns, ng, u0, u1, &wi, &pdf)) {
-                    float3 nthr = ht_roulette_at(thr * albedo, seed, st.pixel, sample, bounce);
-                    want_next = ht_continue_path(&st, nthr, pdf, ht_surface_spawn(p_hit, hit.t, ng, wi), wi,
-                                                 &next_ray, counters);
-                }
-            }
-          } else
-#endif
-          {
-            /* ---- hair fibre */
-            HtMaterial mat = materials[strand_material[seg.strand]];
-            if (field_mode != HT_FIELD_MATERIAL &&
-                (mat.model == HT_MODEL_MARSCHNER || mat.model == HT_MODEL_ZINKE)) {
-                /* auto: the near-field model where a fibre covers a good part of the pixel
-                 * footprint (close-ups) and for hair-to-hair light (neighbours are close); the
-                 * far-field model where many fibres share a camera pixel */
-                int near_field = field_mode == HT_FIELD_NEAR ||
-                                 (field_mode == HT_FIELD_AUTO &&
-                                  (!(st.flags & HT_PATH_FROM_CAMERA) ||
-                                   2.0f * hit.radius >= HT_FIELD_AUTO_COVERAGE * hit.t * pixel_angle));
-                mat.model = near_field ? HT_MODEL_ZINKE : HT_MODEL_MARSCHNER;
-            }
-            ht_regularize(&mat, bounce);
-            HtPoint a = HT_POINT(seg.point), b = HT_POINT(seg.point + 1u);
-            float3 pa = (float3)(a.x, a.y, a.z), pb = (float3)(b.x, b.y, b.z);
-            float3 axis_point = pa + (pb - pa) * hit.u;
-            float3 t = (float3)(hit.tx, hit.ty, hit.tz);
-            float3 wo = -dir;
-            float3 fx, fy, fz;
-            ht_fiber_frame(t, wo, &fx, &fy, &fz);
-            float3 wo_l = ht_to_fiber_local(wo, fx, fy, fz);
-            float h = hit.h;
-            float3 p_hit = (float3)(ray.ox, ray.oy, ray.oz) + dir * hit.t;
+                ht_fibre_point(materials[strand_material[seg.strand]], HT_POINT(seg.point),
+                               HT_POINT(seg.point + 1u), &ray, &hit, st.flags, bounce, field_mode,
+                               pixel_angle, &sp);
 
             /* next-event estimation */
             if (nee_count > 0u) {
                 HtLightSample ls;
                 if (ht_nee_sample(lights, light_count, &env, env_texels, env_marginal,
                                   env_conditional, nee_count, seed, st.pixel, sample, bounce,
-                                  p_hit, &ls)) {
-                    float3 value = (float3)(0.0f);
+                                  sp.p, &ls)) {
+                    float3 value;
                     float pdf_bsdf = 0.0f;
-                    ht_bcsdf_eval(&mat, wo_l, ht_to_fiber_local(ls.wi, fx, fy, fz), h, &value, &pdf_bsdf);
-                    /* lights that BCSDF sampling can also reach (the environment) share the
-                     * estimate by MIS; delta lights cannot be hit and keep weight 1 */
+                    ht_point_eval(&sp, ls.wi, &value, &pdf_bsdf);
+                    /* lights that BCSDF sampling can also reach (the environment map) share the
+                     * estimate by MIS; the others keep weight 1 */
                     float w = ls.pdf > 0.0f ? ht_mis_power(ls.pdf / (float)nee_count, pdf_bsdf) : 1.0f;
                     float3 c = ht_clamp_indirect(thr * value * ls.li_over_pdf * ((float)nee_count * w),
                                                  bounce + 1u);
                     if (!ht_finite3(c)) {
                         atomic_inc(&counters[HT_COUNTER_NAN]);
                     } else if (c.x + c.y + c.z > 0.0f) {
-                        float3 o = ht_spawn_origin(axis_point, t, fz, hit.radius, ls.wi);
+                        float3 o = ht_point_spawn(&sp, ls.wi);
                         shadow_ray.ox = o.x; shadow_ray.oy = o.y; shadow_ray.oz = o.z;
                         shadow_ray.dx = ls.wi.x; shadow_ray.dy = ls.wi.y; shadow_ray.dz = ls.wi.z;
                         shadow_ray.tmin = 0.0f;
-                        shadow_ray.tmax = min(ls.distance - hit.radius * 1.01f, 1e30f);
+                        shadow_ray.tmax = ht_point_shadow_tmax(&sp, ls.distance);
                         shadow_value = c;
                         want_shadow = shadow_ray.tmax > 0.0f;
                     }
@@ -334,20 +206,14 @@ __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM,
 
             /* extension ray */
             if (bounce + 1u < ext_depth) {
-                float3 wi_l = (float3)(0.0f), weight = (float3)(0.0f);
+                float3 wi, weight;
                 float pdf = 0.0f;
-                float u0 = ht_uniform(seed, st.pixel, sample, ht_dim(bounce, HT_DIM_BSDF_0));
-                float u1 = ht_uniform(seed, st.pixel, sample, ht_dim(bounce, HT_DIM_BSDF_0 + 1u));
-                float u2 = ht_uniform(seed, st.pixel, sample, ht_dim(bounce, HT_DIM_BSDF_0 + 2u));
-                float u3 = ht_uniform(seed, st.pixel, sample, ht_dim(bounce, HT_DIM_BSDF_0 + 3u));
-                if (ht_bcsdf_sample(&mat, wo_l, h, u0, u1, u2, u3, &wi_l, &weight, &pdf)) {
+                if (ht_point_sample(&sp, seed, st.pixel, sample, bounce, &wi, &weight, &pdf)) {
                     float3 nthr = ht_roulette_at(thr * weight, seed, st.pixel, sample, bounce);
-                    float3 wi = fx * wi_l.x + fy * wi_l.y + fz * wi_l.z;
-                    want_next = ht_continue_path(&st, nthr, pdf, ht_spawn_origin(axis_point, t, fz, hit.radius, wi),
-                                                 wi, &next_ray, counters);
+                    want_next = ht_continue_path(&st, nthr, pdf, ht_point_spawn(&sp, wi), wi, &next_ray,
+                                                 counters);
                 }
             }
-          }
         }
         paths[p] = st;
     }
