@@ -9,17 +9,8 @@
 
 #include "types.h"
 
-/* Scene features (host/render/features.cpp): light types a scene lacks are compiled out.
- * Undefined means compiled in (host tests). */
-#ifndef HT_FEATURE_LIGHT_SPOT
-#define HT_FEATURE_LIGHT_SPOT 1
-#endif
-#ifndef HT_FEATURE_LIGHT_SPHERE
-#define HT_FEATURE_LIGHT_SPHERE 1
-#endif
-#ifndef HT_FEATURE_LIGHT_DIRECTIONAL
-#define HT_FEATURE_LIGHT_DIRECTIONAL 1
-#endif
+/* light types a scene lacks are compiled out (HT_FEATURE_LIGHT_*, kernels/features.h) */
+#include "features.h"
 
 typedef struct {
     real3 wi;          /* unit direction from the shading point towards the light */

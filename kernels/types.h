@@ -8,6 +8,7 @@
 #define HT_TYPES_H
 
 #include "compat.h"
+#include "features.h"
 
 /* ---------------------------------------------------------------- geometry */
 
@@ -24,12 +25,6 @@ typedef struct {
  * consecutive HtPoint vertices (r unused), `segment` its global primitive id (segment_count +
  * triangle index) and `strand` the triangle index into the HtTriangleShading array. */
 #define HT_SEG_TRIANGLE 2u
-/* Triangle meshes compiled in.  The host defines it 0 for hair-only scenes
- * (host/render/features.cpp) so the leaf loop and shade stay pure hair; code built without
- * the option (tests, tools) gets both primitive kinds. */
-#ifndef HT_FEATURE_MESHES
-#define HT_FEATURE_MESHES 1
-#endif
 typedef struct {
     uint point;    /* index of the first point */
     uint segment;  /* global segment id (Embree primID order: strands back to back) */
@@ -46,12 +41,6 @@ typedef struct {
     float lo[8];
     float hi[8];
 } HtBvhNode;
-
-/* Base colour textures compiled in (Lambertian albedo = factor x texture).  The host defines it
- * 0 when no surface material has a texture; code built without the option gets it. */
-#ifndef HT_FEATURE_TEXTURES
-#define HT_FEATURE_TEXTURES 1
-#endif
 
 /* No texture: HtTriangleShading.texture of an untextured triangle. */
 #define HT_NO_TEXTURE 0xFFFFFFFFu

@@ -21,8 +21,12 @@ done
 # The render program is built with scene features switched off (host/render/features.cpp):
 # compile it with every feature off too, so code that only one configuration reaches is checked.
 off=()
-for f in LIGHT_POINT LIGHT_SPOT LIGHT_DIRECTIONAL LIGHT_SPHERE MODEL_KAJIYA MODEL_MARSCHNER MODEL_ZINKE \
-         INDIRECT_AFS MESHES TEXTURES; do off+=("-DHT_FEATURE_$f=0"); done
+# every switch of kernels/features.h's HT_FEATURE_SWITCHES list but the lobes (their combinations
+# are compiled below)
+for f in $(sed -n 's/^ *X(\([A-Z_]*\),.*/\1/p' "$root/kernels/features.h" | grep -v '^LOBE_'); do
+    off+=("-DHT_FEATURE_$f=0")
+done
+[ ${#off[@]} -ge 10 ] || { echo "FAILED: could not read the feature list of kernels/features.h"; exit 1; }
 extra=()
 [ "$std" = CL3.0 ] && extra=(-Xclang -cl-ext=-all)
 if ! "$clang" -x cl -cl-std="$std" -target spir64-unknown-unknown -Xclang -finclude-default-header \

@@ -16,6 +16,16 @@ namespace ht {
 namespace {
 const char* kModelNames[4] = {"kajiya", "marschner", "zinke", "chiang"};
 
+struct FeatureNames {
+    const char* define;
+    const char* meaning;
+};
+const FeatureNames kFeatureNames[kFeatureCount] = {
+#define HT_FEATURE_NAMES(name, meaning) {"HT_FEATURE_" #name, meaning},
+    HT_FEATURE_SWITCHES(HT_FEATURE_NAMES)
+#undef HT_FEATURE_NAMES
+};
+
 int model_index(const std::string& name) {
     for (int i = 0; i < 4; ++i)
         if (name == kModelNames[i]) return i;
@@ -44,6 +54,22 @@ int model_index(const std::string& name) {
 //    (linear in cos 2 phi_h), which may be below eta.  Bounded without the grid: F (1 - F)^2 <=
 //    4/27 for every index and the glint adds at most 2 k_G (4/27) dh_M, with the chord bound at the
 //    smallest eta*: (4/27)(1 + 2 k_G dh_M) exp(-2 sigma_min l_min(eta*_min)).
+const char* feature_define(Feature f) { return kFeatureNames[size_t(f)].define; }
+const char* feature_meaning(Feature f) { return kFeatureNames[size_t(f)].meaning; }
+
+Feature model_feature(uint32_t m) {
+    static_assert(uint32_t(Feature::MODEL_MARSCHNER) - uint32_t(Feature::MODEL_KAJIYA) == HT_MODEL_MARSCHNER &&
+                      uint32_t(Feature::MODEL_ZINKE) - uint32_t(Feature::MODEL_KAJIYA) == HT_MODEL_ZINKE &&
+                      uint32_t(Feature::MODEL_CHIANG) - uint32_t(Feature::MODEL_KAJIYA) == HT_MODEL_CHIANG,
+                  "the model switches follow HT_MODEL_* order");
+    return Feature(uint32_t(Feature::MODEL_KAJIYA) + m);
+}
+
+KernelFeatures::KernelFeatures() {
+    for (bool& b : on) b = false;
+    (*this)[Feature::LOBE_TT] = (*this)[Feature::LOBE_TRT] = true;
+}
+
 LobeBounds lobe_bounds(const HairMaterialDesc& d) {
     LobeBounds b;
     if (d.model == "kajiya") return b;
@@ -94,31 +120,31 @@ LobeBounds lobe_bounds(const HairMaterialDesc& d) {
 
 KernelFeatures scene_features(const Scene& scene, uint32_t fiber_field, bool indirect_afs, FeatureMode mode) {
     KernelFeatures f;
-    f.indirect_afs = indirect_afs;
+    f[Feature::INDIRECT_AFS] = indirect_afs;
     for (const Mesh& m : scene.meshes) {
         if (m.triangle_count() == 0) continue;
-        f.meshes = true;
+        f[Feature::MESHES] = true;
         // build_geometry textures exactly these triangles (a textured material and coordinates).
         const bool textured = m.material < scene.surface_materials.size() &&
                               scene.surface_materials[m.material].texture >= 0 && !m.uvs.empty();
-        f.textures = f.textures || textured;
+        f[Feature::TEXTURES] = f[Feature::TEXTURES] || textured;
     }
     for (const Light& l : scene.lights) {
         switch (l.type) {
-        case LightType::Point: f.light_point = true; break;
-        case LightType::Spot: f.light_spot = true; break;
-        case LightType::Directional: f.light_directional = true; break;
-        case LightType::Sphere: f.light_sphere = true; break;
+        case LightType::Point: break;  // the code all positional lights share
+        case LightType::Spot: f[Feature::LIGHT_SPOT] = true; break;
+        case LightType::Directional: f[Feature::LIGHT_DIRECTIONAL] = true; break;
+        case LightType::Sphere: f[Feature::LIGHT_SPHERE] = true; break;
         }
     }
-    if (scene.materials.empty()) f.model[model_index(HairMaterialDesc{}.model)] = true;
+    if (scene.materials.empty()) f[model_feature(uint32_t(model_index(HairMaterialDesc{}.model)))] = true;
     for (const auto& m : scene.materials) {
         int i = model_index(m.model);
-        if (i >= 0) f.model[i] = true;
+        if (i >= 0) f[model_feature(uint32_t(i))] = true;
     }
-    if (fiber_field != HT_FIELD_MATERIAL && (f.model[HT_MODEL_MARSCHNER] || f.model[HT_MODEL_ZINKE])) {
-        f.model[HT_MODEL_MARSCHNER] = fiber_field != HT_FIELD_NEAR;
-        f.model[HT_MODEL_ZINKE] = fiber_field != HT_FIELD_FAR;
+    if (fiber_field != HT_FIELD_MATERIAL && (f[Feature::MODEL_MARSCHNER] || f[Feature::MODEL_ZINKE])) {
+        f[Feature::MODEL_MARSCHNER] = fiber_field != HT_FIELD_NEAR;
+        f[Feature::MODEL_ZINKE] = fiber_field != HT_FIELD_FAR;
     }
     // Lobes: in unless negligible for every material that uses them.  The bound covers marschner
     // and zinke alike, so --fiber-field (which swaps the two) cannot change the choice; --model
@@ -126,13 +152,13 @@ KernelFeatures scene_features(const Scene& scene, uint32_t fiber_field, bool ind
     std::vector<HairMaterialDesc> mats = scene.materials;
     if (mats.empty()) mats.push_back(HairMaterialDesc{});
     bool any = false;
-    f.lobe_tt = f.lobe_trt = false;
+    f[Feature::LOBE_TT] = f[Feature::LOBE_TRT] = false;
     for (const HairMaterialDesc& d : mats) {
         if (d.model == "kajiya") continue;
         any = true;
         const LobeBounds b = lobe_bounds(d);
         for (int k = 0; k < 2; ++k) {
-            bool& on = k == 0 ? f.lobe_tt : f.lobe_trt;
+            bool& on = f[k == 0 ? Feature::LOBE_TT : Feature::LOBE_TRT];
             const double limit = kLobeThreshold * b.r_ref;
             char line[200];
             std::snprintf(line, sizeof line, "material '%s' (%s): bound %.3g %s %.0e x AFS_R^avg(0) = %.3g",
@@ -146,15 +172,15 @@ KernelFeatures scene_features(const Scene& scene, uint32_t fiber_field, bool ind
             }
         }
     }
-    if (!any) f.lobe_tt = f.lobe_trt = true;  // only kajiya: the flags change nothing, keep the default
+    if (!any) f[Feature::LOBE_TT] = f[Feature::LOBE_TRT] = true;  // only kajiya: the flags change nothing
     if (mode == FeatureMode::All || mode == FeatureMode::AllLobes) {
-        f.lobe_tt = f.lobe_trt = true;
+        f[Feature::LOBE_TT] = f[Feature::LOBE_TRT] = true;
         f.lobe_why[0] = f.lobe_why[1] = "forced in (--features)";
     }
     if (mode == FeatureMode::All) {
-        f.light_point = f.light_spot = f.light_directional = f.light_sphere = true;
-        for (bool& m : f.model) m = true;
-        f.meshes = f.textures = true;
+        const bool afs = f[Feature::INDIRECT_AFS];  // a stage the settings ask for, not a scene feature
+        for (bool& on : f.on) on = true;
+        f[Feature::INDIRECT_AFS] = afs;
     }
     return f;
 }
@@ -165,39 +191,34 @@ std::string kernel_build_options(const Scene& scene, uint32_t fiber_field, bool 
 
 std::string kernel_build_options(const KernelFeatures& f) {
     std::string o = base_kernel_options();
-    auto def = [&](const char* name, bool on) { o += std::string(" -D") + name + "=" + (on ? "1" : "0"); };
-    def("HT_FEATURE_LIGHT_POINT", f.light_point);
-    def("HT_FEATURE_LIGHT_SPOT", f.light_spot);
-    def("HT_FEATURE_LIGHT_DIRECTIONAL", f.light_directional);
-    def("HT_FEATURE_LIGHT_SPHERE", f.light_sphere);
-    def("HT_FEATURE_MODEL_KAJIYA", f.model[HT_MODEL_KAJIYA]);
-    def("HT_FEATURE_MODEL_MARSCHNER", f.model[HT_MODEL_MARSCHNER]);
-    def("HT_FEATURE_MODEL_ZINKE", f.model[HT_MODEL_ZINKE]);
-    def("HT_FEATURE_MODEL_CHIANG", f.model[HT_MODEL_CHIANG]);
-    def("HT_FEATURE_INDIRECT_AFS", f.indirect_afs);
-    def("HT_FEATURE_MESHES", f.meshes);
-    def("HT_FEATURE_TEXTURES", f.textures);
-    def("HT_FEATURE_LOBE_TT", f.lobe_tt);
-    def("HT_FEATURE_LOBE_TRT", f.lobe_trt);
+    for (size_t i = 0; i < kFeatureCount; ++i)
+        o += std::string(" -D") + kFeatureNames[i].define + "=" + (f.on[i] ? "1" : "0");
     o += geometry_page_options(f.paging);
+    return o;
+}
+
+std::string estimator_build_options(float clamp_indirect, float regularize_deg, bool spawn_offset_pbrt) {
+    auto float_define = [](const char* name, double v) {
+        char def[80];
+        std::snprintf(def, sizeof def, " -D%s=%.9ef", name, v);
+        return std::string(def);
+    };
+    std::string o;
+    if (clamp_indirect > 0) o += float_define("HT_CLAMP_INDIRECT", clamp_indirect);
+    if (regularize_deg > 0) o += float_define("HT_REGULARIZE_WIDTH", regularize_deg * HT_PI / 180.0);
+    if (spawn_offset_pbrt) o += " -DHT_SPAWN_PBRT=1";
     return o;
 }
 
 std::vector<std::string> describe_features(const KernelFeatures& f) {
     std::vector<std::string> out;
-    auto add = [&](const char* what, bool on) { out.push_back(std::string(what) + (on ? ": compiled in" : ": compiled out")); };
-    add("point lights", f.light_point);
-    add("spot lights", f.light_spot);
-    add("directional lights", f.light_directional);
-    add("sphere lights", f.light_sphere);
-    for (int i = 0; i < 4; ++i) add((std::string("model ") + kModelNames[i]).c_str(), f.model[i]);
-    add("translucent AFS shadow rays", f.indirect_afs);
-    add("triangle meshes", f.meshes);
-    add("base colour textures", f.textures);
-    const char* lobe[2] = {"lobe TT", "lobe TRT (chiang: + TRRT+)"};
-    for (int k = 0; k < 2; ++k) {
-        add(lobe[k], k == 0 ? f.lobe_tt : f.lobe_trt);
-        if (!f.lobe_why[k].empty()) out.back() += " (" + f.lobe_why[k] + ")";
+    for (size_t i = 0; i < kFeatureCount; ++i) {
+        out.push_back(std::string(kFeatureNames[i].meaning) + (f.on[i] ? ": compiled in" : ": compiled out"));
+        const Feature id = Feature(i);
+        if (id == Feature::LOBE_TT || id == Feature::LOBE_TRT) {
+            const std::string& why = f.lobe_why[id == Feature::LOBE_TT ? 0 : 1];
+            if (!why.empty()) out.back() += " (" + why + ")";
+        }
     }
     out.push_back(f.paging.pages > 1 ? "geometry: " + std::to_string(f.paging.pages) + " buffers per array of " +
                                            format_bytes(f.paging.page_bytes()) + " (paged: larger than one allocation)"

@@ -2,6 +2,7 @@
 // out, so the shading kernel carries no code for lights, models or lobes it never uses.
 #pragma once
 
+#include "kernels/features.h"
 #include "render/memory_plan.h"
 #include "scene/scene.h"
 
@@ -11,17 +12,30 @@
 
 namespace ht {
 
+// The kernels' feature switches, one per entry of HT_FEATURE_SWITCHES (kernels/features.h).
+enum class Feature {
+#define HT_FEATURE_ENUM(name, meaning) name,
+    HT_FEATURE_SWITCHES(HT_FEATURE_ENUM)
+#undef HT_FEATURE_ENUM
+    Count
+};
+constexpr size_t kFeatureCount = size_t(Feature::Count);
+
+// "HT_FEATURE_LIGHT_SPOT", and what it switches ("spot lights").
+const char* feature_define(Feature f);
+const char* feature_meaning(Feature f);
+// The switch of fibre model HT_MODEL_* m.
+Feature model_feature(uint32_t m);
+
 struct KernelFeatures {
-    bool light_point = false, light_spot = false, light_directional = false, light_sphere = false;
-    bool model[4] = {false, false, false, false};  // indexed by HT_MODEL_*
-    bool indirect_afs = false;                      // translucent AFS shadow rays (--indirect afs)
-    bool meshes = false;                            // triangle surfaces in the BVH and in shade
-    bool textures = false;                          // base colour textures on those surfaces
-    // Lobes of the Marschner-family and Chiang models (kernels/fiber/lobes.h): out only when
-    // negligible for every material (lobe_bounds); lobe_why says which material kept it or why.
-    bool lobe_tt = true, lobe_trt = true;
+    // Everything out but the lobes, which are out only when negligible for every material
+    // (lobe_bounds); lobe_why says which material kept each of TT and TRT, or why not.
+    KernelFeatures();
+    bool on[kFeatureCount];
+    bool& operator[](Feature f) { return on[size_t(f)]; }
+    bool operator[](Feature f) const { return on[size_t(f)]; }
     std::string lobe_why[2];
-    GeometryPaging paging;                          // geometry in several buffers per array
+    GeometryPaging paging;  // geometry in several buffers per array
 };
 
 // Which features to compile in: what the scene needs (default), everything (A/B, debugging), or
@@ -52,6 +66,10 @@ std::string kernel_build_options(const KernelFeatures& f);
 // The same for the features scene_features chooses (unpaged geometry).
 std::string kernel_build_options(const Scene& scene, uint32_t fiber_field = 0, bool indirect_afs = false,
                                  FeatureMode mode = FeatureMode::Scene);
+
+// The estimator's value defines (kernels/features.h): --clamp-indirect C (0: off), --regularize
+// DEG (0: off), --spawn-offset pbrt; "" when everything is off.
+std::string estimator_build_options(float clamp_indirect, float regularize_deg, bool spawn_offset_pbrt);
 
 // One line per chosen feature, for --verbose.
 std::vector<std::string> describe_features(const KernelFeatures& f);

@@ -105,16 +105,8 @@ struct Renderer::Impl {
         // the device, and paged and unpaged renders give the same bits (tested).
         stats.clamp_indirect = s.clamp_indirect;
         // Options that change the estimator, not the scene (part of the render key); off = undefined.
-        auto float_define = [](const char* name, double v) {
-            char def[80];
-            std::snprintf(def, sizeof def, " -D%s=%.9ef", name, v);
-            return std::string(def);
-        };
-        std::string clamp;
-        if (stats.clamp_indirect > 0) clamp += float_define("HT_CLAMP_INDIRECT", stats.clamp_indirect);
-        if (s.regularize_deg > 0)
-            clamp += float_define("HT_REGULARIZE_WIDTH", s.regularize_deg * 3.14159265358979323846 / 180.0);
-        if (s.spawn_offset == RenderSettings::SpawnOffset::Pbrt) clamp += " -DHT_SPAWN_PBRT=1";
+        const std::string clamp = estimator_build_options(
+            stats.clamp_indirect, s.regularize_deg, s.spawn_offset == RenderSettings::SpawnOffset::Pbrt);
         // The scene's features once (the lobe bounds are a quadrature per material).
         features = scene_features(scene, s.fiber_field, afs, s.features);
         options = kernel_build_options(features) + clamp;

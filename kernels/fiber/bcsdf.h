@@ -19,20 +19,8 @@
 
 #include "../types.h"
 
-/* Scene features (host/render/features.cpp): models no material uses are compiled out of the
- * render program, which keeps its build time and register pressure down.  Undefined = in. */
-#ifndef HT_FEATURE_MODEL_KAJIYA
-#define HT_FEATURE_MODEL_KAJIYA 1
-#endif
-#ifndef HT_FEATURE_MODEL_MARSCHNER
-#define HT_FEATURE_MODEL_MARSCHNER 1
-#endif
-#ifndef HT_FEATURE_MODEL_ZINKE
-#define HT_FEATURE_MODEL_ZINKE 1
-#endif
-#ifndef HT_FEATURE_MODEL_CHIANG
-#define HT_FEATURE_MODEL_CHIANG 1
-#endif
+/* models no material uses are compiled out (HT_FEATURE_MODEL_*, kernels/features.h) */
+#include "../features.h"
 /* shared building blocks; each model header below includes what it needs of them too.  They are
  * included here unconditionally because the host's kernel assembler (host/cl/kernel_source.cpp)
  * includes a file once, at its first textual #include, even inside an #if that is false. */

@@ -8,12 +8,7 @@
 #ifndef HT_FIBER_LOBES_H
 #define HT_FIBER_LOBES_H
 
-#ifndef HT_FEATURE_LOBE_TT
-#define HT_FEATURE_LOBE_TT 1
-#endif
-#ifndef HT_FEATURE_LOBE_TRT
-#define HT_FEATURE_LOBE_TRT 1
-#endif
+#include "../features.h"
 
 /* Lobe p (0 R, 1 TT, 2 TRT, 3 chiang's residual) compiled in?  A constant expression: the loops
  * over p unroll and the dropped lobes' work disappears. */

@@ -65,7 +65,7 @@ TEST(RenderMesh, HairShadowsTheFloor) {
     scene.camera.target = {40, -52, 0};
     scene.camera.up = {0, 0, -1};
     scene.camera.yfov_deg = 40.0f;
-    EXPECT_TRUE(scene_features(scene).meshes);
+    EXPECT_TRUE(scene_features(scene)[Feature::MESHES]);
 
     RenderSettings rs;
     rs.width = rs.height = 64;
@@ -134,7 +134,7 @@ TEST(RenderMesh, LambertianFurnace) {
 // Hair-only scenes compile the mesh code out (the hot path stays the capsule-only loop).
 TEST(RenderMesh, MeshFeatureOnlyWithTriangles) {
     Scene scene = load_scene("builtin:strand?hairs=10&segments=4");
-    EXPECT_FALSE(scene_features(scene).meshes);
+    EXPECT_FALSE(scene_features(scene)[Feature::MESHES]);
     EXPECT_NE(kernel_build_options(scene).find("-DHT_FEATURE_MESHES=0"), std::string::npos);
     add_floor(scene, -60.0f, 10.0f, {0.5f, 0.5f, 0.5f});
     EXPECT_NE(kernel_build_options(scene).find("-DHT_FEATURE_MESHES=1"), std::string::npos);

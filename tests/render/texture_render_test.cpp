@@ -103,7 +103,7 @@ TEST(RenderTexture, CheckerQuadrantsAreLinearAlbedoTimesLight) {
     scene.camera.target = {0, 0, 0};
     scene.camera.up = {0, 0, -1};
     scene.camera.yfov_deg = 30.0f;  // sees x, z in [-0.80, 0.80]
-    ASSERT_TRUE(scene_features(scene).textures);
+    ASSERT_TRUE(scene_features(scene)[Feature::TEXTURES]);
 
     RenderSettings rs;
     rs.width = rs.height = 32;

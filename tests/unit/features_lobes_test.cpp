@@ -33,7 +33,7 @@ const Vec3f kBlond{0.06f, 0.10f, 0.20f}, kBlack{8.0f, 10.0f, 12.0f};
 TEST(FeaturesLobes, BlondKeepsEveryLobeForEveryModel) {
     for (const char* model : {"marschner", "zinke", "chiang"}) {
         KernelFeatures f = scene_features(with({hair(model, kBlond)}));
-        EXPECT_TRUE(f.lobe_tt && f.lobe_trt) << model;
+        EXPECT_TRUE(f[Feature::LOBE_TT] && f[Feature::LOBE_TRT]) << model;
     }
 }
 
@@ -41,8 +41,8 @@ TEST(FeaturesLobes, VeryDarkHairDropsTTAndTRT) {
     for (const char* model : {"marschner", "zinke", "chiang"}) {
         for (uint32_t field : {HT_FIELD_MATERIAL, HT_FIELD_NEAR, HT_FIELD_FAR, HT_FIELD_AUTO}) {
             KernelFeatures f = scene_features(with({hair(model, kBlack)}), field);
-            EXPECT_FALSE(f.lobe_tt) << model;
-            EXPECT_FALSE(f.lobe_trt) << model;
+            EXPECT_FALSE(f[Feature::LOBE_TT]) << model;
+            EXPECT_FALSE(f[Feature::LOBE_TRT]) << model;
         }
         std::string opts = kernel_build_options(with({hair(model, kBlack)}));
         EXPECT_NE(opts.find("-DHT_FEATURE_LOBE_TT=0"), std::string::npos);
@@ -50,34 +50,34 @@ TEST(FeaturesLobes, VeryDarkHairDropsTTAndTRT) {
         // forced in for A/B comparisons
         for (FeatureMode mode : {FeatureMode::All, FeatureMode::AllLobes}) {
             KernelFeatures f = scene_features(with({hair(model, kBlack)}), 0, false, mode);
-            EXPECT_TRUE(f.lobe_tt && f.lobe_trt);
+            EXPECT_TRUE(f[Feature::LOBE_TT] && f[Feature::LOBE_TRT]);
         }
     }
 }
 
 TEST(FeaturesLobes, OneMaterialThatNeedsALobeKeepsIt) {
     KernelFeatures f = scene_features(with({hair("zinke", kBlack), hair("marschner", kBlond)}));
-    EXPECT_TRUE(f.lobe_tt && f.lobe_trt);
+    EXPECT_TRUE(f[Feature::LOBE_TT] && f[Feature::LOBE_TRT]);
     // realistic black hair (eumelanin 8, pbrt's conversion: sigma_a ~ 3.4, 5.6, 11 per radius):
     // the red channel still transmits through the thin chords near |h| = 1, so TT stays
     HairMaterialDesc d;
     d.model = "zinke";
     d.has_melanin = true;
     d.eumelanin = 8;
-    EXPECT_TRUE(scene_features(with({d})).lobe_tt);
+    EXPECT_TRUE(scene_features(with({d}))[Feature::LOBE_TT]);
     // kajiya has no such lobes: it neither keeps nor drops them
     f = scene_features(with({hair("zinke", kBlack), hair("kajiya", kBlond)}));
-    EXPECT_FALSE(f.lobe_tt || f.lobe_trt);
+    EXPECT_FALSE(f[Feature::LOBE_TT] || f[Feature::LOBE_TRT]);
     f = scene_features(with({hair("kajiya", kBlond)}));
-    EXPECT_TRUE(f.lobe_tt && f.lobe_trt);  // nothing to decide: the default
+    EXPECT_TRUE(f[Feature::LOBE_TT] && f[Feature::LOBE_TRT]);  // nothing to decide: the default
     // eccentric fibres: marschner's TRT uses eta* (here down to 1.24), bounded separately
     HairMaterialDesc e = hair("marschner", kBlack);
     e.eccentricity = 0.85f;
     f = scene_features(with({e}));
-    EXPECT_FALSE(f.lobe_tt || f.lobe_trt);
+    EXPECT_FALSE(f[Feature::LOBE_TT] || f[Feature::LOBE_TRT]);
     e.sigma_a = kBlond;
     f = scene_features(with({e}));
-    EXPECT_TRUE(f.lobe_tt && f.lobe_trt);
+    EXPECT_TRUE(f[Feature::LOBE_TT] && f[Feature::LOBE_TRT]);
 }
 
 TEST(FeaturesLobes, EccentricTRTBoundHoldsForEveryEtaStar) {

@@ -74,7 +74,9 @@ TEST(ShadingPoint, FibreRaysLeaveFromOutsideOnTheirSide) {
         const real3 radial = off - sp.tangent * dot(off, sp.tangent);
         EXPECT_GT(length(radial), 0.5) << "inside the fibre";
         const real3 side = w - sp.tangent * dot(w, sp.tangent);
-        if (dot(side, side) > 1e-12) EXPECT_GT(dot(radial, side), 0) << "on the wrong side";
+        if (dot(side, side) > 1e-12) {
+            EXPECT_GT(dot(radial, side), 0) << "on the wrong side";
+        }
     }
     EXPECT_NEAR(ht_point_shadow_tmax(&sp, 10.0), 10.0 - 0.505, 1e-12);
 }

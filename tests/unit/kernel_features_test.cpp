@@ -1,0 +1,69 @@
+// The kernel build options are declared once (kernels/features.h) and every one the host emits
+// is read by some kernel: an option no kernel reads is a feature that silently does nothing.
+#include <gtest/gtest.h>
+
+#include "bvh/device_geometry.h"
+#include "cl/kernel_source.h"
+#include "render/features.h"
+
+#include <set>
+#include <sstream>
+#include <string>
+
+using namespace ht;
+
+namespace {
+
+// Every feature switch has its 0/1 default in kernels/features.h (an undefined name would not
+// compile here).
+#define HT_FEATURE_DEFAULT_IS_BOOL(name, meaning) \
+    static_assert(HT_FEATURE_##name == 0 || HT_FEATURE_##name == 1, "HT_FEATURE_" #name);
+HT_FEATURE_SWITCHES(HT_FEATURE_DEFAULT_IS_BOOL)
+#undef HT_FEATURE_DEFAULT_IS_BOOL
+
+std::set<std::string> defined_names(const std::string& options) {
+    std::set<std::string> out;
+    std::istringstream in(options);
+    std::string tok;
+    while (in >> tok)
+        if (tok.rfind("-D", 0) == 0) out.insert(tok.substr(2, tok.find('=') - 2));
+    return out;
+}
+
+// The render program's source without the file that declares the options.
+std::string program_without_declarations() {
+    std::string src = assemble_kernel_source("stages/wavefront.cl");
+    const std::string decl = kernel_file("features.h");
+    const size_t at = src.find(decl);
+    if (at != std::string::npos) src.erase(at, decl.size());
+    return src;
+}
+
+}  // namespace
+
+TEST(KernelFeatures, EveryEmittedDefineIsReadByAKernel) {
+    KernelFeatures all;
+    for (bool& on : all.on) on = true;
+    all.paging.pages = 4;
+    all.paging.page_log2 = 10;
+    const std::string options = kernel_build_options(all) + estimator_build_options(2.0f, 10.0f, true);
+    const std::set<std::string> names = defined_names(options);
+    EXPECT_GE(names.size(), kFeatureCount + 5);
+    const std::string src = program_without_declarations();
+    for (const std::string& name : names)
+        EXPECT_NE(src.find(name), std::string::npos) << name << " is emitted but no kernel reads it";
+}
+
+TEST(KernelFeatures, OneDefinePerSwitchAndEveryMeaningSaid) {
+    const std::set<std::string> names = defined_names(kernel_build_options(KernelFeatures{}));
+    for (size_t i = 0; i < kFeatureCount; ++i) {
+        EXPECT_EQ(names.count(feature_define(Feature(i))), 1u);
+        EXPECT_GT(std::string(feature_meaning(Feature(i))).size(), 3u);
+    }
+    EXPECT_EQ(describe_features(KernelFeatures{}).size(), kFeatureCount + 1);  // + the geometry line
+}
+
+TEST(KernelFeatures, EstimatorOptionsAreEmptyWhenOff) {
+    EXPECT_EQ(estimator_build_options(0, 0, false), "");
+    EXPECT_NE(estimator_build_options(3, 0, false).find("HT_CLAMP_INDIRECT"), std::string::npos);
+}
