@@ -6,7 +6,7 @@
 #include "bench/bench.h"
 #include "cl/device.h"
 #include "cli/commands.h"
-#include "fiber/fiber_cli.h"
+#include "cli/fiber_command.h"
 #include "io/image_io.h"
 #include "scene/scene.h"
 

@@ -13,7 +13,7 @@
 
 #include "cl/device.h"
 #include "fiber/afs_quadrature.h"
-#include "fiber/fiber_cli.h"
+#include "cli/fiber_command.h"
 #include "fiber/material.h"
 #include "kernels/fiber/bcsdf.h"
 #include "kernels/fiber/query.h"

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "fiber/fiber_cli.h"
+#include "cli/fiber_command.h"
 
 namespace {
 int run(const std::vector<std::string>& args, const std::string& in, std::string& out, std::string& err) {

@@ -1,4 +1,4 @@
-#include "fiber/fiber_cli.h"
+#include "cli/fiber_command.h"
 
 #include <nlohmann/json.hpp>
 
