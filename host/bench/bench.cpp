@@ -228,26 +228,65 @@ std::vector<std::string> sibling_rays(const std::string& hair) {
 }  // namespace
 
 namespace {
-const char* kBenchHelp =
-    "usage: hairtrace bench [--hair FILE.hair | --scene SCENE]... [--rays FILE.rays]... [options]\n"
-    "BVH build and OpenCL intersection throughput.  With ray files (the Embree anchor's format) every\n"
-    "ray's hit is checked against Embree's stored answer before any rate is printed.\n"
-    "  --hair FILE / --scene SCENE   scenes to measure (default: builtin:strand builtin:ball)\n"
-    "  --rays FILE.rays              ray set for the scene named before it (repeatable); without any,\n"
-    "                                <stem>.{primary,incoherent,shadow}.rays beside a .hair file are\n"
-    "                                used if present, else rays are generated from a framing camera\n"
-    "  --res N                       generated primary rays: N x N (default 1024)\n"
-    "  --reps N                      timed passes per case, median reported (default 5)\n"
-    "  --json                        machine-readable report\n"
-    "  --embree                      also trace every ray set through Embree 3 in this process (same\n"
-    "                                rays, 2 threads, rtcIntersect1/rtcOccluded1) and print the ratio;\n"
-    "                                needs a build with libembree-dev installed\n"
-    "  --device I                    OpenCL device index\n"
-    "  --no-wavefront                skip the per-bounce throughput of a small full render\n"
-    "  --compact                     the memory-lean BVH preset (leaves <= 8)\n"
-    "  --leaf N, --bins N, --cisect X, --split R, --split-depth N   BVH builder parameters\n"
-    "  --options \"...\"              OpenCL build options for the trace kernels\n"
-    "exit codes: 0 ok, 1 hits disagree with the ray file, 2 usage, 3 device failure\n";
+
+// What `hairtrace bench` was asked to measure.
+struct BenchRequest {
+    std::vector<SceneArg> scenes;
+    int reps = 5, device = -1, res = 1024;
+    bool json = false, embree = false, wavefront = true;
+    BvhOptions bvh;
+    std::string options;
+};
+
+void declare_bench_options(ArgParser& p) {
+    const BvhOptions d;
+    p.group("scenes")
+        .path("--hair", "FILE.hair", "a Cem Yuksel .hair file to measure", PathKind::Input, "", true)
+        .option("--scene", "SCENE", "a scene to measure (file or builtin:NAME; default: builtin:strand builtin:ball)", "", true)
+        .path("--rays", "FILE.rays", "a ray set (the Embree anchor's format) for the scene named before it; without any, <stem>.{primary,incoherent,shadow}.rays beside a .hair file are used if present, else rays are generated from a framing camera; every hit is checked against the file's stored answers before any rate is printed", PathKind::Input, "", true);
+    p.group("measurement")
+        .option("--res", "N", "generated primary rays: N x N (rounded down to a multiple of 4)", "1024")
+        .option("--reps", "N", "timed passes per case, median reported", "5")
+        .flag("--no-wavefront", "skip the per-bounce throughput of a small full render")
+        .flag("--embree", "also trace every ray set through Embree 3 in this process (same rays, rtcIntersect1/rtcOccluded1) and print the ratio; needs a build with libembree-dev installed")
+        .flag("--json", "machine-readable report");
+    p.group("BVH builder")
+        .flag("--compact", "the memory-lean preset (leaves <= 8, cheap intersections in the SAH); the options below refine it")
+        .option("--leaf", "N", "segments per leaf", std::to_string(d.max_leaf))
+        .option("--bins", "N", "SAH bins per axis", std::to_string(d.bins))
+        .option("--cisect", "X", "SAH cost of a capsule test relative to a node visit", "1.5")
+        .option("--split", "R", "early split clipping: split a segment's box while its halves' area is below R x its own (0: off)", "0")
+        .option("--split-depth", "N", "early split clipping: levels of halving", std::to_string(d.split_depth));
+    p.group("devices")
+        .option("--device", "I", "OpenCL device index (default: first CPU/GPU)")
+        .option("--options", "\"...\"", "OpenCL build options for the trace kernels", DeviceTracer::default_options());
+}
+
+BenchRequest parse_bench_request(const ArgParser& p) {
+    BenchRequest r;
+    for (const auto& [name, value] : p.given()) {
+        if (name == "--hair" || name == "--scene") r.scenes.push_back({value, {}});
+        if (name != "--rays") continue;
+        if (r.scenes.empty()) throw UsageError("bench: --rays must follow the --hair or --scene it belongs to");
+        r.scenes.back().rays.push_back(value);
+    }
+    if (r.scenes.empty()) r.scenes = {{"builtin:strand", {}}, {"builtin:ball", {}}};
+    r.res = p.get_int("--res", 4, 16384) / 4 * 4;
+    r.reps = p.get_int("--reps", 1, 100000);
+    r.wavefront = !p.has("--no-wavefront");
+    r.embree = p.has("--embree");
+    r.json = p.has("--json");
+    if (p.has("--compact")) r.bvh = BvhOptions::compact();
+    if (p.has("--leaf")) r.bvh.max_leaf = p.get_int("--leaf", 1, 1024);
+    if (p.has("--bins")) r.bvh.bins = p.get_int("--bins", 4, 64);
+    if (p.has("--cisect")) r.bvh.c_isect = float(p.get_double("--cisect", 0, 1e6));
+    if (p.has("--split")) r.bvh.split_ratio = float(p.get_double("--split", 0, 1e6));
+    if (p.has("--split-depth")) r.bvh.split_depth = p.get_int("--split-depth", 0, 16);
+    if (p.has("--device")) r.device = p.get_int("--device", 0, 1000);
+    r.options = p.get("--options");
+    return r;
+}
+
 }  // namespace
 
 int bench_main(const std::vector<std::string>& args, const SceneSource& source_in) {
@@ -257,41 +296,22 @@ int bench_main(const std::vector<std::string>& args, const SceneSource& source_i
         throw std::runtime_error("scene '" + name +
                                  "': this build's bench reads only .hair files (pass --hair)");
     });
-    std::vector<SceneArg> scenes;
-    int reps = 5, device = -1, res = 1024;
-    bool json_out = false, with_embree = false, wavefront = true;
-    BvhOptions bopt;
-    std::string options = DeviceTracer::default_options();
-    for (size_t i = 0; i < args.size(); ++i) {
-        const std::string& a = args[i];
-        auto value = [&]() -> std::string {
-            if (i + 1 >= args.size()) throw UsageError("bench: " + a + " needs a value");
-            return args[++i];
-        };
-        if (a == "--help" || a == "-h") {
-            std::printf("%s", kBenchHelp);
-            return 0;
-        }
-        if (a == "--hair" || a == "--scene") scenes.push_back({value(), {}});
-        else if (a == "--rays") {
-            if (scenes.empty()) throw UsageError("bench: --rays must follow --hair/--scene");
-            scenes.back().rays.push_back(value());
-        } else if (a == "--reps") reps = std::max(1, std::stoi(value()));
-        else if (a == "--json") json_out = true;
-        else if (a == "--embree") with_embree = true;
-        else if (a == "--no-wavefront") wavefront = false;
-        else if (a == "--device") device = std::stoi(value());
-        else if (a == "--res") res = std::max(4, std::stoi(value()) / 4 * 4);
-        else if (a == "--compact") bopt = BvhOptions::compact();
-        else if (a == "--split-depth") bopt.split_depth = std::stoi(value());
-        else if (a == "--leaf") bopt.max_leaf = std::max(1, std::stoi(value()));
-        else if (a == "--bins") bopt.bins = std::stoi(value());
-        else if (a == "--cisect") bopt.c_isect = std::stof(value());
-        else if (a == "--split") bopt.split_ratio = std::stof(value());
-        else if (a == "--options") options = value();
-        else throw UsageError("bench: unknown option '" + a + "' (see hairtrace bench --help)");
+    ArgParser p("bench", "BVH build and OpenCL intersection throughput, per scene and ray set; with ray files every ray's\n"
+                         "hit is checked against Embree's stored answer before any rate is printed.");
+    declare_bench_options(p);
+    p.epilog("exit codes: 0 ok, 1 hits disagree with the ray file, 2 usage, 3 device failure");
+    p.parse(args);
+    if (p.wants_help()) {
+        std::printf("%s", p.help().c_str());
+        return 0;
     }
-    if (scenes.empty()) scenes = {{"builtin:strand", {}}, {"builtin:ball", {}}};
+    BenchRequest request = parse_bench_request(p);
+    std::vector<SceneArg>& scenes = request.scenes;
+    const int reps = request.reps, res = request.res;
+    const bool json_out = request.json, with_embree = request.embree, wavefront = request.wavefront;
+    const BvhOptions& bopt = request.bvh;
+    const std::string& options = request.options;
+    const int device = request.device;
 
     nlohmann::json report = nlohmann::json::array();
     nlohmann::json report_machine;

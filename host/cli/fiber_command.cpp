@@ -1,5 +1,7 @@
 #include "cli/fiber_command.h"
 
+#include "cli/args.h"
+
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -23,35 +25,25 @@ namespace {
 
 using nlohmann::json;
 
-struct UsageError : std::runtime_error {
-    using std::runtime_error::runtime_error;
-};
+const char* kOverview =
+    "usage: hairtrace fiber eval|sample|furnace|afs [options]\n"
+    "The fibre scattering models from the command line.\n"
+    "\n"
+    "subcommands:\n"
+    "  eval      evaluate the BCSDF for JSON query lines on stdin: one JSON line out per query\n"
+    "  sample    sample the BCSDF for JSON query lines on stdin (each with \"u\":[u0,u1,u2,u3])\n"
+    "  furnace   directional albedo of a material over incidence angles (white furnace test)\n"
+    "  afs       the paper's averaged forward scattering AFS^avg (Zinke 2004 Fig. 4)\n"
+    "\n"
+    "hairtrace fiber SUBCOMMAND --help lists its options.\n"
+    "exit codes: 0 ok, 2 bad input (a bad JSON line gets {\"error\": ...} and the run continues),\n"
+    "            3 device failure (--precision float)\n";
 
-const char* kUsage =
-    "usage: hairtrace fiber eval   [--precision double|float] [--device N]   < JSON lines\n"
-    "       hairtrace fiber sample [--precision double|float] [--device N]   < JSON lines (+ \"u\":[u0,u1,u2,u3])\n"
-    "       hairtrace fiber furnace --model M [--eta E] [--beta-m B] [--beta-n B] [--alpha-deg A]\n"
-    "                 [--sigma-a S|r,g,b | --eumelanin C --pheomelanin C | --color r,g,b]\n"
-    "                 [--alpha-r-deg A] [--beta-r-deg B] [--caustic-wc-deg W] [--caustic-kg K]\n"
-    "                 [--caustic-deta D] [--caustic-dhm H] [--eccentricity E] [--kd r,g,b] [--ks r,g,b]\n"
-    "                 [--ks-exponent P] [--theta-deg t1,t2,..] [--nh N] [--json]\n"
-    "       hairtrace fiber afs --eta E --sigma-a S --theta-deg T [--json] [--csv FILE] [--png FILE]\n";
-
-double parse_number(const std::string& opt, const std::string& s) {
-    try {
-        size_t n = 0;
-        double v = std::stod(s, &n);
-        if (n != s.size() || !std::isfinite(v)) throw std::invalid_argument("x");
-        return v;
-    } catch (...) {
-        throw UsageError(opt + ": '" + s + "' is not a number");
-    }
-}
 std::vector<double> parse_list(const std::string& opt, const std::string& s) {
     std::vector<double> v;
     std::stringstream ss(s);
     std::string item;
-    while (std::getline(ss, item, ',')) v.push_back(parse_number(opt, item));
+    while (std::getline(ss, item, ',')) v.push_back(parse_double(opt, item, -1e30, 1e30));
     if (v.empty()) throw UsageError(opt + ": empty list");
     return v;
 }
@@ -66,17 +58,9 @@ json arr3(double a, double b, double c) { return json::array({a, b, c}); }
 json arr3(real3 v) { return arr3(v.x, v.y, v.z); }
 
 // The double-precision path uses the query's exact inputs; the float path their float copies.
-int run_queries(const std::vector<std::string>& args, bool sample, std::istream& in, std::ostream& out,
-                std::ostream& err) {
-    std::string precision = "double";
-    int device = -1;
-    for (size_t i = 1; i < args.size(); ++i) {
-        if (args[i] == "--precision" && i + 1 < args.size()) precision = args[++i];
-        else if (args[i] == "--device" && i + 1 < args.size()) device = (int)parse_number("--device", args[++i]);
-        else throw UsageError("unknown option '" + args[i] + "'");
-    }
-    if (precision != "double" && precision != "float")
-        throw UsageError("--precision must be double or float");
+int run_queries(const ArgParser& p, bool sample, std::istream& in, std::ostream& out) {
+    const std::string precision = p.get_choice("--precision", {"double", "float"});
+    const int device = p.has("--device") ? p.get_int("--device", 0, 1000) : -1;
     std::vector<std::string> lines;
     std::string line;
     while (std::getline(in, line)) {
@@ -169,52 +153,66 @@ int run_queries(const std::vector<std::string>& args, bool sample, std::istream&
 }
 
 // ---------------------------------------------------------------- furnace
-int run_furnace(const std::vector<std::string>& args, std::ostream& out) {
+// The material parameters furnace takes, one row each: option, help, field.
+struct ScalarParameter {
+    const char* option;
+    const char* help;
+    float HairMaterialDesc::*field;
+};
+using Desc = HairMaterialDesc;
+const ScalarParameter kScalarParameters[] = {
+    {"--eta", "index of refraction", &Desc::eta},
+    {"--beta-m", "chiang: longitudinal roughness", &Desc::beta_m}, {"--beta-n", "chiang: azimuthal roughness", &Desc::beta_n},
+    {"--alpha-deg", "chiang: cuticle tilt in degrees", &Desc::alpha_deg},
+    {"--alpha-r-deg", "marschner/zinke: R lobe shift in degrees", &Desc::alpha_r_deg},
+    {"--beta-r-deg", "marschner/zinke: R lobe width in degrees", &Desc::beta_r_deg},
+    {"--caustic-wc-deg", "marschner/zinke: caustic width in degrees", &Desc::caustic_wc_deg}, {"--caustic-kg", "marschner/zinke: glint scale", &Desc::caustic_kg},
+    {"--caustic-deta", "marschner/zinke: caustic fade range of eta", &Desc::caustic_deta}, {"--caustic-dhm", "marschner/zinke: caustic merge range of h", &Desc::caustic_dhm},
+    {"--eccentricity", "marschner/zinke: cross-section eccentricity", &Desc::eccentricity},
+    {"--ks-exponent", "kajiya: specular exponent", &Desc::ks_exponent},
+};
+
+void declare_furnace(ArgParser& p) {
+    p.option("--model", "kajiya|marschner|zinke|chiang", "the fibre model (required)");
+    p.group("material");
+    for (const ScalarParameter& s : kScalarParameters) p.option(s.option, "X", s.help);
+    p.option("--sigma-a", "S|R,G,B", "absorption per unit radius")
+        .option("--eumelanin", "C", "eumelanin concentration (with --pheomelanin: absorption from melanin)")
+        .option("--pheomelanin", "C", "pheomelanin concentration")
+        .option("--color", "R,G,B", "absorption from a target colour")
+        .option("--kd", "R,G,B", "kajiya: diffuse colour")
+        .option("--ks", "R,G,B", "kajiya: specular colour");
+    p.group("measurement")
+        .option("--theta-deg", "T1,T2,..", "incidence angles in degrees, each in [-90, 90]", "0,15,30,45,60,75,85")
+        .option("--nh", "N", "Gauss-Legendre points over the offset h, in [1, 64]", "8")
+        .flag("--json", "one JSON object instead of a table");
+}
+
+int run_furnace(const ArgParser& p, std::ostream& out) {
     HairMaterialDesc d;
     d.name = "furnace";
-    bool has_model = false, as_json = false;
-    std::vector<double> thetas = {0, 15, 30, 45, 60, 75, 85};
-    int nh = 8;
-    auto need = [&](size_t& i) -> const std::string& {
-        if (i + 1 >= args.size()) throw UsageError(args[i] + " needs a value");
-        return args[++i];
-    };
-    for (size_t i = 1; i < args.size(); ++i) {
-        const std::string& a = args[i];
-        if (a == "--model") { d.model = need(i); has_model = true; }
-        else if (a == "--json") as_json = true;
-        else if (a == "--eta") d.eta = (float)parse_number(a, need(i));
-        else if (a == "--beta-m") d.beta_m = (float)parse_number(a, need(i));
-        else if (a == "--beta-n") d.beta_n = (float)parse_number(a, need(i));
-        else if (a == "--alpha-deg") d.alpha_deg = (float)parse_number(a, need(i));
-        else if (a == "--sigma-a") { d.sigma_a = vec3_opt(a, need(i)); d.has_sigma_a = true; }
-        else if (a == "--eumelanin") { d.eumelanin = (float)parse_number(a, need(i)); d.has_melanin = true; }
-        else if (a == "--pheomelanin") { d.pheomelanin = (float)parse_number(a, need(i)); d.has_melanin = true; }
-        else if (a == "--color") { d.color = vec3_opt(a, need(i)); d.has_color = true; }
-        else if (a == "--alpha-r-deg") d.alpha_r_deg = (float)parse_number(a, need(i));
-        else if (a == "--beta-r-deg") d.beta_r_deg = (float)parse_number(a, need(i));
-        else if (a == "--caustic-wc-deg") d.caustic_wc_deg = (float)parse_number(a, need(i));
-        else if (a == "--caustic-kg") d.caustic_kg = (float)parse_number(a, need(i));
-        else if (a == "--caustic-deta") d.caustic_deta = (float)parse_number(a, need(i));
-        else if (a == "--caustic-dhm") d.caustic_dhm = (float)parse_number(a, need(i));
-        else if (a == "--eccentricity") d.eccentricity = (float)parse_number(a, need(i));
-        else if (a == "--kd") d.kd = vec3_opt(a, need(i));
-        else if (a == "--ks") d.ks = vec3_opt(a, need(i));
-        else if (a == "--ks-exponent") d.ks_exponent = (float)parse_number(a, need(i));
-        else if (a == "--theta-deg") thetas = parse_list(a, need(i));
-        else if (a == "--nh") nh = (int)parse_number(a, need(i));
-        else throw UsageError("unknown option '" + a + "'");
-    }
-    if (!has_model) throw UsageError("furnace needs --model");
-    if (nh < 1 || nh > 64) throw UsageError("--nh must be in [1, 64]");
+    const bool as_json = p.has("--json");
+    const bool has_model = p.has("--model");
+    if (has_model) d.model = p.get("--model");
+    for (const ScalarParameter& s : kScalarParameters)
+        if (p.has(s.option)) d.*s.field = float(p.get_double(s.option, -1e30, 1e30));
+    if (p.has("--sigma-a")) { d.sigma_a = vec3_opt("--sigma-a", p.get("--sigma-a")); d.has_sigma_a = true; }
+    if (p.has("--eumelanin")) { d.eumelanin = float(p.get_double("--eumelanin", -1e30, 1e30)); d.has_melanin = true; }
+    if (p.has("--pheomelanin")) { d.pheomelanin = float(p.get_double("--pheomelanin", -1e30, 1e30)); d.has_melanin = true; }
+    if (p.has("--color")) { d.color = vec3_opt("--color", p.get("--color")); d.has_color = true; }
+    if (p.has("--kd")) d.kd = vec3_opt("--kd", p.get("--kd"));
+    if (p.has("--ks")) d.ks = vec3_opt("--ks", p.get("--ks"));
+    const std::vector<double> thetas = parse_list("--theta-deg", p.get("--theta-deg"));
+    const int nh = p.get_int("--nh", 1, 64);
+    if (!has_model) throw UsageError("fiber furnace: needs --model");
     for (double t : thetas)
-        if (!(t >= -90 && t <= 90)) throw UsageError("--theta-deg values must lie in [-90, 90]");
+        if (!(t >= -90 && t <= 90)) throw UsageError("fiber furnace: --theta-deg values must lie in [-90, 90]");
     if (!d.has_sigma_a && !d.has_melanin && !d.has_color) { d.has_sigma_a = true; d.sigma_a = {0, 0, 0}; }
     HtMaterial m;
     try {
         m = make_kernel_material(d);
     } catch (const SceneError& e) {
-        throw UsageError(e.what());
+        throw UsageError(std::string("fiber furnace: ") + e.what());
     }
     json rows = json::array();
     if (!as_json) out << "# " << d.model << ": directional albedo = int value dwi, averaged over h (" << nh
@@ -234,29 +232,22 @@ int run_furnace(const std::vector<std::string>& args, std::ostream& out) {
 }
 
 // ---------------------------------------------------------------- afs
-int run_afs(const std::vector<std::string>& args, std::ostream& out) {
-    double eta = NAN, sa = NAN, th = NAN;
-    bool as_json = false;
-    std::string csv, png;
-    for (size_t i = 1; i < args.size(); ++i) {
-        const std::string& a = args[i];
-        auto val = [&]() -> const std::string& {
-            if (i + 1 >= args.size()) throw UsageError(a + " needs a value");
-            return args[++i];
-        };
-        if (a == "--eta") eta = parse_number(a, val());
-        else if (a == "--sigma-a") sa = parse_number(a, val());
-        else if (a == "--theta-deg") th = parse_number(a, val());
-        else if (a == "--json") as_json = true;
-        else if (a == "--csv") csv = val();
-        else if (a == "--png") png = val();
-        else throw UsageError("unknown option '" + a + "'");
-    }
-    if (std::isnan(eta) || std::isnan(sa)) throw UsageError("afs needs --eta and --sigma-a");
-    if (!(eta >= 1.0001 && eta <= 3.0)) throw UsageError("--eta must lie in [1.0001, 3]");
-    if (!(sa >= 0 && sa <= 100)) throw UsageError("--sigma-a must lie in [0, 100]");
-    if (std::isnan(th) && csv.empty() && png.empty()) throw UsageError("afs needs --theta-deg (or --csv / --png)");
-    if (!std::isnan(th) && !(th >= 0 && th <= 90)) throw UsageError("--theta-deg must lie in [0, 90]");
+void declare_afs(ArgParser& p) {
+    p.option("--eta", "E", "index of refraction, in [1.0001, 3] (required)")
+        .option("--sigma-a", "S", "absorption per unit radius, in [0, 100] (required)")
+        .option("--theta-deg", "T", "incidence angle in degrees, in [0, 90]: print the values there")
+        .flag("--json", "print one JSON object")
+        .path("--csv", "FILE", "write the curves over theta to a CSV file", PathKind::Csv)
+        .path("--png", "FILE", "plot the curves over theta (the paper's Fig. 4)", PathKind::Image);
+}
+
+int run_afs(const ArgParser& p, std::ostream& out) {
+    if (!p.has("--eta") || !p.has("--sigma-a")) throw UsageError("fiber afs: needs --eta and --sigma-a");
+    const double eta = p.get_double("--eta", 1.0001, 3.0), sa = p.get_double("--sigma-a", 0, 100);
+    const double th = p.has("--theta-deg") ? p.get_double("--theta-deg", 0, 90) : NAN;
+    const bool as_json = p.has("--json");
+    const std::string csv = p.get("--csv"), png = p.get("--png");
+    if (std::isnan(th) && csv.empty() && png.empty()) throw UsageError("fiber afs: needs --theta-deg (or --csv / --png)");
     if (!csv.empty() || !png.empty()) {
         auto rows = afs_curves(eta, sa, 89.0, 1.0);
         if (!csv.empty()) write_afs_csv(csv, rows);
@@ -280,20 +271,64 @@ int run_afs(const std::vector<std::string>& args, std::ostream& out) {
 
 }  // namespace
 
+namespace {
+
+struct Subcommand {
+    const char* name;
+    const char* summary;
+    void (*declare)(ArgParser&);
+    int (*run)(const ArgParser&, std::istream& in, std::ostream& out);
+};
+
+void declare_queries(ArgParser& p) {
+    p.option("--precision", "double|float", "double: the kernels' lines in double precision on the host; float: the OpenCL kernel on a device", "double")
+        .option("--device", "I", "OpenCL device index for --precision float (default: first CPU/GPU)");
+}
+
+const Subcommand kSubcommands[] = {
+    {"eval", "Evaluates the BCSDF for every JSON query line on stdin ({\"model\", \"wo\", \"wi\", \"h\", material keys}):\none JSON line out per query with value, pdf and the R/TT/TRT/residual lobes.",
+     declare_queries, [](const ArgParser& p, std::istream& in, std::ostream& out) { return run_queries(p, false, in, out); }},
+    {"sample", "Samples the BCSDF for every JSON query line on stdin (as eval, with \"u\":[u0,u1,u2,u3] instead of wi):\none JSON line out per query with wi, weight and pdf.",
+     declare_queries, [](const ArgParser& p, std::istream& in, std::ostream& out) { return run_queries(p, true, in, out); }},
+    {"furnace", "Directional albedo (the integral of the BCSDF over all outgoing directions, averaged over h) of a material\nat several incidence angles: 1 for a lossless fibre (white furnace test).",
+     declare_furnace, [](const ArgParser& p, std::istream&, std::ostream& out) { return run_furnace(p, out); }},
+    {"afs", "The paper's averaged forward scattering AFS^avg (R, TT, TRT, TRT with glints, ray density) of a fibre\nwith index eta and absorption sigma_a, at one angle or as curves (Zinke 2004 Fig. 4).",
+     declare_afs, [](const ArgParser& p, std::istream&, std::ostream& out) { return run_afs(p, out); }},
+};
+
+int run_subcommand(const std::vector<std::string>& args, std::istream& in, std::ostream& out) {
+    const std::string& name = args[0];
+    std::vector<std::string> names;
+    for (const Subcommand& sub : kSubcommands) {
+        names.push_back(sub.name);
+        if (name != sub.name) continue;
+        ArgParser p(std::string("fiber ") + sub.name, sub.summary);
+        sub.declare(p);
+        p.parse(std::vector<std::string>(args.begin() + 1, args.end()));
+        if (p.wants_help()) {
+            out << p.help();
+            return 0;
+        }
+        return sub.run(p, in, out);
+    }
+    throw UsageError("fiber: unknown subcommand '" + name + "'" + did_you_mean(name, names) +
+                     "; hairtrace fiber --help lists them");
+}
+
+}  // namespace
+
 int fiber_main(const std::vector<std::string>& args_in, std::istream& in, std::ostream& out, std::ostream& err) {
     std::vector<std::string> args = args_in;
     if (!args.empty() && args[0] == "fiber") args.erase(args.begin());
     try {
-        if (args.empty()) throw UsageError("missing subcommand");
-        const std::string& cmd = args[0];
-        if (cmd == "eval") return run_queries(args, false, in, out, err);
-        if (cmd == "sample") return run_queries(args, true, in, out, err);
-        if (cmd == "furnace") return run_furnace(args, out);
-        if (cmd == "afs") return run_afs(args, out);
-        if (cmd == "--help" || cmd == "-h" || cmd == "help") { out << kUsage; return 0; }
-        throw UsageError("unknown subcommand '" + cmd + "'");
+        if (args.empty()) throw UsageError("fiber: missing subcommand (eval, sample, furnace or afs)");
+        if (args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
+            out << kOverview;
+            return 0;
+        }
+        return run_subcommand(args, in, out);
     } catch (const UsageError& e) {
-        err << "hairtrace fiber: " << e.what() << '\n' << kUsage;
+        err << "hairtrace " << e.what() << '\n';
         return 2;
     } catch (const DeviceError& e) {
         err << "hairtrace fiber: " << e.what() << '\n';
