@@ -60,6 +60,13 @@ void append_wrapped(std::ostringstream& o, const std::string& text, size_t inden
 }  // namespace
 
 std::string did_you_mean(const std::string& word, const std::vector<std::string>& candidates) {
+    // A shortened name ("--theta" for "--theta-deg") is closer than any edit distance says.
+    std::string shortest_extension;
+    for (const std::string& c : candidates)
+        if (word.size() >= 4 && c.size() > word.size() && c.compare(0, word.size(), word) == 0 &&
+            (shortest_extension.empty() || c.size() < shortest_extension.size()))
+            shortest_extension = c;
+    if (!shortest_extension.empty()) return " (did you mean " + shortest_extension + "?)";
     std::string best;
     size_t best_distance = std::string::npos;
     for (const std::string& c : candidates) {
