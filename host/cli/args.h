@@ -21,6 +21,7 @@ struct UsageError : std::runtime_error {
 // How the value of a path option is checked by parse(), before any work starts.
 enum class PathKind {
     Input,       // an existing file
+    InputFolder, // an existing folder
     Image,       // an image OpenImageIO can write (by extension) in a writable folder
     Csv,         // a .csv file in a writable folder
     AnyOutput,   // a file of our own format (checkpoints): a writable folder

@@ -67,6 +67,9 @@ void check_path(const std::string& what, const std::string& path, PathKind kind)
         if (!fs::exists(path)) throw UsageError(what + " " + path + ": the file does not exist");
         if (fs::is_directory(path)) throw UsageError(what + " " + path + ": is a folder, not a file");
         return;
+    case PathKind::InputFolder:
+        if (!fs::is_directory(path)) throw UsageError(what + " " + path + ": no such folder");
+        return;
     case PathKind::Image:
         check_image_extension(what, path);
         break;

@@ -14,7 +14,7 @@ namespace ht {
 namespace {
 
 enum Uses { kRender = 1, kConverge = 2, kBoth = 3 };
-enum class Kind { Flag, Value, InputFile, Images, Checkpoint };
+enum class Kind { Flag, Value, InputFile, InputFolder, Images, Checkpoint };
 
 struct OptionRow {
     const char* group;
@@ -61,7 +61,7 @@ const OptionRow kOptions[] = {
 
     {"devices", "--device", "I|I,J,..|all", "OpenCL device index from `hairtrace devices` (default: first CPU/GPU); several devices split the chunks between them (one host thread each, work stealing), with the same image", "", Kind::Value, kBoth},
     {"devices", "--max-memory", "SIZE", "upper bound for host memory while loading and for device memory while rendering, e.g. 512M or 8G; inputs that need more are refused before allocating, with the size named", "", Kind::Value, kBoth},
-    {"devices", "--kernel-dir", "DIR", "load kernel sources from DIR instead of the embedded copies", "", Kind::Value, kBoth},
+    {"devices", "--kernel-dir", "DIR", "load kernel sources from DIR instead of the embedded copies", "", Kind::InputFolder, kBoth},
 
     {"reporting", "--reference", "REF", "linear image to compare with: prints RMSE, relMSE, max error, NaN count", "", Kind::InputFile, kRender},
     {"reporting", "--verbose", "", "print the kernel features chosen for the scene and the build options", "", Kind::Flag, kRender},
@@ -75,6 +75,7 @@ void declare(ArgParser& p, const OptionRow& row) {
     case Kind::Flag: p.flag(row.name, row.help); break;
     case Kind::Value: p.option(row.name, row.value, row.help, row.default_value); break;
     case Kind::InputFile: p.path(row.name, row.value, row.help, PathKind::Input); break;
+    case Kind::InputFolder: p.path(row.name, row.value, row.help, PathKind::InputFolder); break;
     case Kind::Images: p.path(row.name, row.value, row.help, PathKind::Image, "", true); break;
     case Kind::Checkpoint: p.path(row.name, row.value, row.help, PathKind::AnyOutput); break;
     }
