@@ -125,7 +125,7 @@ void add_render_options(ArgParser& p, RenderCommand command) {
     const int use = command == RenderCommand::Render ? kRender : kConverge;
     for (const OptionRow& row : kOptions)
         if (row.uses & use) declare(p, row);
-    p.group("scene files");
+    p.group("scene");
     add_scene_options(p);
 }
 

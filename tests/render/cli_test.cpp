@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 #ifdef HT_BINARY
@@ -76,7 +77,12 @@ TEST(Cli, BadValuesExit2NamingTheOption) {
         {" render builtin:strand -o " + (d / "x.png") + " --features most", "--features"},
         {" converge builtin:strand --reference " + (d / "x.exr") + " --width 0", "--reference"},
         {" merge " + (d / "missing.exr") + " -o " + (d / "x.exr"), "missing.exr"},
+        // converge's --configs keys mean the render options and are checked before any work
+        {" converge builtin:strand --reference " + (d / "ref.exr") + " --configs modle=zinke", "did you mean model?"},
+        {" converge builtin:strand --reference " + (d / "ref.exr") + " --configs depth=0", "--configs depth"},
+        {" converge builtin:strand --reference " + (d / "ref.exr") + " --device 0,1", "--device"},
     };
+    std::ofstream(d / "ref.exr") << "never read: every case fails first";
     for (const auto& [args, option] : cases) {
         EXPECT_EQ(run(kBin + args + " 2>" + (d / "err.txt")), 2) << args;
         EXPECT_NE(slurp(d / "err.txt").find(option), std::string::npos) << args << ": " << slurp(d / "err.txt");
