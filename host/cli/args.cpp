@@ -141,10 +141,6 @@ void ArgParser::take_option(const std::vector<std::string>& args, size_t& i) {
         value = name.substr(eq + 1);
         name = name.substr(0, eq);
     }
-    if (name == "--help" || name == "-h") {
-        values_["--help"].push_back("1");
-        return;
-    }
     const auto it = specs_.find(name);
     if (it == specs_.end())
         throw UsageError(command_ + ": unknown option " + name + did_you_mean(name, names()) + "; hairtrace " +
@@ -164,6 +160,12 @@ void ArgParser::take_option(const std::vector<std::string>& args, size_t& i) {
 }
 
 void ArgParser::parse(const std::vector<std::string>& args) {
+    // Asking for help is never a mistake, whatever else the line holds.
+    for (const std::string& a : args)
+        if (a == "--help" || a == "-h") {
+            values_["--help"].push_back("1");
+            return;
+        }
     size_t positional = 0;
     for (size_t i = 0; i < args.size(); ++i) {
         if (looks_like_option(args[i])) {
@@ -176,7 +178,6 @@ void ArgParser::parse(const std::vector<std::string>& args) {
         values_[positionals_[positional].name].push_back(args[i]);
         if (positionals_[positional].arity != Arity::Many) ++positional;
     }
-    if (wants_help()) return;
     for (const Positional& p : positionals_)
         if (p.arity != Arity::Optional && !has(p.name))
             throw UsageError(command_ + ": missing argument " + p.name + "; hairtrace " + command_ +

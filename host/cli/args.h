@@ -60,7 +60,7 @@ public:
     // Text printed after the option list (exit codes, examples).
     ArgParser& epilog(const std::string& text);
 
-    // Throws UsageError; with --help/-h among the arguments it only records that.
+    // Throws UsageError; with --help/-h anywhere among the arguments it only records that.
     void parse(const std::vector<std::string>& args);
     bool wants_help() const { return has("--help"); }
     std::string help() const;

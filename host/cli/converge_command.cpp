@@ -102,8 +102,8 @@ int replot(const std::string& csv_path, const std::string& png, const std::strin
             s.color = plot_color(plot.series.size());
             plot.series.push_back(s);
         }
-        plot.series.back().x.push_back(std::stod(fields[1]));
-        plot.series.back().y.push_back(std::stod(fields[2]));
+        plot.series.back().x.push_back(parse_double("--replot " + csv_path + " seconds", fields[1], 0, 1e30));
+        plot.series.back().y.push_back(parse_double("--replot " + csv_path + " rmse", fields[2], 0, 1e30));
     }
     write_plot_png(png, plot);
     return kExitOk;
@@ -131,11 +131,7 @@ int cmd_converge(const std::vector<std::string>& args) {
     const auto configs = parse_configs(p.get("--configs"), base);
     const auto spps = parse_spp_list(p.get("--spp"));
     const bool quiet = p.has("--quiet");
-    int rw, rh;
-    auto reference = read_rgb_image(p.get("--reference"), rw, rh);
-    if (rw != base.settings.width || rh != base.settings.height)
-        throw UsageError("--reference is " + std::to_string(rw) + "x" + std::to_string(rh) + ", the renders are " +
-                         std::to_string(base.settings.width) + "x" + std::to_string(base.settings.height));
+    const auto reference = read_reference_image(p.get("--reference"), base.settings.width, base.settings.height);
     if (!base.kernel_dir.empty()) set_kernel_dir(base.kernel_dir);
     const Scene scene = load_scene(base.scene, base.load);
     ClContext cl(device_indices(base.devices).front());

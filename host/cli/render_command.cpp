@@ -80,14 +80,7 @@ struct RunOutcome {
 
 void load_inputs(PreparedRender& job, const RenderRequest& request, bool quiet) {
     const RenderSettings& rs = request.image.settings;
-    if (!request.reference.empty()) {
-        int rw, rh;
-        job.reference = read_rgb_image(request.reference, rw, rh);
-        if (rw != rs.width || rh != rs.height)
-            throw UsageError("--reference " + request.reference + " is " + std::to_string(rw) + "x" +
-                             std::to_string(rh) + ", the render is " + std::to_string(rs.width) + "x" +
-                             std::to_string(rs.height));
-    }
+    if (!request.reference.empty()) job.reference = read_reference_image(request.reference, rs.width, rs.height);
     job.scene = load_scene(request.image.scene, request.image.load);
     apply_scene_overrides(job.scene, request.image);
     std::string depth_why;

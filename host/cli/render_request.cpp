@@ -2,6 +2,7 @@
 
 #include "cl/device.h"
 #include "cli/commands.h"
+#include "io/image_io.h"
 #include "kernels/types.h"
 #include "render/depth_choice.h"
 #include "render/memory_plan.h"
@@ -216,6 +217,20 @@ RenderSettings resolve_settings(const Scene& scene, const ImageRequest& r, std::
         if (why) *why = choice.why;
     }
     return s;
+}
+
+std::vector<float> read_reference_image(const std::string& path, int width, int height) {
+    int w = 0, h = 0;
+    std::vector<float> rgb;
+    try {
+        rgb = read_rgb_image(path, w, h);
+    } catch (const ImageError& e) {
+        throw UsageError(std::string("--reference: ") + e.what());
+    }
+    if (w != width || h != height)
+        throw UsageError("--reference " + path + " is " + std::to_string(w) + "x" + std::to_string(h) +
+                         ", the render is " + std::to_string(width) + "x" + std::to_string(height));
+    return rgb;
 }
 
 bool keeps_raw_sums(const std::string& output) {

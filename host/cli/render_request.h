@@ -74,6 +74,10 @@ RenderSettings resolve_settings(const Scene& scene, const ImageRequest& request,
 // other formats show the part's mean.
 bool keeps_raw_sums(const std::string& output);
 
+// The rgb floats of a --reference image of the render's size; an unreadable file or another size
+// is a usage error (exit 2) naming the file.
+std::vector<float> read_reference_image(const std::string& path, int width, int height);
+
 // The OpenCL device indices of a choice (-1: the default device).
 std::vector<int> device_indices(const DeviceChoice& choice);
 

@@ -122,6 +122,8 @@ TEST(Cli, MissingInputsExit2) {
     const std::string small = kBin + " render 'builtin:strand?hairs=20&segments=4' --width 8 --height 8 --spp 1 --quiet -o " +
                               (d / "x.exr");
     EXPECT_EQ(run(small + " --reference " + (d / "missing.exr") + " 2>/dev/null"), 2);
+    std::ofstream(d / "junk.exr") << "not an image";
+    EXPECT_EQ(run(small + " --reference " + (d / "junk.exr") + " 2>/dev/null"), 2) << "unreadable input is bad input";
     EXPECT_EQ(run(small + " --environment " + (d / "missing.hdr") + " 2>/dev/null"), 2);
     EXPECT_EQ(run(small + " --resume " + (d / "missing.ckpt") + " 2>/dev/null"), 2);
     EXPECT_EQ(run(kBin + " render " + (d / "missing.hair") + " -o " + (d / "x.exr") + " 2>/dev/null"), 2);
