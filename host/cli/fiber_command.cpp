@@ -14,6 +14,7 @@
 #include "cl/device.h"
 #include "fiber/afs_quadrature.h"
 #include "fiber/furnace.h"
+#include "fiber/fiber_query_runner.h"
 #include "fiber/material.h"
 #include "fiber/query_json.h"
 #include "kernels/fiber/bcsdf.h"
@@ -107,15 +108,8 @@ int run_queries(const ArgParser& p, bool sample, std::istream& in, std::ostream&
             try {
                 ClContext ctx(device);
                 cl::Program prog = ctx.build("fiber/fiber_query.cl", base_kernel_options());
-                cl::Kernel k(prog, sample ? "fiber_sample" : "fiber_eval");
-                cl::Buffer bm(ctx.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, mats.size() * sizeof(HtMaterial), mats.data());
-                cl::Buffer bq(ctx.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, qv.size() * sizeof(HtFiberQuery), qv.data());
-                cl::Buffer bo(ctx.context(), CL_MEM_WRITE_ONLY, qv.size() * sizeof(HtFiberResult));
-                cl_uint n = (cl_uint)qv.size();
-                k.setArg(0, bm); k.setArg(1, bq); k.setArg(2, bo); k.setArg(3, n);
-                ctx.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up(n, 64)), cl::NDRange(64));
-                std::vector<HtFiberResult> out_r(n);
-                ctx.queue().enqueueReadBuffer(bo, CL_TRUE, 0, n * sizeof(HtFiberResult), out_r.data());
+                const std::vector<HtFiberResult> out_r =
+                    run_fiber_queries(ctx, prog, sample ? "fiber_sample" : "fiber_eval", mats, qv);
                 for (size_t t = 0; t < index.size(); ++t) res[index[t]] = out_r[t];
             } catch (const cl::Error& e) {
                 throw DeviceError(std::string("OpenCL: ") + e.what() + " (" + cl_error_name(e.err()) + ")");
