@@ -229,6 +229,55 @@ std::vector<std::string> sibling_rays(const std::string& hair) {
 
 namespace {
 
+// The machine line: what every number of the report was measured on.
+nlohmann::json describe_machine(const ClContext& cl, bool print) {
+    std::string cpu = "unknown CPU";
+    std::ifstream info("/proc/cpuinfo");
+    for (std::string line; std::getline(info, line);)
+        if (line.rfind("model name", 0) == 0) {
+            cpu = line.substr(line.find(':') + 2);
+            break;
+        }
+    const unsigned cores = std::thread::hardware_concurrency();
+    if (print)
+        std::printf("machine: %s, %u cores; OpenCL device %s (%s, driver %s)\n", cpu.c_str(), cores,
+                    cl.info().name.c_str(), cl.info().platform_version.c_str(), cl.info().driver.c_str());
+    return {{"cpu", cpu}, {"cores", cores}, {"device", cl.info().name},
+            {"platform", cl.info().platform_version}, {"driver", cl.info().driver}};
+}
+
+// Wavefront throughput of a small full render of the strands: paths and rays per second per bounce.
+nlohmann::json measure_wavefront(ClContext& cl, const std::string& name, const Strands& strands, bool print) {
+    Scene scene;
+    scene.source = name;
+    scene.strands = strands;
+    scene.materials = {blond_hair_material()};
+    scene.strands.material.assign(scene.strands.strand_count(), 0);
+    ensure_camera_and_light(scene);
+    RenderSettings rs;
+    rs.width = rs.height = 256;
+    rs.spp = 2;
+    rs.max_depth = 5;
+    Renderer renderer(cl, scene, rs);
+    Film film;
+    renderer.render(film);
+    nlohmann::json jb = nlohmann::json::array();
+    if (print) std::printf("  wavefront render 256x256, 2 spp, depth 5 (marschner, blond):\n");
+    for (size_t b = 0; b < renderer.stats().bounces.size(); ++b) {
+        const BounceStats& bs = renderer.stats().bounces[b];
+        const double paths_s = bs.seconds > 0 ? bs.paths / bs.seconds : 0.0;
+        const double rays_s = bs.seconds > 0 ? (bs.paths + bs.shadow_rays) / bs.seconds : 0.0;
+        jb.push_back({{"bounce", b}, {"paths", bs.paths}, {"shadow_rays", bs.shadow_rays},
+                      {"seconds", bs.seconds}, {"paths_per_s", paths_s}, {"rays_per_s", rays_s}});
+        if (print)
+            std::printf("    bounce %zu: %8llu paths %8llu shadow rays  %.3f s  %.2f M paths/s  %.2f M rays/s\n", b,
+                        (unsigned long long)bs.paths, (unsigned long long)bs.shadow_rays, bs.seconds,
+                        paths_s * 1e-6, rays_s * 1e-6);
+    }
+    return {{"width", rs.width}, {"height", rs.height}, {"spp", rs.spp}, {"max_depth", rs.max_depth},
+            {"seconds", renderer.stats().seconds}, {"bounces", jb}};
+}
+
 // What `hairtrace bench` was asked to measure.
 struct BenchRequest {
     std::vector<SceneArg> scenes;
@@ -314,25 +363,9 @@ int bench_main(const std::vector<std::string>& args, const SceneSource& source_i
     const int device = request.device;
 
     nlohmann::json report = nlohmann::json::array();
-    nlohmann::json report_machine;
     bool all_ok = true;
     ClContext cl(device);
-    // The machine line: what every number below was measured on.
-    std::string cpu = "unknown CPU";
-    {
-        std::ifstream info("/proc/cpuinfo");
-        for (std::string line; std::getline(info, line);)
-            if (line.rfind("model name", 0) == 0) {
-                cpu = line.substr(line.find(':') + 2);
-                break;
-            }
-    }
-    const unsigned cores = std::thread::hardware_concurrency();
-    report_machine = {{"cpu", cpu}, {"cores", cores}, {"device", cl.info().name},
-                      {"platform", cl.info().platform_version}, {"driver", cl.info().driver}};
-    if (!json_out)
-        std::printf("machine: %s, %u cores; OpenCL device %s (%s, driver %s)\n", cpu.c_str(), cores,
-                    cl.info().name.c_str(), cl.info().platform_version.c_str(), cl.info().driver.c_str());
+    const nlohmann::json report_machine = describe_machine(cl, !json_out);
 
     for (SceneArg& sa : scenes) {
         nlohmann::json js;
@@ -521,38 +554,7 @@ int bench_main(const std::vector<std::string>& args, const SceneSource& source_i
         }
         js["sets"] = jsets;
 
-        // ---- wavefront throughput of a full render: paths and rays per second per bounce
-        if (wavefront) {
-            Scene scene;
-            scene.source = sa.name;
-            scene.strands = strands;
-            scene.materials = {blond_hair_material()};
-            scene.strands.material.assign(scene.strands.strand_count(), 0);
-            ensure_camera_and_light(scene);
-            RenderSettings rs;
-            rs.width = rs.height = 256;
-            rs.spp = 2;
-            rs.max_depth = 5;
-            Renderer renderer(cl, scene, rs);
-            Film film;
-            renderer.render(film);
-            nlohmann::json jb = nlohmann::json::array();
-            if (!json_out) std::printf("  wavefront render 256x256, 2 spp, depth 5 (marschner, blond):\n");
-            for (size_t b = 0; b < renderer.stats().bounces.size(); ++b) {
-                const BounceStats& bs = renderer.stats().bounces[b];
-                const double paths_s = bs.seconds > 0 ? bs.paths / bs.seconds : 0.0;
-                const double rays_s = bs.seconds > 0 ? (bs.paths + bs.shadow_rays) / bs.seconds : 0.0;
-                jb.push_back({{"bounce", b}, {"paths", bs.paths}, {"shadow_rays", bs.shadow_rays},
-                              {"seconds", bs.seconds}, {"paths_per_s", paths_s}, {"rays_per_s", rays_s}});
-                if (!json_out)
-                    std::printf("    bounce %zu: %8llu paths %8llu shadow rays  %.3f s  %.2f M paths/s  %.2f M rays/s\n", b,
-                                (unsigned long long)bs.paths, (unsigned long long)bs.shadow_rays, bs.seconds,
-                                paths_s * 1e-6, rays_s * 1e-6);
-            }
-            js["wavefront"] = {{"width", rs.width}, {"height", rs.height}, {"spp", rs.spp},
-                               {"max_depth", rs.max_depth}, {"seconds", renderer.stats().seconds},
-                               {"bounces", jb}};
-        }
+        if (wavefront) js["wavefront"] = measure_wavefront(cl, sa.name, strands, !json_out);
         report.push_back(js);
     }
     if (json_out) std::printf("%s\n", nlohmann::json{{"machine", report_machine}, {"scenes", report}}.dump(2).c_str());
