@@ -229,6 +229,116 @@ std::vector<std::string> sibling_rays(const std::string& hair) {
 
 namespace {
 
+// One ray set through the tracer: the hits checked (against the file's stored answers when it has
+// them; `all_ok` becomes false on a disagreement), then timed.
+nlohmann::json measure_ray_set(DeviceTracer& tracer, const SceneGeometry& geo, const RaySet& s, int reps,
+                               EmbreeTracer* embree, bool json_out, bool& all_ok) {
+    nlohmann::json jr;
+    jr["set"] = s.name;
+    jr["rays"] = s.rays.size();
+    jr["source"] = s.reference ? s.reference->path : "generated";
+    tracer.set_rays(s.rays);
+    // Warm-up pass = correctness pass (includes PoCL's JIT of the work-group function).
+    const auto t_first = Clock::now();
+    std::vector<HtHit> hits;
+    std::vector<uint32_t> occ;
+    if (s.shadow) {
+        tracer.enqueue_shadow();
+        tracer.finish();
+    } else {
+        tracer.enqueue_closest();
+        tracer.finish();
+    }
+    jr["first_ms"] = ms_since(t_first);
+    if (s.shadow) tracer.read_occluded(occ);
+    else tracer.read_hits(hits);
+
+    std::string check_line;
+    if (s.shadow) {
+        size_t n_occ = 0;
+        for (uint32_t o : occ) n_occ += o != 0;
+        jr["occluded"] = n_occ;
+        check_line = "occluded " + std::to_string(n_occ);
+    } else {
+        const Checksum c = checksum(geo, hits);
+        jr["hits"] = c.hits;
+        jr["sum_t"] = c.sum_t;
+        jr["sum_segment"] = c.sum_id;
+        char b[160];
+        std::snprintf(b, sizeof b, "hits %zu  sum_t %.3f  sum_segment %llu", c.hits, c.sum_t,
+                      c.sum_id);
+        check_line = b;
+    }
+    std::string agree_line;
+    if (s.reference) {
+        const Agreement a = s.shadow ? compare_occ(occ, *s.reference)
+                                     : compare(geo, hits, *s.reference);
+        const bool ok = a.ok();
+        all_ok = all_ok && ok;
+        jr["embree"] = {{"hitmiss_agree", a.hitmiss}, {"ours_only", a.ours_only},
+                        {"embree_only", a.embree_only}, {"both_hit", a.both},
+                        {"primid_agree", a.prim}, {"t_agree", a.t}, {"ok", ok}};
+        char b[400];
+        if (s.shadow)
+            std::snprintf(b, sizeof b,
+                          "    vs Embree: occlusion %zu/%zu (%s; ours-only %zu, Embree-only %zu)%s",
+                          a.hitmiss, a.n, pct(a.hitmiss, a.n).c_str(), a.ours_only,
+                          a.embree_only, ok ? "" : "  MISMATCH");
+        else
+            std::snprintf(b, sizeof b,
+                          "    vs Embree: hit/miss %zu/%zu (%s; ours-only %zu, Embree-only %zu), "
+                          "primID %s, |dt|<=1e-4max(1,t) %s of %zu both-hit%s",
+                          a.hitmiss, a.n, pct(a.hitmiss, a.n).c_str(), a.ours_only,
+                          a.embree_only, pct(a.prim, a.both).c_str(),
+                          pct(a.t, a.both).c_str(), a.both, ok ? "" : "  MISMATCH");
+        agree_line = b;
+    }
+
+    // Timed passes: warm-up done above; median of reps.
+    std::vector<double> times, cpu;
+    for (int k = 0; k < reps; ++k) {
+        const auto t0 = Clock::now();
+        const double c0 = cpu_ms();
+        if (s.shadow) tracer.enqueue_shadow();
+        else tracer.enqueue_closest();
+        tracer.finish();
+        times.push_back(ms_since(t0));
+        cpu.push_back(cpu_ms() - c0);
+    }
+    const double med = median(times);
+    const double mrays = med > 0 ? s.rays.size() / (med * 1e3) : 0.0;
+    // Throughput per CPU-second: what one core does when it is not shared.
+    const double mrays_cpu = median(cpu) > 0 ? s.rays.size() / (median(cpu) * 1e3) : 0.0;
+    jr["median_ms"] = med;
+    jr["mrays_per_s"] = mrays;
+    jr["mrays_per_cpu_s"] = mrays_cpu;
+    jr["pass_ms"] = times;
+    jr["pass_cpu_ms"] = cpu;
+    double embree_mrays = 0;
+    size_t embree_count = 0;
+    if (embree) {
+        const double ems = embree->trace(s.rays, s.shadow, reps, &embree_count);
+        embree_mrays = ems > 0 ? s.rays.size() / (ems * 1e3) : 0.0;
+        jr["embree_in_process"] = {{"median_ms", ems}, {"mrays_per_s", embree_mrays},
+                                   {s.shadow ? "occluded" : "hits", embree_count},
+                                   {"ratio", embree_mrays > 0 ? mrays / embree_mrays : 0.0}};
+    }
+    if (!json_out) {
+        std::printf("  %-10s %zu rays (%s): %s\n", s.name.c_str(), s.rays.size(),
+                    s.reference ? "anchor .rays" : "generated", check_line.c_str());
+        if (!agree_line.empty()) std::printf("%s\n", agree_line.c_str());
+        std::printf("    %s: %.2f Mrays/s (median of %d, %.1f ms; first pass %.1f ms); "
+                    "%.2f Mrays per CPU-second\n",
+                    s.shadow ? "shadow " : "closest", mrays, reps, med,
+                    jr["first_ms"].get<double>(), mrays_cpu);
+        if (embree)
+            std::printf("    Embree (same process, same rays): %.2f Mrays/s, %s %zu; hairtrace/Embree = %.2f\n",
+                        embree_mrays, s.shadow ? "occluded" : "hits", embree_count,
+                        embree_mrays > 0 ? mrays / embree_mrays : 0.0);
+    }
+    return jr;
+}
+
 // The machine line: what every number of the report was measured on.
 nlohmann::json describe_machine(const ClContext& cl, bool print) {
     std::string cpu = "unknown CPU";
@@ -446,112 +556,7 @@ int bench_main(const std::vector<std::string>& args, const SceneSource& source_i
         }
 
         nlohmann::json jsets = nlohmann::json::array();
-        for (const RaySet& s : sets) {
-            nlohmann::json jr;
-            jr["set"] = s.name;
-            jr["rays"] = s.rays.size();
-            jr["source"] = s.reference ? s.reference->path : "generated";
-            tracer.set_rays(s.rays);
-            // Warm-up pass = correctness pass (includes PoCL's JIT of the work-group function).
-            const auto t_first = Clock::now();
-            std::vector<HtHit> hits;
-            std::vector<uint32_t> occ;
-            if (s.shadow) {
-                tracer.enqueue_shadow();
-                tracer.finish();
-            } else {
-                tracer.enqueue_closest();
-                tracer.finish();
-            }
-            jr["first_ms"] = ms_since(t_first);
-            if (s.shadow) tracer.read_occluded(occ);
-            else tracer.read_hits(hits);
-
-            std::string check_line;
-            if (s.shadow) {
-                size_t n_occ = 0;
-                for (uint32_t o : occ) n_occ += o != 0;
-                jr["occluded"] = n_occ;
-                check_line = "occluded " + std::to_string(n_occ);
-            } else {
-                const Checksum c = checksum(geo, hits);
-                jr["hits"] = c.hits;
-                jr["sum_t"] = c.sum_t;
-                jr["sum_segment"] = c.sum_id;
-                char b[160];
-                std::snprintf(b, sizeof b, "hits %zu  sum_t %.3f  sum_segment %llu", c.hits, c.sum_t,
-                              c.sum_id);
-                check_line = b;
-            }
-            std::string agree_line;
-            if (s.reference) {
-                const Agreement a = s.shadow ? compare_occ(occ, *s.reference)
-                                             : compare(geo, hits, *s.reference);
-                const bool ok = a.ok();
-                all_ok = all_ok && ok;
-                jr["embree"] = {{"hitmiss_agree", a.hitmiss}, {"ours_only", a.ours_only},
-                                {"embree_only", a.embree_only}, {"both_hit", a.both},
-                                {"primid_agree", a.prim}, {"t_agree", a.t}, {"ok", ok}};
-                char b[400];
-                if (s.shadow)
-                    std::snprintf(b, sizeof b,
-                                  "    vs Embree: occlusion %zu/%zu (%s; ours-only %zu, Embree-only %zu)%s",
-                                  a.hitmiss, a.n, pct(a.hitmiss, a.n).c_str(), a.ours_only,
-                                  a.embree_only, ok ? "" : "  MISMATCH");
-                else
-                    std::snprintf(b, sizeof b,
-                                  "    vs Embree: hit/miss %zu/%zu (%s; ours-only %zu, Embree-only %zu), "
-                                  "primID %s, |dt|<=1e-4max(1,t) %s of %zu both-hit%s",
-                                  a.hitmiss, a.n, pct(a.hitmiss, a.n).c_str(), a.ours_only,
-                                  a.embree_only, pct(a.prim, a.both).c_str(),
-                                  pct(a.t, a.both).c_str(), a.both, ok ? "" : "  MISMATCH");
-                agree_line = b;
-            }
-
-            // Timed passes: warm-up done above; median of reps.
-            std::vector<double> times, cpu;
-            for (int k = 0; k < reps; ++k) {
-                const auto t0 = Clock::now();
-                const double c0 = cpu_ms();
-                if (s.shadow) tracer.enqueue_shadow();
-                else tracer.enqueue_closest();
-                tracer.finish();
-                times.push_back(ms_since(t0));
-                cpu.push_back(cpu_ms() - c0);
-            }
-            const double med = median(times);
-            const double mrays = med > 0 ? s.rays.size() / (med * 1e3) : 0.0;
-            // Throughput per CPU-second: what one core does when it is not shared.
-            const double mrays_cpu = median(cpu) > 0 ? s.rays.size() / (median(cpu) * 1e3) : 0.0;
-            jr["median_ms"] = med;
-            jr["mrays_per_s"] = mrays;
-            jr["mrays_per_cpu_s"] = mrays_cpu;
-            jr["pass_ms"] = times;
-            jr["pass_cpu_ms"] = cpu;
-            double embree_mrays = 0;
-            size_t embree_count = 0;
-            if (embree) {
-                const double ems = embree->trace(s.rays, s.shadow, reps, &embree_count);
-                embree_mrays = ems > 0 ? s.rays.size() / (ems * 1e3) : 0.0;
-                jr["embree_in_process"] = {{"median_ms", ems}, {"mrays_per_s", embree_mrays},
-                                           {s.shadow ? "occluded" : "hits", embree_count},
-                                           {"ratio", embree_mrays > 0 ? mrays / embree_mrays : 0.0}};
-            }
-            jsets.push_back(jr);
-            if (!json_out) {
-                std::printf("  %-10s %zu rays (%s): %s\n", s.name.c_str(), s.rays.size(),
-                            s.reference ? "anchor .rays" : "generated", check_line.c_str());
-                if (!agree_line.empty()) std::printf("%s\n", agree_line.c_str());
-                std::printf("    %s: %.2f Mrays/s (median of %d, %.1f ms; first pass %.1f ms); "
-                            "%.2f Mrays per CPU-second\n",
-                            s.shadow ? "shadow " : "closest", mrays, reps, med,
-                            jr["first_ms"].get<double>(), mrays_cpu);
-                if (embree)
-                    std::printf("    Embree (same process, same rays): %.2f Mrays/s, %s %zu; hairtrace/Embree = %.2f\n",
-                                embree_mrays, s.shadow ? "occluded" : "hits", embree_count,
-                                embree_mrays > 0 ? mrays / embree_mrays : 0.0);
-            }
-        }
+        for (const RaySet& s : sets) jsets.push_back(measure_ray_set(tracer, geo, s, reps, embree.get(), json_out, all_ok));
         js["sets"] = jsets;
 
         if (wavefront) js["wavefront"] = measure_wavefront(cl, sa.name, strands, !json_out);
