@@ -147,4 +147,13 @@ TEST(Cli, ProgressInALogIsOneLinePerUpdate) {
               0);
     EXPECT_EQ(slurp(d / "quiet.txt"), "");
 }
+// On a terminal (a pseudo-terminal from script(1) here) the line is rewritten in place.
+TEST(Cli, ProgressOnATerminalIsRewrittenInPlace) {
+    if (run("command -v script >/dev/null") != 0) GTEST_SKIP() << "script(1) is not installed";
+    TempDir d("ht_cli_");
+    const std::string render = kBin + " render 'builtin:strand?hairs=40&segments=6' --width 16 --height 16 --spp 3 "
+                                      "--max-depth 1 -o " + (d / "x.exr");
+    ASSERT_EQ(run("script -qec \"" + render + "\" /dev/null >" + (d / "tty.txt") + " 2>&1"), 0) << slurp(d / "tty.txt");
+    EXPECT_NE(slurp(d / "tty.txt").find("\rrendering: 3/3 spp"), std::string::npos) << slurp(d / "tty.txt");
+}
 #endif
