@@ -1,4 +1,4 @@
-// hairtrace command line: render, info, devices, bench, fiber.
+// hairtrace command line: render, merge, info, devices, bench, converge, fiber.
 //
 // Exit codes: 0 success; 2 bad input or usage (the message names the file/option and the
 // problem); 3 device or runtime failure (OpenCL, memory, writing outputs); 128+N interrupted by
@@ -6,7 +6,7 @@
 #include "bench/bench.h"
 #include "cl/device.h"
 #include "cli/commands.h"
-#include "fiber/fiber_cli.h"
+#include "cli/fiber_command.h"
 #include "io/image_io.h"
 #include "scene/scene.h"
 
@@ -32,7 +32,7 @@ const char* kTopHelp =
     "  converge SCENE --reference REF.exr --configs ... --spp 1,2,4,...\n"
     "                            error against render time per configuration (CSV + log-log plot)\n"
     "  fiber eval|sample|furnace|afs ...   query the fibre scattering models\n"
-    "  help [COMMAND]            this text, or a command's options (same as COMMAND --help)\n"
+    "  help [COMMAND]            this text, or a command's complete options (same as COMMAND --help)\n"
     "  version                   print the version\n"
     "\n"
     "SCENE is a .gltf/.glb, a Cem Yuksel .hair, a USC-HairSalon .data file, or builtin:strand /\n"
@@ -45,18 +45,26 @@ const char* kTopHelp =
 
 using Command = int (*)(const std::vector<std::string>&);
 
+int bench_command(const std::vector<std::string>& args) {
+    return bench_main(args, [](const std::string& scene) { return load_scene(scene).strands; });
+}
+int fiber_command(const std::vector<std::string>& args) { return fiber_main(args); }
+
+const std::vector<std::pair<std::string, Command>> kCommands = {
+    {"render", cmd_render}, {"merge", cmd_merge},     {"info", cmd_info},   {"devices", cmd_devices},
+    {"bench", bench_command}, {"converge", cmd_converge}, {"fiber", fiber_command},
+};
+
 Command find_command(const std::string& name) {
-    if (name == "render") return cmd_render;
-    if (name == "info") return cmd_info;
-    if (name == "devices") return cmd_devices;
-    if (name == "converge") return cmd_converge;
-    if (name == "merge") return cmd_merge;
-    if (name == "bench")
-        return [](const std::vector<std::string>& a) {
-            return bench_main(a, [](const std::string& scene) { return load_scene(scene).strands; });
-        };
-    if (name == "fiber") return fiber_main;
+    for (const auto& [n, c] : kCommands)
+        if (n == name) return c;
     return nullptr;
+}
+
+UsageError unknown_command(const std::string& name) {
+    std::vector<std::string> names = {"help", "version"};
+    for (const auto& c : kCommands) names.push_back(c.first);
+    return UsageError("unknown command '" + name + "'" + did_you_mean(name, names) + "; hairtrace --help lists them");
 }
 
 int dispatch(const std::vector<std::string>& argv) {
@@ -72,12 +80,19 @@ int dispatch(const std::vector<std::string>& argv) {
         return kExitOk;
     }
     if (name == "help" || name == "--help" || name == "-h") {
-        if (!rest.empty())
-            if (Command c = find_command(rest[0])) return c({"--help"});
-        std::fputs(kTopHelp, stdout);
-        return kExitOk;
+        if (rest.empty()) {
+            std::fputs(kTopHelp, stdout);
+            return kExitOk;
+        }
+        if (Command c = find_command(rest[0])) return c({"--help"});
+        throw unknown_command(rest[0]);
     }
-    throw UsageError("unknown command '" + name + "' (see hairtrace --help)");
+    throw unknown_command(name);
+}
+
+int fail(const std::string& message, int code) {
+    std::fprintf(stderr, "hairtrace: %s\n", message.c_str());
+    return code;
 }
 
 }  // namespace
@@ -86,25 +101,18 @@ int main(int argc, char** argv) {
     try {
         return dispatch(std::vector<std::string>(argv + 1, argv + argc));
     } catch (const UsageError& e) {
-        std::fprintf(stderr, "hairtrace: %s\n", e.what());
-        return kExitUsage;
+        return fail(e.what(), kExitUsage);
     } catch (const SceneError& e) {
-        std::fprintf(stderr, "hairtrace: %s\n", e.what());
-        return kExitUsage;
+        return fail(e.what(), kExitUsage);
     } catch (const DeviceError& e) {
-        std::fprintf(stderr, "hairtrace: %s\n", e.what());
-        return kExitRuntime;
+        return fail(e.what(), kExitRuntime);
     } catch (const ImageError& e) {
-        std::fprintf(stderr, "hairtrace: %s\n", e.what());
-        return kExitRuntime;
+        return fail(e.what(), kExitRuntime);
     } catch (const cl::Error& e) {
-        std::fprintf(stderr, "hairtrace: OpenCL error in %s: %s\n", e.what(), cl_error_name(e.err()).c_str());
-        return kExitRuntime;
+        return fail(std::string("OpenCL error in ") + e.what() + ": " + cl_error_name(e.err()), kExitRuntime);
     } catch (const std::bad_alloc&) {
-        std::fprintf(stderr, "hairtrace: out of host memory\n");
-        return kExitRuntime;
+        return fail("out of host memory", kExitRuntime);
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "hairtrace: %s\n", e.what());
-        return kExitRuntime;
+        return fail(e.what(), kExitRuntime);
     }
 }

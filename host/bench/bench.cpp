@@ -228,26 +228,224 @@ std::vector<std::string> sibling_rays(const std::string& hair) {
 }  // namespace
 
 namespace {
-const char* kBenchHelp =
-    "usage: hairtrace bench [--hair FILE.hair | --scene SCENE]... [--rays FILE.rays]... [options]\n"
-    "BVH build and OpenCL intersection throughput.  With ray files (the Embree anchor's format) every\n"
-    "ray's hit is checked against Embree's stored answer before any rate is printed.\n"
-    "  --hair FILE / --scene SCENE   scenes to measure (default: builtin:strand builtin:ball)\n"
-    "  --rays FILE.rays              ray set for the scene named before it (repeatable); without any,\n"
-    "                                <stem>.{primary,incoherent,shadow}.rays beside a .hair file are\n"
-    "                                used if present, else rays are generated from a framing camera\n"
-    "  --res N                       generated primary rays: N x N (default 1024)\n"
-    "  --reps N                      timed passes per case, median reported (default 5)\n"
-    "  --json                        machine-readable report\n"
-    "  --embree                      also trace every ray set through Embree 3 in this process (same\n"
-    "                                rays, 2 threads, rtcIntersect1/rtcOccluded1) and print the ratio;\n"
-    "                                needs a build with libembree-dev installed\n"
-    "  --device I                    OpenCL device index\n"
-    "  --no-wavefront                skip the per-bounce throughput of a small full render\n"
-    "  --compact                     the memory-lean BVH preset (leaves <= 8)\n"
-    "  --leaf N, --bins N, --cisect X, --split R, --split-depth N   BVH builder parameters\n"
-    "  --options \"...\"              OpenCL build options for the trace kernels\n"
-    "exit codes: 0 ok, 1 hits disagree with the ray file, 2 usage, 3 device failure\n";
+
+// One ray set through the tracer: the hits checked (against the file's stored answers when it has
+// them; `all_ok` becomes false on a disagreement), then timed.
+nlohmann::json measure_ray_set(DeviceTracer& tracer, const SceneGeometry& geo, const RaySet& s, int reps,
+                               EmbreeTracer* embree, bool json_out, bool& all_ok) {
+    nlohmann::json jr;
+    jr["set"] = s.name;
+    jr["rays"] = s.rays.size();
+    jr["source"] = s.reference ? s.reference->path : "generated";
+    tracer.set_rays(s.rays);
+    // Warm-up pass = correctness pass (includes PoCL's JIT of the work-group function).
+    const auto t_first = Clock::now();
+    std::vector<HtHit> hits;
+    std::vector<uint32_t> occ;
+    if (s.shadow) {
+        tracer.enqueue_shadow();
+        tracer.finish();
+    } else {
+        tracer.enqueue_closest();
+        tracer.finish();
+    }
+    jr["first_ms"] = ms_since(t_first);
+    if (s.shadow) tracer.read_occluded(occ);
+    else tracer.read_hits(hits);
+
+    std::string check_line;
+    if (s.shadow) {
+        size_t n_occ = 0;
+        for (uint32_t o : occ) n_occ += o != 0;
+        jr["occluded"] = n_occ;
+        check_line = "occluded " + std::to_string(n_occ);
+    } else {
+        const Checksum c = checksum(geo, hits);
+        jr["hits"] = c.hits;
+        jr["sum_t"] = c.sum_t;
+        jr["sum_segment"] = c.sum_id;
+        char b[160];
+        std::snprintf(b, sizeof b, "hits %zu  sum_t %.3f  sum_segment %llu", c.hits, c.sum_t,
+                      c.sum_id);
+        check_line = b;
+    }
+    std::string agree_line;
+    if (s.reference) {
+        const Agreement a = s.shadow ? compare_occ(occ, *s.reference)
+                                     : compare(geo, hits, *s.reference);
+        const bool ok = a.ok();
+        all_ok = all_ok && ok;
+        jr["embree"] = {{"hitmiss_agree", a.hitmiss}, {"ours_only", a.ours_only},
+                        {"embree_only", a.embree_only}, {"both_hit", a.both},
+                        {"primid_agree", a.prim}, {"t_agree", a.t}, {"ok", ok}};
+        char b[400];
+        if (s.shadow)
+            std::snprintf(b, sizeof b,
+                          "    vs Embree: occlusion %zu/%zu (%s; ours-only %zu, Embree-only %zu)%s",
+                          a.hitmiss, a.n, pct(a.hitmiss, a.n).c_str(), a.ours_only,
+                          a.embree_only, ok ? "" : "  MISMATCH");
+        else
+            std::snprintf(b, sizeof b,
+                          "    vs Embree: hit/miss %zu/%zu (%s; ours-only %zu, Embree-only %zu), "
+                          "primID %s, |dt|<=1e-4max(1,t) %s of %zu both-hit%s",
+                          a.hitmiss, a.n, pct(a.hitmiss, a.n).c_str(), a.ours_only,
+                          a.embree_only, pct(a.prim, a.both).c_str(),
+                          pct(a.t, a.both).c_str(), a.both, ok ? "" : "  MISMATCH");
+        agree_line = b;
+    }
+
+    // Timed passes: warm-up done above; median of reps.
+    std::vector<double> times, cpu;
+    for (int k = 0; k < reps; ++k) {
+        const auto t0 = Clock::now();
+        const double c0 = cpu_ms();
+        if (s.shadow) tracer.enqueue_shadow();
+        else tracer.enqueue_closest();
+        tracer.finish();
+        times.push_back(ms_since(t0));
+        cpu.push_back(cpu_ms() - c0);
+    }
+    const double med = median(times);
+    const double mrays = med > 0 ? s.rays.size() / (med * 1e3) : 0.0;
+    // Throughput per CPU-second: what one core does when it is not shared.
+    const double mrays_cpu = median(cpu) > 0 ? s.rays.size() / (median(cpu) * 1e3) : 0.0;
+    jr["median_ms"] = med;
+    jr["mrays_per_s"] = mrays;
+    jr["mrays_per_cpu_s"] = mrays_cpu;
+    jr["pass_ms"] = times;
+    jr["pass_cpu_ms"] = cpu;
+    double embree_mrays = 0;
+    size_t embree_count = 0;
+    if (embree) {
+        const double ems = embree->trace(s.rays, s.shadow, reps, &embree_count);
+        embree_mrays = ems > 0 ? s.rays.size() / (ems * 1e3) : 0.0;
+        jr["embree_in_process"] = {{"median_ms", ems}, {"mrays_per_s", embree_mrays},
+                                   {s.shadow ? "occluded" : "hits", embree_count},
+                                   {"ratio", embree_mrays > 0 ? mrays / embree_mrays : 0.0}};
+    }
+    if (!json_out) {
+        std::printf("  %-10s %zu rays (%s): %s\n", s.name.c_str(), s.rays.size(),
+                    s.reference ? "anchor .rays" : "generated", check_line.c_str());
+        if (!agree_line.empty()) std::printf("%s\n", agree_line.c_str());
+        std::printf("    %s: %.2f Mrays/s (median of %d, %.1f ms; first pass %.1f ms); "
+                    "%.2f Mrays per CPU-second\n",
+                    s.shadow ? "shadow " : "closest", mrays, reps, med,
+                    jr["first_ms"].get<double>(), mrays_cpu);
+        if (embree)
+            std::printf("    Embree (same process, same rays): %.2f Mrays/s, %s %zu; hairtrace/Embree = %.2f\n",
+                        embree_mrays, s.shadow ? "occluded" : "hits", embree_count,
+                        embree_mrays > 0 ? mrays / embree_mrays : 0.0);
+    }
+    return jr;
+}
+
+// The machine line: what every number of the report was measured on.
+nlohmann::json describe_machine(const ClContext& cl, bool print) {
+    std::string cpu = "unknown CPU";
+    std::ifstream info("/proc/cpuinfo");
+    for (std::string line; std::getline(info, line);)
+        if (line.rfind("model name", 0) == 0) {
+            cpu = line.substr(line.find(':') + 2);
+            break;
+        }
+    const unsigned cores = std::thread::hardware_concurrency();
+    if (print)
+        std::printf("machine: %s, %u cores; OpenCL device %s (%s, driver %s)\n", cpu.c_str(), cores,
+                    cl.info().name.c_str(), cl.info().platform_version.c_str(), cl.info().driver.c_str());
+    return {{"cpu", cpu}, {"cores", cores}, {"device", cl.info().name},
+            {"platform", cl.info().platform_version}, {"driver", cl.info().driver}};
+}
+
+// Wavefront throughput of a small full render of the strands: paths and rays per second per bounce.
+nlohmann::json measure_wavefront(ClContext& cl, const std::string& name, const Strands& strands, bool print) {
+    Scene scene;
+    scene.source = name;
+    scene.strands = strands;
+    scene.materials = {blond_hair_material()};
+    scene.strands.material.assign(scene.strands.strand_count(), 0);
+    ensure_camera_and_light(scene);
+    RenderSettings rs;
+    rs.width = rs.height = 256;
+    rs.spp = 2;
+    rs.max_depth = 5;
+    Renderer renderer(cl, scene, rs);
+    Film film;
+    renderer.render(film);
+    nlohmann::json jb = nlohmann::json::array();
+    if (print) std::printf("  wavefront render 256x256, 2 spp, depth 5 (marschner, blond):\n");
+    for (size_t b = 0; b < renderer.stats().bounces.size(); ++b) {
+        const BounceStats& bs = renderer.stats().bounces[b];
+        const double paths_s = bs.seconds > 0 ? bs.paths / bs.seconds : 0.0;
+        const double rays_s = bs.seconds > 0 ? (bs.paths + bs.shadow_rays) / bs.seconds : 0.0;
+        jb.push_back({{"bounce", b}, {"paths", bs.paths}, {"shadow_rays", bs.shadow_rays},
+                      {"seconds", bs.seconds}, {"paths_per_s", paths_s}, {"rays_per_s", rays_s}});
+        if (print)
+            std::printf("    bounce %zu: %8llu paths %8llu shadow rays  %.3f s  %.2f M paths/s  %.2f M rays/s\n", b,
+                        (unsigned long long)bs.paths, (unsigned long long)bs.shadow_rays, bs.seconds,
+                        paths_s * 1e-6, rays_s * 1e-6);
+    }
+    return {{"width", rs.width}, {"height", rs.height}, {"spp", rs.spp}, {"max_depth", rs.max_depth},
+            {"seconds", renderer.stats().seconds}, {"bounces", jb}};
+}
+
+// What `hairtrace bench` was asked to measure.
+struct BenchRequest {
+    std::vector<SceneArg> scenes;
+    int reps = 5, device = -1, res = 1024;
+    bool json = false, embree = false, wavefront = true;
+    BvhOptions bvh;
+    std::string options;
+};
+
+void declare_bench_options(ArgParser& p) {
+    const BvhOptions d;
+    p.group("scenes")
+        .path("--hair", "FILE.hair", "a Cem Yuksel .hair file to measure", PathKind::Input, "", true)
+        .option("--scene", "SCENE", "a scene to measure (file or builtin:NAME; default: builtin:strand builtin:ball)", "", true)
+        .path("--rays", "FILE.rays", "a ray set (the Embree anchor's format) for the scene named before it; without any, <stem>.{primary,incoherent,shadow}.rays beside a .hair file are used if present, else rays are generated from a framing camera; every hit is checked against the file's stored answers before any rate is printed", PathKind::Input, "", true);
+    p.group("measurement")
+        .option("--res", "N", "generated primary rays: N x N (rounded down to a multiple of 4)", "1024")
+        .option("--reps", "N", "timed passes per case, median reported", "5")
+        .flag("--no-wavefront", "skip the per-bounce throughput of a small full render")
+        .flag("--embree", "also trace every ray set through Embree 3 in this process (same rays, rtcIntersect1/rtcOccluded1) and print the ratio; needs a build with libembree-dev installed")
+        .flag("--json", "machine-readable report");
+    p.group("BVH builder")
+        .flag("--compact", "the memory-lean preset (leaves <= 8, cheap intersections in the SAH); the options below refine it")
+        .option("--leaf", "N", "segments per leaf", std::to_string(d.max_leaf))
+        .option("--bins", "N", "SAH bins per axis", std::to_string(d.bins))
+        .option("--cisect", "X", "SAH cost of a capsule test relative to a node visit", "1.5")
+        .option("--split", "R", "early split clipping: split a segment's box while its halves' area is below R x its own (0: off)", "0")
+        .option("--split-depth", "N", "early split clipping: levels of halving", std::to_string(d.split_depth));
+    p.group("devices")
+        .option("--device", "I", "OpenCL device index (default: first CPU/GPU)")
+        .option("--options", "\"...\"", "OpenCL build options for the trace kernels", DeviceTracer::default_options());
+}
+
+BenchRequest parse_bench_request(const ArgParser& p) {
+    BenchRequest r;
+    for (const auto& [name, value] : p.given()) {
+        if (name == "--hair" || name == "--scene") r.scenes.push_back({value, {}});
+        if (name != "--rays") continue;
+        if (r.scenes.empty()) throw UsageError("bench: --rays must follow the --hair or --scene it belongs to");
+        r.scenes.back().rays.push_back(value);
+    }
+    if (r.scenes.empty()) r.scenes = {{"builtin:strand", {}}, {"builtin:ball", {}}};
+    r.res = p.get_int("--res", 4, 16384) / 4 * 4;
+    r.reps = p.get_int("--reps", 1, 100000);
+    r.wavefront = !p.has("--no-wavefront");
+    r.embree = p.has("--embree");
+    r.json = p.has("--json");
+    if (p.has("--compact")) r.bvh = BvhOptions::compact();
+    if (p.has("--leaf")) r.bvh.max_leaf = p.get_int("--leaf", 1, 1024);
+    if (p.has("--bins")) r.bvh.bins = p.get_int("--bins", 4, 64);
+    if (p.has("--cisect")) r.bvh.c_isect = float(p.get_double("--cisect", 0, 1e6));
+    if (p.has("--split")) r.bvh.split_ratio = float(p.get_double("--split", 0, 1e6));
+    if (p.has("--split-depth")) r.bvh.split_depth = p.get_int("--split-depth", 0, 16);
+    if (p.has("--device")) r.device = p.get_int("--device", 0, 1000);
+    r.options = p.get("--options");
+    return r;
+}
+
 }  // namespace
 
 int bench_main(const std::vector<std::string>& args, const SceneSource& source_in) {
@@ -257,62 +455,27 @@ int bench_main(const std::vector<std::string>& args, const SceneSource& source_i
         throw std::runtime_error("scene '" + name +
                                  "': this build's bench reads only .hair files (pass --hair)");
     });
-    std::vector<SceneArg> scenes;
-    int reps = 5, device = -1, res = 1024;
-    bool json_out = false, with_embree = false, wavefront = true;
-    BvhOptions bopt;
-    std::string options = DeviceTracer::default_options();
-    for (size_t i = 0; i < args.size(); ++i) {
-        const std::string& a = args[i];
-        auto value = [&]() -> std::string {
-            if (i + 1 >= args.size()) throw UsageError("bench: " + a + " needs a value");
-            return args[++i];
-        };
-        if (a == "--help" || a == "-h") {
-            std::printf("%s", kBenchHelp);
-            return 0;
-        }
-        if (a == "--hair" || a == "--scene") scenes.push_back({value(), {}});
-        else if (a == "--rays") {
-            if (scenes.empty()) throw UsageError("bench: --rays must follow --hair/--scene");
-            scenes.back().rays.push_back(value());
-        } else if (a == "--reps") reps = std::max(1, std::stoi(value()));
-        else if (a == "--json") json_out = true;
-        else if (a == "--embree") with_embree = true;
-        else if (a == "--no-wavefront") wavefront = false;
-        else if (a == "--device") device = std::stoi(value());
-        else if (a == "--res") res = std::max(4, std::stoi(value()) / 4 * 4);
-        else if (a == "--compact") bopt = BvhOptions::compact();
-        else if (a == "--split-depth") bopt.split_depth = std::stoi(value());
-        else if (a == "--leaf") bopt.max_leaf = std::max(1, std::stoi(value()));
-        else if (a == "--bins") bopt.bins = std::stoi(value());
-        else if (a == "--cisect") bopt.c_isect = std::stof(value());
-        else if (a == "--split") bopt.split_ratio = std::stof(value());
-        else if (a == "--options") options = value();
-        else throw UsageError("bench: unknown option '" + a + "' (see hairtrace bench --help)");
+    ArgParser p("bench", "BVH build and OpenCL intersection throughput, per scene and ray set; with ray files every ray's\n"
+                         "hit is checked against Embree's stored answer before any rate is printed.");
+    declare_bench_options(p);
+    p.epilog("exit codes: 0 ok, 1 hits disagree with the ray file, 2 usage, 3 device failure");
+    p.parse(args);
+    if (p.wants_help()) {
+        std::printf("%s", p.help().c_str());
+        return 0;
     }
-    if (scenes.empty()) scenes = {{"builtin:strand", {}}, {"builtin:ball", {}}};
+    BenchRequest request = parse_bench_request(p);
+    std::vector<SceneArg>& scenes = request.scenes;
+    const int reps = request.reps, res = request.res;
+    const bool json_out = request.json, with_embree = request.embree, wavefront = request.wavefront;
+    const BvhOptions& bopt = request.bvh;
+    const std::string& options = request.options;
+    const int device = request.device;
 
     nlohmann::json report = nlohmann::json::array();
-    nlohmann::json report_machine;
     bool all_ok = true;
     ClContext cl(device);
-    // The machine line: what every number below was measured on.
-    std::string cpu = "unknown CPU";
-    {
-        std::ifstream info("/proc/cpuinfo");
-        for (std::string line; std::getline(info, line);)
-            if (line.rfind("model name", 0) == 0) {
-                cpu = line.substr(line.find(':') + 2);
-                break;
-            }
-    }
-    const unsigned cores = std::thread::hardware_concurrency();
-    report_machine = {{"cpu", cpu}, {"cores", cores}, {"device", cl.info().name},
-                      {"platform", cl.info().platform_version}, {"driver", cl.info().driver}};
-    if (!json_out)
-        std::printf("machine: %s, %u cores; OpenCL device %s (%s, driver %s)\n", cpu.c_str(), cores,
-                    cl.info().name.c_str(), cl.info().platform_version.c_str(), cl.info().driver.c_str());
+    const nlohmann::json report_machine = describe_machine(cl, !json_out);
 
     for (SceneArg& sa : scenes) {
         nlohmann::json js;
@@ -393,146 +556,10 @@ int bench_main(const std::vector<std::string>& args, const SceneSource& source_i
         }
 
         nlohmann::json jsets = nlohmann::json::array();
-        for (const RaySet& s : sets) {
-            nlohmann::json jr;
-            jr["set"] = s.name;
-            jr["rays"] = s.rays.size();
-            jr["source"] = s.reference ? s.reference->path : "generated";
-            tracer.set_rays(s.rays);
-            // Warm-up pass = correctness pass (includes PoCL's JIT of the work-group function).
-            const auto t_first = Clock::now();
-            std::vector<HtHit> hits;
-            std::vector<uint32_t> occ;
-            if (s.shadow) {
-                tracer.enqueue_shadow();
-                tracer.finish();
-            } else {
-                tracer.enqueue_closest();
-                tracer.finish();
-            }
-            jr["first_ms"] = ms_since(t_first);
-            if (s.shadow) tracer.read_occluded(occ);
-            else tracer.read_hits(hits);
-
-            std::string check_line;
-            if (s.shadow) {
-                size_t n_occ = 0;
-                for (uint32_t o : occ) n_occ += o != 0;
-                jr["occluded"] = n_occ;
-                check_line = "occluded " + std::to_string(n_occ);
-            } else {
-                const Checksum c = checksum(geo, hits);
-                jr["hits"] = c.hits;
-                jr["sum_t"] = c.sum_t;
-                jr["sum_segment"] = c.sum_id;
-                char b[160];
-                std::snprintf(b, sizeof b, "hits %zu  sum_t %.3f  sum_segment %llu", c.hits, c.sum_t,
-                              c.sum_id);
-                check_line = b;
-            }
-            std::string agree_line;
-            if (s.reference) {
-                const Agreement a = s.shadow ? compare_occ(occ, *s.reference)
-                                             : compare(geo, hits, *s.reference);
-                const bool ok = a.ok();
-                all_ok = all_ok && ok;
-                jr["embree"] = {{"hitmiss_agree", a.hitmiss}, {"ours_only", a.ours_only},
-                                {"embree_only", a.embree_only}, {"both_hit", a.both},
-                                {"primid_agree", a.prim}, {"t_agree", a.t}, {"ok", ok}};
-                char b[400];
-                if (s.shadow)
-                    std::snprintf(b, sizeof b,
-                                  "    vs Embree: occlusion %zu/%zu (%s; ours-only %zu, Embree-only %zu)%s",
-                                  a.hitmiss, a.n, pct(a.hitmiss, a.n).c_str(), a.ours_only,
-                                  a.embree_only, ok ? "" : "  MISMATCH");
-                else
-                    std::snprintf(b, sizeof b,
-                                  "    vs Embree: hit/miss %zu/%zu (%s; ours-only %zu, Embree-only %zu), "
-                                  "primID %s, |dt|<=1e-4max(1,t) %s of %zu both-hit%s",
-                                  a.hitmiss, a.n, pct(a.hitmiss, a.n).c_str(), a.ours_only,
-                                  a.embree_only, pct(a.prim, a.both).c_str(),
-                                  pct(a.t, a.both).c_str(), a.both, ok ? "" : "  MISMATCH");
-                agree_line = b;
-            }
-
-            // Timed passes: warm-up done above; median of reps.
-            std::vector<double> times, cpu;
-            for (int k = 0; k < reps; ++k) {
-                const auto t0 = Clock::now();
-                const double c0 = cpu_ms();
-                if (s.shadow) tracer.enqueue_shadow();
-                else tracer.enqueue_closest();
-                tracer.finish();
-                times.push_back(ms_since(t0));
-                cpu.push_back(cpu_ms() - c0);
-            }
-            const double med = median(times);
-            const double mrays = med > 0 ? s.rays.size() / (med * 1e3) : 0.0;
-            // Throughput per CPU-second: what one core does when it is not shared.
-            const double mrays_cpu = median(cpu) > 0 ? s.rays.size() / (median(cpu) * 1e3) : 0.0;
-            jr["median_ms"] = med;
-            jr["mrays_per_s"] = mrays;
-            jr["mrays_per_cpu_s"] = mrays_cpu;
-            jr["pass_ms"] = times;
-            jr["pass_cpu_ms"] = cpu;
-            double embree_mrays = 0;
-            size_t embree_count = 0;
-            if (embree) {
-                const double ems = embree->trace(s.rays, s.shadow, reps, &embree_count);
-                embree_mrays = ems > 0 ? s.rays.size() / (ems * 1e3) : 0.0;
-                jr["embree_in_process"] = {{"median_ms", ems}, {"mrays_per_s", embree_mrays},
-                                           {s.shadow ? "occluded" : "hits", embree_count},
-                                           {"ratio", embree_mrays > 0 ? mrays / embree_mrays : 0.0}};
-            }
-            jsets.push_back(jr);
-            if (!json_out) {
-                std::printf("  %-10s %zu rays (%s): %s\n", s.name.c_str(), s.rays.size(),
-                            s.reference ? "anchor .rays" : "generated", check_line.c_str());
-                if (!agree_line.empty()) std::printf("%s\n", agree_line.c_str());
-                std::printf("    %s: %.2f Mrays/s (median of %d, %.1f ms; first pass %.1f ms); "
-                            "%.2f Mrays per CPU-second\n",
-                            s.shadow ? "shadow " : "closest", mrays, reps, med,
-                            jr["first_ms"].get<double>(), mrays_cpu);
-                if (embree)
-                    std::printf("    Embree (same process, same rays): %.2f Mrays/s, %s %zu; hairtrace/Embree = %.2f\n",
-                                embree_mrays, s.shadow ? "occluded" : "hits", embree_count,
-                                embree_mrays > 0 ? mrays / embree_mrays : 0.0);
-            }
-        }
+        for (const RaySet& s : sets) jsets.push_back(measure_ray_set(tracer, geo, s, reps, embree.get(), json_out, all_ok));
         js["sets"] = jsets;
 
-        // ---- wavefront throughput of a full render: paths and rays per second per bounce
-        if (wavefront) {
-            Scene scene;
-            scene.source = sa.name;
-            scene.strands = strands;
-            scene.materials = {blond_hair_material()};
-            scene.strands.material.assign(scene.strands.strand_count(), 0);
-            ensure_camera_and_light(scene);
-            RenderSettings rs;
-            rs.width = rs.height = 256;
-            rs.spp = 2;
-            rs.max_depth = 5;
-            Renderer renderer(cl, scene, rs);
-            Film film;
-            renderer.render(film);
-            nlohmann::json jb = nlohmann::json::array();
-            if (!json_out) std::printf("  wavefront render 256x256, 2 spp, depth 5 (marschner, blond):\n");
-            for (size_t b = 0; b < renderer.stats().bounces.size(); ++b) {
-                const BounceStats& bs = renderer.stats().bounces[b];
-                const double paths_s = bs.seconds > 0 ? bs.paths / bs.seconds : 0.0;
-                const double rays_s = bs.seconds > 0 ? (bs.paths + bs.shadow_rays) / bs.seconds : 0.0;
-                jb.push_back({{"bounce", b}, {"paths", bs.paths}, {"shadow_rays", bs.shadow_rays},
-                              {"seconds", bs.seconds}, {"paths_per_s", paths_s}, {"rays_per_s", rays_s}});
-                if (!json_out)
-                    std::printf("    bounce %zu: %8llu paths %8llu shadow rays  %.3f s  %.2f M paths/s  %.2f M rays/s\n", b,
-                                (unsigned long long)bs.paths, (unsigned long long)bs.shadow_rays, bs.seconds,
-                                paths_s * 1e-6, rays_s * 1e-6);
-            }
-            js["wavefront"] = {{"width", rs.width}, {"height", rs.height}, {"spp", rs.spp},
-                               {"max_depth", rs.max_depth}, {"seconds", renderer.stats().seconds},
-                               {"bounces", jb}};
-        }
+        if (wavefront) js["wavefront"] = measure_wavefront(cl, sa.name, strands, !json_out);
         report.push_back(js);
     }
     if (json_out) std::printf("%s\n", nlohmann::json{{"machine", report_machine}, {"scenes", report}}.dump(2).c_str());

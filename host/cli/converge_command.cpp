@@ -2,6 +2,8 @@
 // configurations side by side -- the run-time-against-error (Pareto) view of the renderer.
 #include "cl/device.h"
 #include "cli/commands.h"
+#include "cli/render_request.h"
+#include "cl/kernel_source.h"
 #include "io/image_io.h"
 #include "io/plot.h"
 #include "render/error_metrics.h"
@@ -20,9 +22,10 @@ namespace ht {
 
 namespace {
 
+// One curve of the plot: the shared request with a configuration's keys applied.
 struct ConvergeConfig {
     std::string label;
-    std::map<std::string, std::string> keys;
+    ImageRequest request;
 };
 
 std::vector<std::string> split(const std::string& s, char sep) {
@@ -34,20 +37,23 @@ std::vector<std::string> split(const std::string& s, char sep) {
     return out;
 }
 
-// "model=zinke,depth=5;model=marschner,depth=1"
-std::vector<ConvergeConfig> parse_configs(const std::string& text) {
+// "model=zinke,depth=5;model=marschner,depth=1": each key means what its render option means
+// (model = --model, depth = --max-depth, indirect = --indirect, field = --fiber-field), on top of
+// the options given on the command line.
+std::vector<ConvergeConfig> parse_configs(const std::string& text, const ImageRequest& base) {
     static const std::vector<std::string> known = {"model", "depth", "indirect", "field"};
     std::vector<ConvergeConfig> out;
     for (auto& c : split(text, ';')) {
-        ConvergeConfig cfg;
-        cfg.label = c;
+        ConvergeConfig cfg{c, base};
+        ImageRequest& r = cfg.request;
         for (auto& kv : split(c, ',')) {
             auto eq = kv.find('=');
             if (eq == std::string::npos) throw UsageError("--configs: '" + kv + "' is not key=value");
-            std::string k = kv.substr(0, eq), v = kv.substr(eq + 1);
-            if (std::find(known.begin(), known.end(), k) == known.end())
-                throw UsageError("--configs: unknown key '" + k + "' (known: model, depth, indirect, field)");
-            cfg.keys[k] = v;
+            const std::string k = require_choice("--configs key", kv.substr(0, eq), known), v = kv.substr(eq + 1);
+            if (k == "model") r.model = require_choice("--configs model", v, fiber_model_names());
+            if (k == "depth") r.max_depth = parse_int("--configs depth", v, 1, 1000);
+            if (k == "indirect") r.indirect = require_choice("--configs indirect", v, indirect_mode_names());
+            if (k == "field") r.fiber_field = parse_fiber_field("--configs field", v);
         }
         out.push_back(cfg);
     }
@@ -96,8 +102,8 @@ int replot(const std::string& csv_path, const std::string& png, const std::strin
             s.color = plot_color(plot.series.size());
             plot.series.push_back(s);
         }
-        plot.series.back().x.push_back(std::stod(fields[1]));
-        plot.series.back().y.push_back(std::stod(fields[2]));
+        plot.series.back().x.push_back(parse_double("--replot " + csv_path + " seconds", fields[1], 0, 1e30));
+        plot.series.back().y.push_back(parse_double("--replot " + csv_path + " rmse", fields[2], 0, 1e30));
     }
     write_plot_png(png, plot);
     return kExitOk;
@@ -106,39 +112,29 @@ int replot(const std::string& csv_path, const std::string& png, const std::strin
 }  // namespace
 
 int cmd_converge(const std::vector<std::string>& args) {
-    ArgParser p("converge");
-    p.positional("SCENE", "scene file or builtin:NAME");
-    p.option("--reference", "REF", "linear reference image (EXR) of the same size")
-        .option("--configs", "LIST", "configurations separated by ';', each key=value pairs separated by ','; keys: model (kajiya|marschner|zinke|chiang), depth (bounces), indirect (exact|afs; afs without depth means depth 1), field (near|far|auto|material)", "depth=1")
+    ArgParser p("converge", "Error against a reference as a function of render time, one curve per configuration:\n"
+                            "a CSV of the measurements and a log-log plot.");
+    p.group("convergence")
+        .path("--reference", "REF", "linear reference image (EXR) of the same size", PathKind::Input)
+        .option("--configs", "LIST", "configurations separated by ';', each key=value pairs separated by ','; keys as the render options: model (--model), depth (--max-depth), indirect (--indirect), field (--fiber-field)", "depth=1")
         .option("--spp", "LIST", "increasing sample counts at which the error is measured", "1,2,4,8,16,32")
-        .option("--width", "W", "image width (must match the reference)", "256")
-        .option("--height", "H", "image height (must match the reference)", "256")
-        .option("--seed", "S", "random seed", "1")
-        .option("--csv", "FILE", "write config,spp,seconds,rmse,relmse,max_error,nonfinite rows", "converge.csv")
-        .option("--png", "FILE", "log-log plot of RMSE against render time", "converge.png")
-        .option("--device", "I", "OpenCL device index")
-        .option("--replot", "CSV", "only redraw --png from a CSV this command wrote earlier (no rendering)");
-    add_scene_options(p);
-    p.flag("--quiet", "no progress on stderr").flag("--help", "this help");
+        .path("--csv", "FILE", "write config,spp,seconds,rmse,relmse,max_error,nonfinite rows", PathKind::Csv, "converge.csv")
+        .path("--png", "FILE", "log-log plot of RMSE against render time", PathKind::Image, "converge.png")
+        .path("--replot", "CSV", "only redraw --png from a CSV this command wrote earlier (no rendering)", PathKind::Input);
+    add_render_options(p, RenderCommand::Converge);
     p.parse(args);
-    if (p.has("--help")) { std::cout << p.help(); return kExitOk; }
+    if (p.wants_help()) { std::cout << p.help(); return kExitOk; }
     if (p.has("--replot")) return replot(p.get("--replot"), p.get("--png"), p.get("SCENE"));
     if (!p.has("--reference")) throw UsageError("converge: --reference REF.exr is required");
-    auto configs = parse_configs(p.get("--configs"));
-    auto spps = parse_spp_list(p.get("--spp"));
+    const ImageRequest base = parse_image_request(p);
+    if (base.devices.all || base.devices.indices.size() > 1) throw UsageError("converge: --device takes one device index");
+    const auto configs = parse_configs(p.get("--configs"), base);
+    const auto spps = parse_spp_list(p.get("--spp"));
     const bool quiet = p.has("--quiet");
-    int rw, rh;
-    auto reference = read_rgb_image(p.get("--reference"), rw, rh);
-    RenderSettings base;
-    base.width = p.get_int("--width", 1, 16384);
-    base.height = p.get_int("--height", 1, 16384);
-    if (rw != base.width || rh != base.height)
-        throw UsageError("--reference is " + std::to_string(rw) + "x" + std::to_string(rh) + ", the renders are " +
-                         std::to_string(base.width) + "x" + std::to_string(base.height));
-    base.seed = uint32_t(p.get_int("--seed", 0, 2147483647));
-    Scene scene = load_scene(p.get("SCENE"), scene_load_options(p));
-    ensure_camera_and_light(scene);
-    ClContext cl(p.has("--device") ? p.get_int("--device", 0, 1000) : -1);
+    const auto reference = read_reference_image(p.get("--reference"), base.settings.width, base.settings.height);
+    if (!base.kernel_dir.empty()) set_kernel_dir(base.kernel_dir);
+    const Scene scene = load_scene(base.scene, base.load);
+    ClContext cl(device_indices(base.devices).front());
 
     std::ofstream csv(p.get("--csv"));
     if (!csv) throw ImageError(p.get("--csv") + ": cannot write");
@@ -147,24 +143,8 @@ int cmd_converge(const std::vector<std::string>& args) {
     for (size_t ci = 0; ci < configs.size(); ++ci) {
         const ConvergeConfig& cfg = configs[ci];
         Scene s = scene;
-        RenderSettings rs = base;
-        if (cfg.keys.count("model")) apply_model_override(s, cfg.keys.at("model"));
-        if (cfg.keys.count("depth")) {
-            char* end = nullptr;
-            long d = std::strtol(cfg.keys.at("depth").c_str(), &end, 10);
-            if (*end || d < 1 || d > 1000) throw UsageError("--configs: depth must be 1..1000");
-            rs.max_depth = int(d);
-        }
-        if (cfg.keys.count("indirect")) {
-            const std::string& v = cfg.keys.at("indirect");
-            if (v == "afs") {
-                rs.indirect = RenderSettings::Indirect::Afs;
-                if (!cfg.keys.count("depth")) rs.max_depth = 1;
-            } else if (v != "exact") {
-                throw UsageError("--configs: indirect must be exact or afs, got '" + v + "'");
-            }
-        }
-        if (cfg.keys.count("field")) rs.fiber_field = parse_fiber_field("--configs field", cfg.keys.at("field"));
+        apply_scene_overrides(s, cfg.request);
+        RenderSettings rs = resolve_settings(s, cfg.request);
         rs.spp = spps.back();
         Renderer r(cl, s, rs);
         Film film;

@@ -22,12 +22,12 @@ const char* wrap_name(TextureWrap w) {
 }  // namespace
 
 int cmd_info(const std::vector<std::string>& args) {
-    ArgParser p("info");
-    p.positional("SCENE", "scene file or builtin:NAME");
+    ArgParser p("info", "Strands, points, segments, bounds, materials, textures, lights and BVH statistics of a scene.");
+    p.positional("SCENE", "scene file (.gltf/.glb, .hair, .data) or builtin:NAME");
     add_scene_options(p);
-    p.flag("--json", "machine-readable output").flag("--help", "this help");
+    p.flag("--json", "machine-readable output");
     p.parse(args);
-    if (p.has("--help")) { std::cout << p.help(); return kExitOk; }
+    if (p.wants_help()) { std::cout << p.help(); return kExitOk; }
     Scene scene = load_scene(p.get("SCENE"), scene_load_options(p));
     SceneGeometry g = build_geometry(scene);
     Bounds b = scene_bounds(scene);
@@ -87,10 +87,10 @@ int cmd_info(const std::vector<std::string>& args) {
 }
 
 int cmd_devices(const std::vector<std::string>& args) {
-    ArgParser p("devices");
-    p.flag("--json", "machine-readable output").flag("--help", "this help");
+    ArgParser p("devices", "The OpenCL platforms and devices, with the indices render --device takes.");
+    p.flag("--json", "machine-readable output");
     p.parse(args);
-    if (p.has("--help")) { std::cout << p.help(); return kExitOk; }
+    if (p.wants_help()) { std::cout << p.help(); return kExitOk; }
     auto devs = list_devices();
     if (p.has("--json")) {
         nlohmann::json j = nlohmann::json::array();

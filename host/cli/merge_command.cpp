@@ -5,6 +5,7 @@
 // have written.  The parts must come from the same render (same render key, size, seed, spp,
 // chunk), be disjoint and together cover [0, spp); anything else is reported and exits 2.
 #include "cli/commands.h"
+#include "cli/path_checks.h"
 #include "dist/accumulation.h"
 #include "dist/partial_image.h"
 #include "io/image_io.h"
@@ -23,35 +24,23 @@ struct Located {
 }  // namespace
 
 int cmd_merge(const std::vector<std::string>& args) {
-    ArgParser p("merge");
-    p.option("-o", "OUT", "merged image; the extension picks the format (.exr linear float, .png sRGB 8-bit)", "", true)
+    ArgParser p("merge", "Combines the partial renders of `hairtrace render --sample-range A:B` exactly: the result is\n"
+                         "bit for bit the image one render of all the samples would have written.");
+    p.positional("PART", "a part's .exr, as render --sample-range wrote it", Arity::Many)
+        .path("-o", "OUT", "merged image; the extension picks the format (.exr linear float, .png sRGB 8-bit)", PathKind::Image, "", true)
         .option("--exposure", "E|auto", "multiplier applied before tone mapping 8-bit outputs; auto maps the 95th percentile of lit pixels to 0.8", "auto")
         .flag("--quiet", "no report on stderr")
-        .flag("--help", "this help");
-    // The parts are any number of positional arguments; ArgParser takes a fixed list, so split
-    // them off first (every option of this command but the flags takes one value).
-    std::vector<std::string> parts, rest;
-    for (size_t i = 0; i < args.size(); ++i) {
-        const std::string& a = args[i];
-        if (a == "-o" || a == "--exposure") {
-            rest.push_back(a);
-            if (i + 1 < args.size()) rest.push_back(args[++i]);
-        } else if (!a.empty() && a[0] == '-') {
-            rest.push_back(a);
-        } else {
-            parts.push_back(a);
-        }
-    }
-    p.parse(rest);
-    if (p.has("--help")) {
-        std::cout << "usage: hairtrace merge PART.exr... -o OUT.exr [-o OUT.png]\n"
-                  << "combines the partial renders of `hairtrace render --sample-range A:B` exactly\n\n"
-                  << p.help() << "exit codes: 0 ok, 2 parts missing, overlapping or from different renders, 3 write failure\n";
+        .epilog("exit codes: 0 ok, 2 parts missing, overlapping or from different renders, 3 write failure");
+    p.parse(args);
+    if (p.wants_help()) {
+        std::cout << p.help();
         return kExitOk;
     }
-    if (parts.empty()) throw UsageError("merge: no parts given (hairtrace merge PART.exr... -o OUT.exr)");
-    auto outputs = p.all("-o");
+    const std::vector<std::string> parts = p.all("PART");
+    for (const std::string& part : parts) check_path("merge: PART", part, PathKind::Input);
+    const auto outputs = p.all("-o");
     if (outputs.empty()) throw UsageError("merge: no output given (-o OUT.exr and/or -o OUT.png)");
+    const std::optional<double> fixed_exposure = p.get_double_or("--exposure", "auto", 0, 1e9);
     const bool quiet = p.has("--quiet");
 
     std::vector<Located> all;
@@ -113,8 +102,7 @@ int cmd_merge(const std::vector<std::string>& args) {
     meta.text["hairtrace:version"] = HT_VERSION;
     meta.text["hairtrace:scene"] = first.scene;
     meta.text["hairtrace:render_key"] = hex64(first.render_key);
-    const bool auto_expose = p.get("--exposure") == "auto";
-    const float exposure = auto_expose ? auto_exposure(film) : float(p.get_double("--exposure", 0, 1e9));
+    const float exposure = fixed_exposure ? float(*fixed_exposure) : auto_exposure(film);
     for (auto& o : outputs) {
         write_image(o, film, meta, exposure);
         if (!quiet) std::fprintf(stderr, "wrote %s (%zu parts, %d spp)\n", o.c_str(), parts.size(), grid.spp);

@@ -13,7 +13,8 @@
 
 #include "cl/device.h"
 #include "fiber/afs_quadrature.h"
-#include "fiber/fiber_cli.h"
+#include "fiber/fiber_query_runner.h"
+#include "cli/fiber_command.h"
 #include "fiber/material.h"
 #include "kernels/fiber/bcsdf.h"
 #include "kernels/fiber/query.h"
@@ -39,15 +40,7 @@ bool run_kernel(QueryBatch& r, const char* name) {
     try {
         ClContext ctx;
         cl::Program prog = ctx.build("fiber/fiber_query.cl", "-cl-std=CL1.2");
-        cl::Kernel k(prog, name);
-        cl::Buffer bm(ctx.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, r.mats.size() * sizeof(HtMaterial), r.mats.data());
-        cl::Buffer bq(ctx.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, r.qs.size() * sizeof(HtFiberQuery), r.qs.data());
-        cl::Buffer bo(ctx.context(), CL_MEM_WRITE_ONLY, r.qs.size() * sizeof(HtFiberResult));
-        cl_uint n = (cl_uint)r.qs.size();
-        k.setArg(0, bm); k.setArg(1, bq); k.setArg(2, bo); k.setArg(3, n);
-        ctx.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up(n, 64)), cl::NDRange(64));
-        r.out.resize(n);
-        ctx.queue().enqueueReadBuffer(bo, CL_TRUE, 0, n * sizeof(HtFiberResult), r.out.data());
+        r.out = run_fiber_queries(ctx, prog, name, r.mats, r.qs);
         return true;
     } catch (const DeviceError& e) {
         std::printf("no OpenCL device: %s\n", e.what());

@@ -77,15 +77,24 @@ TEST(Failure, MissingTextureImageExits2NamingTheFiles) {
     EXPECT_FALSE(fs::exists(d / "x.exr"));
 }
 
+// A tmpfs of `bytes` mounted on `path` for the scope (root only: mounted() is false otherwise).
+struct SmallDisk {
+    fs::path path;
+    bool mounted = false;
+    SmallDisk(fs::path p, const std::string& size) : path(std::move(p)) {
+        fs::create_directories(path);
+        mounted = ::mount("tmpfs", path.c_str(), "tmpfs", 0, ("size=" + size).c_str()) == 0;
+    }
+    ~SmallDisk() {
+        if (mounted) ::umount(path.c_str());
+    }
+};
+
 TEST(Failure, FullDiskKeepsThePreviousImage) {
     TempDir d("ht_fail_");
-    fs::path mnt = d.path / "small_fs";
-    fs::create_directories(mnt);
-    if (::mount("tmpfs", mnt.c_str(), "tmpfs", 0, "size=96k") != 0) GTEST_SKIP() << "cannot mount a tmpfs here (not root?)";
-    struct Unmount {
-        fs::path p;
-        ~Unmount() { ::umount(p.c_str()); }
-    } unmount{mnt};
+    SmallDisk disk(d.path / "small_fs", "96k");
+    if (!disk.mounted) GTEST_SKIP() << "cannot mount a tmpfs here (not root?)";
+    const fs::path& mnt = disk.path;
     // a previous, small image
     ASSERT_EQ(run(kBin + kSmall + " -o " + (mnt / "img.exr").string()), 0);
     std::string before = slurp((mnt / "img.exr").string());
@@ -104,6 +113,21 @@ TEST(Failure, FullDiskKeepsThePreviousImage) {
     EXPECT_NE(slurp(d / "err.txt").find("img.exr"), std::string::npos) << slurp(d / "err.txt");
     for (auto& e : fs::directory_iterator(mnt))
         EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << "left a temporary file: " << e.path();
+}
+
+// The final checkpoint is written after the images: a checkpoint that cannot be written (a full
+// disk the start-up check cannot foresee) fails the run but keeps the images.
+TEST(Failure, ImagesSurviveACheckpointThatCannotBeWritten) {
+    TempDir d("ht_fail_");
+    SmallDisk disk(d.path / "small_fs", "16k");
+    if (!disk.mounted) GTEST_SKIP() << "cannot mount a tmpfs here (not root?)";
+    const std::string cmd = kBin + " render 'builtin:strand?hairs=60&segments=8' --width 64 --height 64 --spp 1 --quiet -o " +
+                            (d / "x.exr") + " -o " + (d / "x.png") + " --checkpoint " + (disk.path / "c.ckpt").string() +
+                            " 2>" + (d / "err.txt");
+    EXPECT_EQ(run(cmd), 3);
+    EXPECT_NE(slurp(d / "err.txt").find("c.ckpt"), std::string::npos) << slurp(d / "err.txt");
+    EXPECT_TRUE(fs::exists(d / "x.exr"));
+    EXPECT_TRUE(fs::exists(d / "x.png"));
 }
 #endif
 

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "cl/device.h"
+#include "fiber/fiber_query_runner.h"
 #include "fiber/material.h"
 #include "kernels/fiber/bcsdf.h"
 #include "kernels/fiber/query.h"
@@ -214,15 +215,7 @@ TEST(FiberStress, RandomAndEdgeQueriesOpenClFloat) {
         ClContext ctx;
         cl::Program prog = ctx.build("fiber/fiber_query.cl", "-cl-std=CL1.2");
         for (const char* kname : {"fiber_eval", "fiber_sample"}) {
-            cl::Kernel k(prog, kname);
-            cl::Buffer bm(ctx.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, mats.size() * sizeof(HtMaterial), mats.data());
-            cl::Buffer bq(ctx.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, qs.size() * sizeof(HtFiberQuery), qs.data());
-            cl::Buffer bo(ctx.context(), CL_MEM_WRITE_ONLY, qs.size() * sizeof(HtFiberResult));
-            cl_uint cn = (cl_uint)qs.size();
-            k.setArg(0, bm); k.setArg(1, bq); k.setArg(2, bo); k.setArg(3, cn);
-            ctx.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up(cn, 64)), cl::NDRange(64));
-            std::vector<HtFiberResult> out(cn);
-            ctx.queue().enqueueReadBuffer(bo, CL_TRUE, 0, cn * sizeof(HtFiberResult), out.data());
+            const std::vector<HtFiberResult> out = run_fiber_queries(ctx, prog, kname, mats, qs);
             for (const HtFiberResult& r : out) {
                 bool ok = std::isfinite(r.pdf) && r.pdf >= 0;
                 for (int c = 0; c < 3; ++c) ok = ok && std::isfinite(r.value[c]) && r.value[c] >= 0 && std::isfinite(r.wi[c]);

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "fiber/fiber_cli.h"
+#include "cli/fiber_command.h"
 
 namespace {
 int run(const std::vector<std::string>& args, const std::string& in, std::string& out, std::string& err) {
@@ -71,4 +71,22 @@ TEST(FiberCli, SampleFurnaceAfs) {
     EXPECT_EQ(run({"furnace", "--model", "chiang", "--beta-m", "7"}, "", out, err), 2);
     EXPECT_NE(err.find("beta_m"), std::string::npos);
     EXPECT_EQ(run({"bogus"}, "", out, err), 2);
+}
+
+TEST(FiberCli, HelpForEverySubcommandAndBadValuesNamed) {
+    std::string out, err;
+    EXPECT_EQ(run({"--help"}, "", out, err), 0);
+    EXPECT_NE(out.find("furnace"), std::string::npos) << out;
+    for (const char* sub : {"eval", "sample", "furnace", "afs"}) {
+        EXPECT_EQ(run({sub, "--help"}, "", out, err), 0) << sub << ": " << err;
+        EXPECT_NE(out.find(std::string("usage: hairtrace fiber ") + sub), std::string::npos) << out;
+    }
+    EXPECT_EQ(run({"eval", "--precision", "half"}, "", out, err), 2);
+    EXPECT_NE(err.find("--precision must be double or float, got 'half'"), std::string::npos) << err;
+    EXPECT_EQ(run({"furnace", "--model", "chiang", "--nh", "many"}, "", out, err), 2);
+    EXPECT_NE(err.find("--nh expects an integer"), std::string::npos) << err;
+    EXPECT_EQ(run({"afs", "--eta", "1.5", "--sigma-a", "0.1", "--theta", "0"}, "", out, err), 2);
+    EXPECT_NE(err.find("did you mean --theta-deg?"), std::string::npos) << err;
+    EXPECT_EQ(run({"evl"}, "", out, err), 2);
+    EXPECT_NE(err.find("did you mean eval?"), std::string::npos) << err;
 }

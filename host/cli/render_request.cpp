@@ -1,0 +1,253 @@
+#include "cli/render_request.h"
+
+#include "cl/device.h"
+#include "cli/commands.h"
+#include "io/image_io.h"
+#include "kernels/types.h"
+#include "render/depth_choice.h"
+#include "render/memory_plan.h"
+
+#include <algorithm>
+#include <sstream>
+
+namespace ht {
+
+namespace {
+
+enum Uses { kRender = 1, kConverge = 2, kBoth = 3 };
+enum class Kind { Flag, Value, InputFile, InputFolder, Images, Checkpoint };
+
+struct OptionRow {
+    const char* group;
+    const char* name;
+    const char* value;  // the value's form in --help
+    const char* help;
+    const char* default_value;
+    Kind kind;
+    int uses;
+};
+
+// Every option of render and converge besides the scene-loading ones, grouped as --help shows
+// them.  A new option is one row here and one line in parse_image_request/parse_render_request.
+const OptionRow kOptions[] = {
+    {"output", "-o", "OUT", "output image; the extension picks the format (.exr/.hdr/.tif linear float, .png/.jpg sRGB 8-bit)", "", Kind::Images, kRender},
+    {"output", "--exposure", "E|auto", "multiplier applied before tone mapping 8-bit outputs; auto maps the 95th percentile of lit pixels to 0.8 (linear outputs are never scaled)", "auto", Kind::Value, kRender},
+
+    {"sampling", "--width", "W", "image width in pixels", "512", Kind::Value, kRender},
+    {"sampling", "--height", "H", "image height in pixels", "512", Kind::Value, kRender},
+    {"sampling", "--width", "W", "image width in pixels (must match the reference)", "256", Kind::Value, kConverge},
+    {"sampling", "--height", "H", "image height in pixels (must match the reference)", "256", Kind::Value, kConverge},
+    {"sampling", "--spp", "N", "samples per pixel (hair-to-hair light through narrow fibre lobes sparkles below ~64)", "64", Kind::Value, kRender},
+    {"sampling", "--seed", "S", "random seed; the image depends only on seed, spp, scene and options", "1", Kind::Value, kBoth},
+    {"sampling", "--chunk", "K", "samples per chunk: the image is the sum of K-sample chunk films added in chunk order, which every split (devices, MPI ranks, --sample-range parts) reproduces exactly; K >= spp is the plain sequential sum", "16", Kind::Value, kRender},
+    {"sampling", "--sample-range", "A:B", "render-farm part: render samples [A, B) of --spp only (A, B multiples of --chunk or B = spp); the .exr output then holds the raw sums for `hairtrace merge`", "", Kind::Value, kRender},
+
+    {"light transport", "--max-depth", "D|auto", "path length in fibre bounces (1 = direct light only); auto: from the materials' averaged attenuation (AFS_TT^avg^D < 0.2, Zinke 2004 §5)", "auto", Kind::Value, kBoth},
+    {"light transport", "--indirect", "exact|afs|none", "hair-to-hair light: exact = path traced to --max-depth; afs = traced to --max-depth (auto: 1), then the paper's averaged attenuation: the last bounce's shadow rays cross hair with AFS_TT^avg per fibre; none = direct light with opaque hair (depth 1)", "exact", Kind::Value, kBoth},
+    {"light transport", "--model", "kajiya|marschner|zinke|chiang", "override every material's fibre model", "", Kind::Value, kBoth},
+    {"light transport", "--fiber-field", "near|far|auto|material", "for marschner/zinke materials: near field (zinke) everywhere, far field (marschner) everywhere, or auto: near where a fibre covers at least half a camera pixel's footprint and for hair-to-hair light, far elsewhere; with --model and no --fiber-field: material", "auto", Kind::Value, kBoth},
+    {"light transport", "--features", "scene|all|all-lobes", "what the kernels are compiled with: what the scene needs (lights, models, meshes, fibre lobes above 1e-3 of R's energy for some material; --verbose lists them), everything, or the scene's choice with every lobe kept (A/B comparisons)", "scene", Kind::Value, kBoth},
+    {"light transport", "--clamp-indirect", "C|off", "cap the contribution of every light path that scattered at two or more surfaces at C (radiance, largest rgb channel, hue kept): fewer sparkles at low sample counts at the cost of a bias that must be measured per scene (builtin:strand, irradiance 1: C = 3 removes 2.8 % of the light, C = 1 14.5 %)", "off", Kind::Value, kBoth},
+    {"light transport", "--spawn-offset", "capsule|pbrt", "where rays leaving a fibre start: just outside its capsule, or 1-1.73 fibre diameters off it along the normal as pbrt-v4 offsets its curves' rays (a diagnostic for comparing with pbrt renders: rays then skip the nearest neighbours; docs/ESTIMATOR.md)", "capsule", Kind::Value, kBoth},
+    {"light transport", "--regularize", "DEG|off", "path regularisation: where a path meets hair after a first scattering, widen the marschner/zinke lobes to at least DEG degrees (longitudinal widths and zinke's azimuthal spread); bright two-lobe sparkles become a blur of indirect highlights (biased; measured in docs/PERFORMANCE.md)", "off", Kind::Value, kBoth},
+
+    {"scene overrides", "--sigma-a", "R,G,B", "override every hair material's absorption: sigma_a per unit radius (replaces melanin or colour)", "", Kind::Value, kBoth},
+    {"scene overrides", "--background", "R,G,B", "uniform environment radiance, found by the fibres' own sampling (uniform light directions would rarely meet narrow lobes: no next-event estimation); replaces the scene's", "", Kind::Value, kBoth},
+    {"scene overrides", "--environment", "FILE", "lat-long HDR environment map (.exr/.hdr, +y up); replaces the scene's", "", Kind::InputFile, kBoth},
+    {"scene overrides", "--environment-intensity", "K", "multiplier for the environment", "1", Kind::Value, kBoth},
+
+    {"long renders", "--time-limit", "SECONDS", "stop after the sample that crosses this wall time (0 = none)", "0", Kind::Value, kRender},
+    {"long renders", "--checkpoint", "FILE", "write the progressive state to FILE (atomically) every --checkpoint-every seconds, at the end (after the images) and on SIGINT/SIGTERM", "", Kind::Checkpoint, kRender},
+    {"long renders", "--checkpoint-every", "SECONDS", "checkpoint interval", "60", Kind::Value, kRender},
+    {"long renders", "--resume", "FILE", "continue a render from a checkpoint (same scene, options and seed)", "", Kind::Value, kRender},
+
+    {"devices", "--device", "I|I,J,..|all", "OpenCL device index from `hairtrace devices` (default: first CPU/GPU); several devices split the chunks between them (one host thread each, work stealing), with the same image", "", Kind::Value, kBoth},
+    {"devices", "--max-memory", "SIZE", "upper bound for host memory while loading and for device memory while rendering, e.g. 512M or 8G; inputs that need more are refused before allocating, with the size named", "", Kind::Value, kBoth},
+    {"devices", "--kernel-dir", "DIR", "load kernel sources from DIR instead of the embedded copies", "", Kind::InputFolder, kBoth},
+
+    {"reporting", "--reference", "REF", "linear image to compare with: prints RMSE, relMSE, max error, NaN count", "", Kind::InputFile, kRender},
+    {"reporting", "--verbose", "", "print the kernel features chosen for the scene and the build options", "", Kind::Flag, kRender},
+    {"reporting", "--profile", "", "time every stage kernel separately and print the split (slows the render a little)", "", Kind::Flag, kRender},
+    {"reporting", "--quiet", "", "no progress output on stderr", "", Kind::Flag, kBoth},
+};
+
+void declare(ArgParser& p, const OptionRow& row) {
+    p.group(row.group);
+    switch (row.kind) {
+    case Kind::Flag: p.flag(row.name, row.help); break;
+    case Kind::Value: p.option(row.name, row.value, row.help, row.default_value); break;
+    case Kind::InputFile: p.path(row.name, row.value, row.help, PathKind::Input); break;
+    case Kind::InputFolder: p.path(row.name, row.value, row.help, PathKind::InputFolder); break;
+    case Kind::Images: p.path(row.name, row.value, row.help, PathKind::Image, "", true); break;
+    case Kind::Checkpoint: p.path(row.name, row.value, row.help, PathKind::AnyOutput); break;
+    }
+}
+
+DeviceChoice parse_device_choice(const ArgParser& p) {
+    DeviceChoice choice;
+    if (!p.has("--device")) return choice;
+    const std::string v = p.get("--device");
+    if (v == "all") {
+        choice.all = true;
+        return choice;
+    }
+    const UsageError bad = p.error("--device", "must be an index, a list like 0,2, or all; got '" + v + "'");
+    std::stringstream ss(v);
+    for (std::string item; std::getline(ss, item, ',');) {
+        if (item.empty() || item.find_first_not_of("0123456789") != std::string::npos || item.size() > 4) throw bad;
+        const int d = std::stoi(item);
+        if (std::count(choice.indices.begin(), choice.indices.end(), d))
+            throw p.error("--device", v + ": device " + item + " is listed twice");
+        choice.indices.push_back(d);
+    }
+    if (choice.indices.empty()) throw bad;
+    return choice;
+}
+
+FeatureMode feature_mode(const std::string& word) {
+    if (word == "all") return FeatureMode::All;
+    if (word == "all-lobes") return FeatureMode::AllLobes;
+    return FeatureMode::Scene;
+}
+
+}  // namespace
+
+const std::vector<std::string>& fiber_model_names() {
+    static const std::vector<std::string> names = {"kajiya", "marschner", "zinke", "chiang"};
+    return names;
+}
+
+const std::vector<std::string>& indirect_mode_names() {
+    static const std::vector<std::string> names = {"exact", "afs", "none"};
+    return names;
+}
+
+void add_render_options(ArgParser& p, RenderCommand command) {
+    p.positional("SCENE", "scene file (.gltf/.glb, .hair, .data) or builtin:NAME");
+    const int use = command == RenderCommand::Render ? kRender : kConverge;
+    for (const OptionRow& row : kOptions)
+        if (row.uses & use) declare(p, row);
+    p.group("scene");
+    add_scene_options(p);
+}
+
+ImageRequest parse_image_request(const ArgParser& p) {
+    ImageRequest r;
+    r.scene = p.get("SCENE");
+    r.load = scene_load_options(p);
+    RenderSettings& s = r.settings;
+    s.width = p.get_int("--width", 1, 16384);
+    s.height = p.get_int("--height", 1, 16384);
+    s.seed = uint32_t(p.get_int("--seed", 0, 2147483647));
+    if (p.has("--model")) r.model = p.get_choice("--model", fiber_model_names());
+    if (p.has("--sigma-a")) r.sigma_a = parse_rgb("--sigma-a", p.get("--sigma-a"));
+    r.max_depth = p.get_int_or("--max-depth", "auto", 1, 1000);
+    r.indirect = p.get_choice("--indirect", indirect_mode_names());
+    if (r.indirect == "none" && r.max_depth && *r.max_depth != 1)
+        throw UsageError("--indirect none renders direct light only; it contradicts --max-depth " + p.get("--max-depth"));
+    if (p.has("--fiber-field")) r.fiber_field = parse_fiber_field("--fiber-field", p.get("--fiber-field"));
+    s.features = feature_mode(p.get_choice("--features", {"scene", "all", "all-lobes"}));
+    s.clamp_indirect = float(p.get_double_or("--clamp-indirect", "off", 1e-30, 3.0e38).value_or(0.0));
+    s.regularize_deg = float(p.get_double_or("--regularize", "off", 0.1, 90).value_or(0.0));
+    if (p.get_choice("--spawn-offset", {"capsule", "pbrt"}) == "pbrt") s.spawn_offset = RenderSettings::SpawnOffset::Pbrt;
+    if (p.has("--background")) r.background = parse_rgb("--background", p.get("--background"));
+    r.environment = p.get("--environment");
+    r.environment_intensity = float(p.get_double("--environment-intensity", 0, 1e12));
+    if (p.has("--max-memory")) {
+        try {
+            s.max_device_bytes = parse_bytes(p.get("--max-memory"));
+        } catch (const std::exception& e) {
+            throw UsageError(std::string("--max-memory: ") + e.what());
+        }
+        r.load.max_bytes = s.max_device_bytes;
+    }
+    r.devices = parse_device_choice(p);
+    r.kernel_dir = p.get("--kernel-dir");
+    return r;
+}
+
+RenderRequest parse_render_request(const ArgParser& p) {
+    RenderRequest r;
+    r.image = parse_image_request(p);
+    r.outputs = p.all("-o");
+    if (r.outputs.empty()) throw UsageError("render: no output given (-o OUT.exr and/or -o OUT.png)");
+    r.grid = ChunkGrid{p.get_int("--spp", 1, 1 << 24), p.get_int("--chunk", 1, 1 << 24)};
+    r.image.settings.spp = r.grid.spp;
+    if (p.has("--sample-range")) {
+        r.sample_range = parse_sample_range(p.get("--sample-range"), r.grid);
+        if (std::none_of(r.outputs.begin(), r.outputs.end(), keeps_raw_sums))
+            throw UsageError("--sample-range needs an .exr output: only it keeps the raw sums `hairtrace merge` combines");
+    }
+    r.time_limit = p.get_double("--time-limit", 0, 1e9);
+    r.checkpoint = p.get("--checkpoint");
+    r.checkpoint_every = p.get_double("--checkpoint-every", 0.01, 1e9);
+    r.resume = p.get("--resume");
+    r.reference = p.get("--reference");
+    if (auto e = p.get_double_or("--exposure", "auto", 0, 1e9)) r.exposure = float(*e);
+    r.verbose = p.has("--verbose");
+    r.profile = r.image.settings.profile_stages = p.has("--profile");
+    r.quiet = p.has("--quiet");
+    return r;
+}
+
+void apply_scene_overrides(Scene& scene, const ImageRequest& r) {
+    if (r.model) apply_model_override(scene, *r.model);
+    if (r.sigma_a)
+        for (auto& mat : scene.materials) {
+            mat.has_sigma_a = true;
+            mat.has_melanin = mat.has_color = false;
+            mat.sigma_a = *r.sigma_a;
+        }
+    if (r.background) scene.environment = Environment{"", *r.background, 1.0f};
+    if (!r.environment.empty()) scene.environment.map_path = r.environment;
+    scene.environment.intensity *= r.environment_intensity;
+    ensure_camera_and_light(scene);
+}
+
+RenderSettings resolve_settings(const Scene& scene, const ImageRequest& r, std::string* why) {
+    RenderSettings s = r.settings;
+    // An explicit --model is taken literally unless --fiber-field says otherwise.
+    s.fiber_field = r.fiber_field ? *r.fiber_field : r.model ? HT_FIELD_MATERIAL : HT_FIELD_AUTO;
+    if (r.indirect == "afs") s.indirect = RenderSettings::Indirect::Afs;
+    if (r.indirect == "none" || (r.indirect == "afs" && !r.max_depth)) {
+        s.max_depth = 1;
+    } else if (r.max_depth) {
+        s.max_depth = *r.max_depth;
+    } else {
+        const DepthChoice choice = choose_max_depth(scene);
+        s.max_depth = choice.depth;
+        if (why) *why = choice.why;
+    }
+    return s;
+}
+
+std::vector<float> read_reference_image(const std::string& path, int width, int height) {
+    int w = 0, h = 0;
+    std::vector<float> rgb;
+    try {
+        rgb = read_rgb_image(path, w, h);
+    } catch (const ImageError& e) {
+        throw UsageError(std::string("--reference: ") + e.what());
+    }
+    if (w != width || h != height)
+        throw UsageError("--reference " + path + " is " + std::to_string(w) + "x" + std::to_string(h) +
+                         ", the render is " + std::to_string(width) + "x" + std::to_string(height));
+    return rgb;
+}
+
+bool keeps_raw_sums(const std::string& output) {
+    const auto dot = output.rfind('.');
+    std::string e = dot == std::string::npos ? "" : output.substr(dot);
+    std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return e == ".exr";
+}
+
+std::vector<int> device_indices(const DeviceChoice& choice) {
+    if (!choice.all) return choice.indices.empty() ? std::vector<int>{-1} : choice.indices;
+    std::vector<int> out;
+    for (size_t i = 0; i < list_devices().size(); ++i) out.push_back(int(i));
+    if (out.empty()) throw DeviceError("--device all: no OpenCL device found");
+    return out;
+}
+
+}  // namespace ht

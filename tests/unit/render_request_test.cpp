@@ -1,0 +1,61 @@
+// render and converge read the same words into the same request, resolved by the same rule.
+#include <gtest/gtest.h>
+
+#include "cli/render_request.h"
+#include "kernels/types.h"
+
+#include <string>
+#include <vector>
+
+namespace {
+
+ht::ImageRequest image_request(ht::RenderCommand command, const std::vector<std::string>& args) {
+    ht::ArgParser p(command == ht::RenderCommand::Render ? "render" : "converge");
+    ht::add_render_options(p, command);
+    std::vector<std::string> all = {"builtin:strand"};
+    all.insert(all.end(), args.begin(), args.end());
+    p.parse(all);
+    return ht::parse_image_request(p);
+}
+
+ht::RenderSettings settings(ht::RenderCommand command, const std::vector<std::string>& args) {
+    return ht::resolve_settings(ht::Scene{}, image_request(command, args));
+}
+
+}  // namespace
+
+TEST(RenderRequest, RenderAndConvergeResolveTheSameWordsAlike) {
+    using ht::RenderCommand;
+    const std::vector<std::vector<std::string>> cases = {
+        {"--model", "zinke", "--max-depth", "3"},
+        {"--model", "marschner", "--fiber-field", "near", "--max-depth", "2"},
+        {"--indirect", "afs"},
+        {"--indirect", "none"},
+        {"--indirect", "afs", "--max-depth", "4", "--clamp-indirect", "2.5", "--regularize", "10", "--seed", "7"},
+    };
+    for (const auto& args : cases) {
+        const ht::RenderSettings r = settings(RenderCommand::Render, args), c = settings(RenderCommand::Converge, args);
+        EXPECT_EQ(r.max_depth, c.max_depth) << args[1];
+        EXPECT_EQ(r.fiber_field, c.fiber_field) << args[1];
+        EXPECT_EQ(r.indirect, c.indirect) << args[1];
+        EXPECT_EQ(r.clamp_indirect, c.clamp_indirect) << args[1];
+        EXPECT_EQ(r.regularize_deg, c.regularize_deg) << args[1];
+        EXPECT_EQ(r.seed, c.seed) << args[1];
+    }
+}
+
+TEST(RenderRequest, OneRuleForModelFieldAndDepth) {
+    using ht::RenderCommand;
+    // An explicit --model is taken literally unless --fiber-field says otherwise.
+    EXPECT_EQ(settings(RenderCommand::Render, {"--model", "zinke", "--max-depth", "2"}).fiber_field,
+              uint32_t(HT_FIELD_MATERIAL));
+    EXPECT_EQ(settings(RenderCommand::Render, {"--max-depth", "2"}).fiber_field, uint32_t(HT_FIELD_AUTO));
+    EXPECT_EQ(settings(RenderCommand::Render, {"--indirect", "afs"}).max_depth, 1);
+    EXPECT_EQ(settings(RenderCommand::Render, {"--indirect", "none"}).max_depth, 1);
+    EXPECT_EQ(settings(RenderCommand::Render, {"--indirect", "afs", "--max-depth", "3"}).max_depth, 3);
+    EXPECT_THROW(image_request(RenderCommand::Render, {"--indirect", "none", "--max-depth", "3"}), ht::UsageError);
+    EXPECT_THROW(image_request(RenderCommand::Converge, {"--model", "zinc"}), ht::UsageError);
+    EXPECT_EQ(image_request(RenderCommand::Render, {}).settings.width, 512);
+    EXPECT_EQ(image_request(RenderCommand::Converge, {}).settings.width, 256);
+    EXPECT_EQ(image_request(RenderCommand::Converge, {"--device", "0,1"}).devices.indices.size(), 2u);
+}
