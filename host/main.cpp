@@ -1,11 +1,11 @@
 // hairtrace command line: render, info, devices, bench, fiber.
 //
-// Exit codes: 0 success; 2 bad input or usage (the message names the file/option and the
-// problem); 3 device or runtime failure (OpenCL, memory, writing outputs); 128+N interrupted by
-// signal N after saving the checkpoint and images.
+// Exit codes: 0 success; 2 bad input or usage, 3 device or runtime failure (which exception is
+// which: core/errors.h); 128+N interrupted by signal N after saving the checkpoint and images.
 #include "bench/bench.h"
 #include "cl/device.h"
 #include "cli/commands.h"
+#include "core/errors.h"
 #include "fiber/fiber_cli.h"
 #include "io/image_io.h"
 #include "scene/scene.h"
@@ -85,18 +85,6 @@ int dispatch(const std::vector<std::string>& argv) {
 int main(int argc, char** argv) {
     try {
         return dispatch(std::vector<std::string>(argv + 1, argv + argc));
-    } catch (const UsageError& e) {
-        std::fprintf(stderr, "hairtrace: %s\n", e.what());
-        return kExitUsage;
-    } catch (const SceneError& e) {
-        std::fprintf(stderr, "hairtrace: %s\n", e.what());
-        return kExitUsage;
-    } catch (const DeviceError& e) {
-        std::fprintf(stderr, "hairtrace: %s\n", e.what());
-        return kExitRuntime;
-    } catch (const ImageError& e) {
-        std::fprintf(stderr, "hairtrace: %s\n", e.what());
-        return kExitRuntime;
     } catch (const cl::Error& e) {
         std::fprintf(stderr, "hairtrace: OpenCL error in %s: %s\n", e.what(), cl_error_name(e.err()).c_str());
         return kExitRuntime;
@@ -105,6 +93,6 @@ int main(int argc, char** argv) {
         return kExitRuntime;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "hairtrace: %s\n", e.what());
-        return kExitRuntime;
+        return exit_code_for(e);
     }
 }

@@ -2,16 +2,14 @@
 // options and missing values are usage errors (exit 2), and --help prints the declared list.
 #pragma once
 
+#include "core/errors.h"
+
 #include <map>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace ht {
-
-struct UsageError : std::runtime_error {
-    using std::runtime_error::runtime_error;
-};
 
 class ArgParser {
 public:

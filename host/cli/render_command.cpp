@@ -2,15 +2,16 @@
 #include "cl/device.h"
 #include "cl/kernel_source.h"
 #include "cli/commands.h"
-#include "dist/accumulation.h"
-#include "dist/chunk_scheduler.h"
-#include "dist/distributed.h"
-#include "dist/partial_image.h"
+#include "split/accumulation.h"
+#include "split/chunk_scheduler.h"
+#include "split/distributed.h"
+#include "split/partial_image.h"
 #include "io/image_io.h"
-#include "render/checkpoint.h"
+#include "split/checkpoint.h"
 #include "render/depth_choice.h"
 #include "render/error_metrics.h"
 #include "render/features.h"
+#include "render/render_identity.h"
 #include "render/memory_plan.h"
 #include "render/renderer.h"
 #include "kernels/types.h"
@@ -48,19 +49,6 @@ void print_progress(int done, int total, double elapsed) {
     double eta = done > 0 ? elapsed / done * (total - done) : 0;
     std::fprintf(stderr, "\rrendering: %d/%d spp  %.1f s elapsed  ETA %.1f s   ", done, total, elapsed, eta);
     std::fflush(stderr);
-}
-
-// Everything besides the sample count that shapes the image: a checkpoint from another
-// render must not be continued by this one.
-uint64_t render_key(const Scene& scene, const RenderSettings& rs, const std::string& kernel_options, int chunk) {
-    std::string k = "chunk " + std::to_string(chunk) + "|" + scene.source + "|" + std::to_string(scene.strands.point_count()) + "|" +
-                    std::to_string(scene.strands.strand_count()) + "|" + kernel_options + "|" +
-                    std::to_string(rs.width) + "x" + std::to_string(rs.height) + "|" + std::to_string(rs.seed) + "|" +
-                    std::to_string(rs.max_depth) + "|" + std::to_string(int(rs.indirect)) + "|" + std::to_string(rs.fiber_field) + "|" + scene.environment.map_path + "|" +
-                    std::to_string(scene.environment.color[0]) + "," + std::to_string(scene.environment.color[1]) +
-                    "," + std::to_string(scene.environment.color[2]) + "x" + std::to_string(scene.environment.intensity);
-    for (auto& m : scene.materials) k += "|" + m.model;
-    return hash_text(k);
 }
 
 // --clamp-indirect: "off" (0) or a positive cap.
@@ -113,9 +101,8 @@ int cmd_render(const std::vector<std::string>& args) {
             dist_finalize(dist);
             throw;
         }
-        const bool bad_input = dynamic_cast<const UsageError*>(&e) || dynamic_cast<const SceneError*>(&e);
         std::fprintf(stderr, "hairtrace (rank %d of %d): %s\n", dist.rank, dist.ranks, e.what());
-        dist_abort(dist, bad_input ? kExitUsage : kExitRuntime);
+        dist_abort(dist, exit_code_for(e));
     }
     dist_finalize(dist);
     return code;
@@ -294,15 +281,14 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
             std::fprintf(stderr, "texture %s: %u x %u, %s on the device\n", t.name.c_str(), t.width, t.height,
                          format_bytes(t.texels.size() * sizeof(uint32_t)).c_str());
     }
-    const uint64_t key = render_key(scene, rs, renderer.kernel_options(), grid.chunk);
+    const RenderIdentity identity = render_identity(scene, rs, grid.chunk);
     SampleAccumulator acc(grid, rs.width, rs.height);
     if (p.has("--resume")) {
         const std::string path = p.get("--resume") + rank_suffix;
         Checkpoint c = load_checkpoint(path);
-        if (c.render_key != key || c.width != uint32_t(rs.width) || c.height != uint32_t(rs.height) ||
-            c.seed != rs.seed || c.max_depth != uint32_t(rs.max_depth) || c.chunk != uint32_t(grid.chunk))
-            throw UsageError("--resume " + path +
-                             ": the checkpoint belongs to a different render (scene, size, seed, depth, chunk or options differ)");
+        if (c.identity != identity)
+            throw UsageError("--resume " + path + ": the checkpoint was rendered with " +
+                             c.identity.differences(identity) + "; resume with the options it was started with");
         if (c.ranks != uint32_t(dist.ranks))
             throw UsageError("--resume " + path + ": written by a run with " + std::to_string(c.ranks) +
                              " MPI ranks; resume with the same number");
@@ -330,7 +316,7 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
         c.range_end = uint32_t(my_range.end);
         c.rank = uint32_t(dist.rank);
         c.ranks = uint32_t(dist.ranks);
-        c.render_key = key;
+        c.identity = identity;
         c.segments = acc.segments();
         save_checkpoint(checkpoint_path, c);
     };
@@ -450,7 +436,7 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
         part.chunk = grid.chunk;
         part.max_depth = rs.max_depth;
         part.seed = rs.seed;
-        part.render_key = key;
+        part.identity = identity;
         part.scene = scene.source;
         part.segments = acc.segments();
     }

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "cl/device.h"
+#include "core/errors.h"
 #include "fiber/afs_quadrature.h"
 #include "fiber/furnace.h"
 #include "fiber/material.h"
@@ -22,10 +23,6 @@ namespace ht {
 namespace {
 
 using nlohmann::json;
-
-struct UsageError : std::runtime_error {
-    using std::runtime_error::runtime_error;
-};
 
 const char* kUsage =
     "usage: hairtrace fiber eval   [--precision double|float] [--device N]   < JSON lines\n"

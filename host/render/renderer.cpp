@@ -10,6 +10,7 @@
 
 #include "bvh/bvh.h"
 #include "bvh/device_geometry.h"
+#include "core/constants.h"
 #include "render/environment.h"
 #include "render/features.h"
 #include "render/memory_plan.h"
@@ -28,7 +29,7 @@
 namespace ht {
 
 namespace {
-// POCL_FINDINGS: 32-256 are equal for traversal; 64 is also what compact.cl requires.
+// docs/POCL.md §1: 32-256 are equal for traversal; 64 is also what compact.cl requires.
 constexpr size_t kLocalSize = 64;
 
 cl::NDRange global_for(size_t n) { return cl::NDRange(round_up(std::max<size_t>(n, 1), kLocalSize)); }
@@ -94,7 +95,7 @@ struct Renderer::Impl {
         light_count = uint32_t(kl.size());
         lights = device_array(cl.context(), kl);
         camera = make_kernel_camera(scene.camera, s.width, s.height);
-        pixel_angle = float(2.0 * std::tan(0.5 * scene.camera.yfov_deg * 3.14159265358979323846 / 180.0) / s.height);
+        pixel_angle = float(2.0 * std::tan(0.5 * scene.camera.yfov_deg * kPi / 180.0) / s.height);
         environment = build_environment(scene.environment);
         env_texels = device_array(cl.context(), environment.texels);
         env_marginal = device_array(cl.context(), environment.marginal);
@@ -113,7 +114,7 @@ struct Renderer::Impl {
         std::string clamp;
         if (stats.clamp_indirect > 0) clamp += float_define("HT_CLAMP_INDIRECT", stats.clamp_indirect);
         if (s.regularize_deg > 0)
-            clamp += float_define("HT_REGULARIZE_WIDTH", s.regularize_deg * 3.14159265358979323846 / 180.0);
+            clamp += float_define("HT_REGULARIZE_WIDTH", s.regularize_deg * kPi / 180.0);
         // The scene's features once (the lobe bounds are a quadrature per material).
         features = scene_features(scene, s.fiber_field, afs, s.features);
         options = kernel_build_options(features) + clamp;
