@@ -44,6 +44,13 @@ struct Digest {
         h = fnv1a(s, h);
         return *this;
     }
+    // Records of several fields: the count, then `fields(digest, record)` for each.
+    template <typename T, typename Fields>
+    Digest& add_each(const std::vector<T>& records, Fields fields) {
+        add(uint64_t(records.size()));
+        for (const T& r : records) fields(*this, r);
+        return *this;
+    }
 };
 
 uint64_t file_digest(const std::string& path) {
@@ -54,29 +61,29 @@ uint64_t file_digest(const std::string& path) {
 }
 
 uint64_t geometry_digest(const Scene& scene) {
-    Digest d;
-    d.add(strands_content_hash(scene.strands));
-    d.add(uint64_t(scene.meshes.size()));
-    for (const Mesh& m : scene.meshes) d.add(m.positions).add(m.indices).add(m.normals).add(m.uvs).add(m.material);
-    return d.h;
+    return Digest()
+        .add(strands_content_hash(scene.strands))
+        .add_each(scene.meshes, [](Digest& d, const Mesh& m) {
+            d.add(m.positions).add(m.indices).add(m.normals).add(m.uvs).add(m.material);
+        })
+        .h;
 }
 
 // Hair materials as the kernels get them (overrides applied, melanin and colour converted).
 uint64_t materials_digest(const Scene& scene) {
-    Digest d;
-    d.add(make_kernel_materials(scene.materials));
-    d.add(uint64_t(scene.surface_materials.size()));
-    for (const SurfaceMaterialDesc& m : scene.surface_materials) d.add(m.albedo).add(m.texture);
-    d.add(uint64_t(scene.textures.size()));
-    for (const Texture& t : scene.textures) d.add(t.width).add(t.height).add(t.wrap_s).add(t.wrap_t).add(t.texels);
-    return d.h;
+    return Digest()
+        .add(make_kernel_materials(scene.materials))
+        .add_each(scene.surface_materials, [](Digest& d, const SurfaceMaterialDesc& m) { d.add(m.albedo).add(m.texture); })
+        .add_each(scene.textures, [](Digest& d, const Texture& t) {
+            d.add(t.width).add(t.height).add(t.wrap_s).add(t.wrap_t).add(t.texels);
+        })
+        .h;
 }
 
 uint64_t lights_digest(const Scene& scene) {
-    Digest d;
-    d.add(make_kernel_lights(scene.lights));
     const Environment& env = scene.environment;
-    d.add(env.color).add(env.intensity).add(env.map_path);
+    Digest d;
+    d.add(make_kernel_lights(scene.lights)).add(env.color).add(env.intensity).add(env.map_path);
     if (!env.map_path.empty()) d.add(file_digest(env.map_path));
     return d.h;
 }

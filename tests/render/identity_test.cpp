@@ -79,8 +79,8 @@ std::string scene_variant(const TempDir& d, const std::string& name, const std::
     return d / name;
 }
 
-// Renders one sample with a checkpoint, then resumes to two samples with `resume_args`; returns
-// the exit status of the resume, its stderr in *err.
+// Renders `first` (scene and options) for one sample with a checkpoint, then resumes it to two
+// samples as `resume`; returns the exit status of the resume and its stderr in *err.
 int resume_with(const TempDir& d, const std::string& first, const std::string& resume, std::string* err) {
     const std::string bin = std::string(HT_BINARY) + " render ";
     EXPECT_EQ(run(bin + first + kOptions + " --spp 1 --checkpoint " + (d / "c.ckpt") + " -o " + (d / "a.exr")), 0);
@@ -89,6 +89,20 @@ int resume_with(const TempDir& d, const std::string& first, const std::string& r
     *err = slurp(d / "err.txt");
     return code;
 }
+
+// The message names `part` ("materials", "camera", ...) as different and no other part.
+void expect_only_difference(const std::string& err, const std::string& part) {
+    for (const char* p : {"geometry", "materials", "lights", "camera", "settings"})
+        EXPECT_EQ(err.find(std::string("different ") + p) != std::string::npos, p == part) << p << ": " << err;
+}
+
+// The stderr of a resume from a checkpoint of the scene with `from`, resumed with `to` instead.
+std::string refused_scene_change(const std::string& from, const std::string& to) {
+    TempDir d("ht_ident_");
+    std::string err;
+    EXPECT_EQ(resume_with(d, scene_variant(d, "a.gltf"), scene_variant(d, "b.gltf", from, to), &err), 2);
+    return err;
+}
 }  // namespace
 
 TEST(RenderIdentity, ResumeRefusesAChangedSigmaA) {
@@ -96,36 +110,20 @@ TEST(RenderIdentity, ResumeRefusesAChangedSigmaA) {
     const std::string scene = scene_variant(d, "s.gltf");
     std::string err;
     EXPECT_EQ(resume_with(d, scene, scene + " --sigma-a 2,2,2", &err), 2);
-    EXPECT_NE(err.find("different materials"), std::string::npos) << err;
+    expect_only_difference(err, "materials");
     EXPECT_NE(err.find("--sigma-a"), std::string::npos) << err;
 }
 
 TEST(RenderIdentity, ResumeRefusesAChangedMaterialExtra) {
-    TempDir d("ht_ident_");
-    const std::string a = scene_variant(d, "a.gltf"), b = scene_variant(d, "b.gltf", "\"eta\": 1.55", "\"eta\": 1.6");
-    std::string err;
-    EXPECT_EQ(resume_with(d, a, b, &err), 2);
-    EXPECT_NE(err.find("different materials"), std::string::npos) << err;
-    EXPECT_EQ(err.find("geometry"), std::string::npos) << err;
+    expect_only_difference(refused_scene_change("\"eta\": 1.55", "\"eta\": 1.6"), "materials");
 }
 
 TEST(RenderIdentity, ResumeRefusesAChangedLight) {
-    TempDir d("ht_ident_");
-    const std::string a = scene_variant(d, "a.gltf"),
-                      b = scene_variant(d, "b.gltf", "\"intensity\": 10230.0", "\"intensity\": 10000.0");
-    std::string err;
-    EXPECT_EQ(resume_with(d, a, b, &err), 2);
-    EXPECT_NE(err.find("different lights"), std::string::npos) << err;
-    EXPECT_EQ(err.find("materials"), std::string::npos) << err;
+    expect_only_difference(refused_scene_change("\"intensity\": 10230.0", "\"intensity\": 10000.0"), "lights");
 }
 
 TEST(RenderIdentity, ResumeRefusesAChangedCamera) {
-    TempDir d("ht_ident_");
-    const std::string a = scene_variant(d, "a.gltf"), b = scene_variant(d, "b.gltf", "\"yfov\": 0.523599", "\"yfov\": 0.5");
-    std::string err;
-    EXPECT_EQ(resume_with(d, a, b, &err), 2);
-    EXPECT_NE(err.find("different camera"), std::string::npos) << err;
-    EXPECT_EQ(err.find("materials"), std::string::npos) << err;
+    expect_only_difference(refused_scene_change("\"yfov\": 0.523599", "\"yfov\": 0.5"), "camera");
 }
 
 TEST(RenderIdentity, MergeRefusesPartsWithDifferentMaterials) {
@@ -136,8 +134,7 @@ TEST(RenderIdentity, MergeRefusesPartsWithDifferentMaterials) {
     ASSERT_EQ(run(bin + " --sample-range 1:2 --sigma-a 2,2,2 -o " + (d / "p1.exr")), 0);
     EXPECT_EQ(run(std::string(HT_BINARY) + " merge " + (d / "p0.exr") + " " + (d / "p1.exr") + " -o " +
                   (d / "m.exr") + " 2>" + (d / "err.txt")), 2);
-    const std::string err = slurp(d / "err.txt");
-    EXPECT_NE(err.find("different materials"), std::string::npos) << err;
+    expect_only_difference(slurp(d / "err.txt"), "materials");
     ASSERT_EQ(run(bin + " --sample-range 1:2 -o " + (d / "p1same.exr")), 0);
     EXPECT_EQ(run(std::string(HT_BINARY) + " merge " + (d / "p0.exr") + " " + (d / "p1same.exr") + " -o " +
                   (d / "m.exr") + " --quiet"), 0);
