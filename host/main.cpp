@@ -7,7 +7,6 @@
 #include "cli/commands.h"
 #include "core/errors.h"
 #include "fiber/fiber_cli.h"
-#include "io/image_io.h"
 #include "scene/scene.h"
 
 #include <cstdio>

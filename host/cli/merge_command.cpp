@@ -2,13 +2,13 @@
 //
 // The parts' segments are folded in the canonical chunk order (split/accumulation.h), so the
 // result is bit for bit the image one `hairtrace render` with the same --spp/--chunk/--seed would
-// have written.  The parts must come from the same render (same render key, size, seed, spp,
+// have written.  The parts must come from the same render (same render identity, size, seed, spp,
 // chunk), be disjoint and together cover [0, spp); anything else is reported and exits 2.
 #include "cli/commands.h"
 #include "core/hash.h"
+#include "io/image_io.h"
 #include "split/accumulation.h"
 #include "split/partial_image.h"
-#include "io/image_io.h"
 
 #include <algorithm>
 #include <cstdio>

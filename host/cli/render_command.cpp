@@ -2,19 +2,19 @@
 #include "cl/device.h"
 #include "cl/kernel_source.h"
 #include "cli/commands.h"
-#include "split/accumulation.h"
-#include "split/chunk_scheduler.h"
-#include "split/distributed.h"
-#include "split/partial_image.h"
 #include "io/image_io.h"
-#include "split/checkpoint.h"
+#include "kernels/types.h"
 #include "render/depth_choice.h"
 #include "render/error_metrics.h"
 #include "render/features.h"
-#include "render/render_identity.h"
 #include "render/memory_plan.h"
+#include "render/render_identity.h"
 #include "render/renderer.h"
-#include "kernels/types.h"
+#include "split/accumulation.h"
+#include "split/checkpoint.h"
+#include "split/chunk_scheduler.h"
+#include "split/distributed.h"
+#include "split/partial_image.h"
 
 #include <algorithm>
 #include <cmath>
@@ -288,7 +288,8 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
         Checkpoint c = load_checkpoint(path);
         if (c.identity != identity)
             throw UsageError("--resume " + path + ": the checkpoint was rendered with " +
-                             c.identity.differences(identity) + "; resume with the options it was started with");
+                             c.identity.differences(identity) +
+                             "; resume with the scene and options it was started with");
         if (c.ranks != uint32_t(dist.ranks))
             throw UsageError("--resume " + path + ": written by a run with " + std::to_string(c.ranks) +
                              " MPI ranks; resume with the same number");

@@ -12,8 +12,8 @@ namespace ht {
 
 namespace {
 
-// What each part covers, in the words of the options and scene contents a user changes.
 const char* const kPartNames[RenderIdentity::kPartCount] = {"geometry", "materials", "lights", "camera", "settings"};
+// What each part covers, in the words of the options and scene contents a user changes.
 const char* const kPartMessages[RenderIdentity::kPartCount] = {
     "different geometry (strand points, radii or materials per strand; meshes)",
     "different materials (--model, --sigma-a, material extras of the scene; surface colours and textures)",
@@ -73,7 +73,8 @@ uint64_t geometry_digest(const Scene& scene) {
 uint64_t materials_digest(const Scene& scene) {
     return Digest()
         .add(make_kernel_materials(scene.materials))
-        .add_each(scene.surface_materials, [](Digest& d, const SurfaceMaterialDesc& m) { d.add(m.albedo).add(m.texture); })
+        .add_each(scene.surface_materials,
+                  [](Digest& d, const SurfaceMaterialDesc& m) { d.add(m.albedo).add(m.texture); })
         .add_each(scene.textures, [](Digest& d, const Texture& t) {
             d.add(t.width).add(t.height).add(t.wrap_s).add(t.wrap_t).add(t.texels);
         })

@@ -102,10 +102,10 @@ struct Renderer::Impl {
         env_conditional = device_array(cl.context(), environment.conditional);
 
         const bool afs = s.indirect == RenderSettings::Indirect::Afs;
-        // The render's identity (checkpoint and part keys) leaves the paging out: it depends on
+        // The render identity (render/render_identity.h) leaves the paging out: it depends on
         // the device, and paged and unpaged renders give the same bits (tested).
         stats.clamp_indirect = s.clamp_indirect;
-        // Options that change the estimator, not the scene (part of the render key); off = undefined.
+        // Options that change the estimator, not the scene (settings of the render identity); off = undefined.
         auto float_define = [](const char* name, double v) {
             char def[80];
             std::snprintf(def, sizeof def, " -D%s=%.9ef", name, v);
