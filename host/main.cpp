@@ -1,12 +1,12 @@
 // hairtrace command line: render, merge, info, devices, bench, converge, fiber.
 //
-// Exit codes: 0 success; 2 bad input or usage (the message names the file/option and the
-// problem); 3 device or runtime failure (OpenCL, memory, writing outputs); 128+N interrupted by
-// signal N after saving the checkpoint and images.
+// Exit codes: 0 success; 2 bad input or usage, 3 device or runtime failure (which exception is
+// which: core/errors.h); 128+N interrupted by signal N after saving the checkpoint and images.
 #include "bench/bench.h"
 #include "cl/device.h"
 #include "cli/commands.h"
 #include "cli/fiber_command.h"
+#include "core/errors.h"
 #include "io/image_io.h"
 #include "scene/scene.h"
 
@@ -100,19 +100,11 @@ int fail(const std::string& message, int code) {
 int main(int argc, char** argv) {
     try {
         return dispatch(std::vector<std::string>(argv + 1, argv + argc));
-    } catch (const UsageError& e) {
-        return fail(e.what(), kExitUsage);
-    } catch (const SceneError& e) {
-        return fail(e.what(), kExitUsage);
-    } catch (const DeviceError& e) {
-        return fail(e.what(), kExitRuntime);
-    } catch (const ImageError& e) {
-        return fail(e.what(), kExitRuntime);
     } catch (const cl::Error& e) {
         return fail(std::string("OpenCL error in ") + e.what() + ": " + cl_error_name(e.err()), kExitRuntime);
     } catch (const std::bad_alloc&) {
         return fail("out of host memory", kExitRuntime);
     } catch (const std::exception& e) {
-        return fail(e.what(), kExitRuntime);
+        return fail(e.what(), exit_code_for(e));
     }
 }

@@ -1,5 +1,5 @@
 /* Queue append with work-group-aggregated atomics: one global atomic per work-group instead of
- * one per item (POCL_FINDINGS: ~5x faster than a global atomic_inc per survivor).
+ * one per item (docs/POCL.md §3: ~5x faster than a global atomic_inc per survivor).
  * Every work-item of the group must call it (it has barriers); `want` says whether it appends.
  * Returns the slot of this item, or 0xFFFFFFFF if it did not append. */
 #ifndef HT_QUEUE_H

@@ -32,7 +32,7 @@ typedef struct {
     uint flags;
 } HtSegment;
 
-/* Binary BVH node, "SoA in node" (POCL_FINDINGS L3): both children's boxes side by side so a
+/* Binary BVH node, "SoA in node" (docs/POCL.md §1): both children's boxes side by side so a
  * single 8-wide slab test covers both.  lo = (x0,x1,y0,y1,z0,z1, child0, child1) and
  * hi = (x0,x1,y0,y1,z0,z1, count0, count1), with child/count stored as uint bits.
  * count == 0: child is an inner node index; count > 0: child is the first index into the
@@ -81,7 +81,7 @@ typedef struct {
 
 /* Closest hit.  segment = HT_NO_HIT for a miss.  For a hair segment: u = position along the
  * segment [0,1], h = signed offset across the fibre in units of the radius [-1,1]
- * (MODEL_NOTES §1), (tx,ty,tz) = unit tangent root->tip, radius > 0.  For a triangle
+ * (docs/MODEL.md §1), (tx,ty,tz) = unit tangent root->tip, radius > 0.  For a triangle
  * (segs[segment].flags & HT_SEG_TRIANGLE; radius == 0): u, h = barycentrics of vertices 1 and 2,
  * (tx,ty,tz) = unit geometric normal (counter-clockwise front, not flipped towards the ray). */
 #define HT_NO_HIT 0xFFFFFFFFu

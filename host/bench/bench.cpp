@@ -1,6 +1,6 @@
 #include "bench/bench.h"
 
-#include "cli/args.h"
+#include "core/errors.h"
 
 #include "bench/embree_tracer.h"
 #include "render/renderer.h"

@@ -1,7 +1,7 @@
 #include "bench/embree_tracer.h"
 
 #include "cl/device.h"
-#include "cli/args.h"
+#include "core/errors.h"
 
 #include <algorithm>
 #include <atomic>

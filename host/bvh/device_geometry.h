@@ -3,7 +3,7 @@
 
 #include "bvh/bvh.h"
 #include "cl/device.h"
-#include "render/memory_plan.h"
+#include "bvh/geometry_paging.h"
 
 #include <string>
 #include <vector>
@@ -38,7 +38,7 @@ std::string geometry_page_options(const GeometryPaging& paging);
 // the pure capsule leaf loop.
 class DeviceTracer {
 public:
-    static constexpr size_t kLocalSize = 64;  // POCL_FINDINGS: 32-256 equal, must be explicit
+    static constexpr size_t kLocalSize = 64;  // docs/POCL.md §1: 32-256 equal, must be explicit
 
     DeviceTracer(ClContext& cl, const DeviceGeometry& geo,
                  const std::string& options = default_options());

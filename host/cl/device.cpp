@@ -1,8 +1,9 @@
 #include "cl/device.h"
 
 #include "cl/kernel_source.h"
-#include "cli/args.h"
-#include "render/memory_plan.h"
+#include "core/byte_size.h"
+#include "core/errors.h"
+#include "core/hash.h"
 
 #include <algorithm>
 #include <chrono>
@@ -106,11 +107,6 @@ std::vector<Found> enumerate() {
     return out;
 }
 
-// FNV-1a 64, enough to key a cache (not a security boundary).
-unsigned long long fnv1a(const std::string& s, unsigned long long h = 1469598103934665603ull) {
-    for (unsigned char c : s) { h ^= c; h *= 1099511628211ull; }
-    return h;
-}
 }  // namespace
 
 std::vector<DeviceInfo> list_devices() {
@@ -157,7 +153,7 @@ cl::Program ClContext::build(const std::string& main_file, const std::string& op
                                  "\n--driver " + info_.driver + "\n--platform " +
                                  info_.platform_version;
     char key[32];
-    std::snprintf(key, sizeof key, "%016llx", fnv1a(key_text));
+    std::snprintf(key, sizeof key, "%016llx", (unsigned long long)fnv1a(key_text));
     std::string dir = program_cache_dir();
     fs::path bin_path;
     if (dir != "off") bin_path = fs::path(dir) / (std::string(key) + ".bin");

@@ -2,6 +2,8 @@
 // persistent binary cache.
 #pragma once
 
+#include "core/errors.h"
+
 #include <CL/opencl.hpp>
 
 #include <stdexcept>
@@ -11,10 +13,6 @@
 namespace ht {
 
 // A device or runtime failure (exit code 3).  what() says what to do about it.
-struct DeviceError : std::runtime_error {
-    using std::runtime_error::runtime_error;
-};
-
 struct DeviceInfo {
     int index = 0;  // global index over all platforms, as `hairtrace devices` lists it
     std::string platform, platform_version, name, vendor, version, driver, c_version;

@@ -5,6 +5,8 @@
 // form and, for a misspelt option, the closest valid one.
 #pragma once
 
+#include "core/errors.h"
+
 #include <map>
 #include <optional>
 #include <stdexcept>
@@ -13,10 +15,6 @@
 #include <vector>
 
 namespace ht {
-
-struct UsageError : std::runtime_error {
-    using std::runtime_error::runtime_error;
-};
 
 // How the value of a path option is checked by parse(), before any work starts.
 enum class PathKind {

@@ -11,8 +11,6 @@
 
 namespace ht {
 
-constexpr int kExitOk = 0, kExitUsage = 2, kExitRuntime = 3;
-
 int cmd_render(const std::vector<std::string>& args);
 int cmd_info(const std::vector<std::string>& args);
 int cmd_devices(const std::vector<std::string>& args);

@@ -1,14 +1,15 @@
 // hairtrace merge: combine render-farm parts (render --sample-range A:B) into the final image.
 //
-// The parts' segments are folded in the canonical chunk order (dist/accumulation.h), so the
+// The parts' segments are folded in the canonical chunk order (split/accumulation.h), so the
 // result is bit for bit the image one `hairtrace render` with the same --spp/--chunk/--seed would
-// have written.  The parts must come from the same render (same render key, size, seed, spp,
+// have written.  The parts must come from the same render (same render identity, size, seed, spp,
 // chunk), be disjoint and together cover [0, spp); anything else is reported and exits 2.
 #include "cli/commands.h"
 #include "cli/path_checks.h"
-#include "dist/accumulation.h"
-#include "dist/partial_image.h"
+#include "core/hash.h"
 #include "io/image_io.h"
+#include "split/accumulation.h"
+#include "split/partial_image.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -59,10 +60,9 @@ int cmd_merge(const std::vector<std::string>& args) {
         differ("chunk", first.chunk, part.chunk);
         differ("seed", first.seed, part.seed);
         differ("max depth", first.max_depth, part.max_depth);
-        if (part.render_key != first.render_key)
-            throw SceneError("merge: " + parts[i] + " has render key " + hex64(part.render_key) + ", " + parts[0] +
-                             " has " + hex64(first.render_key) +
-                             ": the parts belong to different renders (scene or options differ)");
+        if (part.identity != first.identity)
+            throw SceneError("merge: " + parts[i] + " was rendered with " + part.identity.differences(first.identity) +
+                             " than " + parts[0] + ": the parts belong to different renders");
         for (auto& s : part.segments) all.push_back({std::move(s), parts[i]});
     }
     std::sort(all.begin(), all.end(), [](const Located& a, const Located& b) { return a.seg.first < b.seg.first; });
@@ -101,7 +101,7 @@ int cmd_merge(const std::vector<std::string>& args) {
     meta.ints["hairtrace:merged_parts"] = int(parts.size());
     meta.text["hairtrace:version"] = HT_VERSION;
     meta.text["hairtrace:scene"] = first.scene;
-    meta.text["hairtrace:render_key"] = hex64(first.render_key);
+    meta.text["hairtrace:render_key"] = hex64(first.identity.key());
     const float exposure = fixed_exposure ? float(*fixed_exposure) : auto_exposure(film);
     for (auto& o : outputs) {
         write_image(o, film, meta, exposure);

@@ -5,16 +5,18 @@
 #include "cli/commands.h"
 #include "cli/progress.h"
 #include "cli/render_request.h"
-#include "dist/accumulation.h"
-#include "dist/chunk_scheduler.h"
-#include "dist/distributed.h"
-#include "dist/partial_image.h"
+#include "core/errors.h"
 #include "io/image_io.h"
-#include "render/checkpoint.h"
 #include "render/error_metrics.h"
 #include "render/features.h"
 #include "render/memory_plan.h"
+#include "render/render_identity.h"
 #include "render/renderer.h"
+#include "split/accumulation.h"
+#include "split/checkpoint.h"
+#include "split/chunk_scheduler.h"
+#include "split/distributed.h"
+#include "split/partial_image.h"
 
 #include <algorithm>
 #include <chrono>
@@ -35,19 +37,6 @@ double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::
 
 int exit_code() { return g_stop_signal ? 128 + int(g_stop_signal) : kExitOk; }
 
-// Everything besides the sample count that shapes the image: a checkpoint from another
-// render must not be continued by this one.
-uint64_t render_key(const Scene& scene, const RenderSettings& rs, const std::string& kernel_options, int chunk) {
-    std::string k = "chunk " + std::to_string(chunk) + "|" + scene.source + "|" + std::to_string(scene.strands.point_count()) + "|" +
-                    std::to_string(scene.strands.strand_count()) + "|" + kernel_options + "|" +
-                    std::to_string(rs.width) + "x" + std::to_string(rs.height) + "|" + std::to_string(rs.seed) + "|" +
-                    std::to_string(rs.max_depth) + "|" + std::to_string(int(rs.indirect)) + "|" + std::to_string(rs.fiber_field) + "|" + scene.environment.map_path + "|" +
-                    std::to_string(scene.environment.color[0]) + "," + std::to_string(scene.environment.color[1]) +
-                    "," + std::to_string(scene.environment.color[2]) + "x" + std::to_string(scene.environment.intensity);
-    for (auto& m : scene.materials) k += "|" + m.model;
-    return hash_text(k);
-}
-
 const char* kSummary =
     "Renders SCENE progressively into every -o image; long renders stop, checkpoint and resume bit for bit.\n"
     "Every value and output path is checked before the scene is loaded.";
@@ -65,7 +54,7 @@ struct PreparedRender {
     std::vector<std::unique_ptr<Renderer>> renderers;
     SampleRange range, my_range;  // the samples of the job and of this MPI rank
     std::string rank_suffix;      // each rank keeps its own checkpoint
-    uint64_t key = 0;
+    RenderIdentity identity;  // shared by checkpoints and render-farm parts
     std::unique_ptr<SampleAccumulator> acc;
 };
 
@@ -115,17 +104,13 @@ void open_devices(PreparedRender& job, const RenderRequest& request, bool quiet)
 }
 
 void resume_samples(PreparedRender& job, const RenderRequest& request, const DistContext& dist, bool quiet) {
-    const RenderSettings& rs = job.settings;
-    const ChunkGrid& grid = request.grid;
     const SampleRange& my_range = job.my_range;
-    const uint64_t key = job.key;
     SampleAccumulator& acc = *job.acc;
     const std::string path = request.resume + job.rank_suffix;
     Checkpoint c = load_checkpoint(path);
-    if (c.render_key != key || c.width != uint32_t(rs.width) || c.height != uint32_t(rs.height) ||
-        c.seed != rs.seed || c.max_depth != uint32_t(rs.max_depth) || c.chunk != uint32_t(grid.chunk))
-        throw UsageError("--resume " + path +
-                         ": the checkpoint belongs to a different render (scene, size, seed, depth, chunk or options differ)");
+    if (c.identity != job.identity)
+        throw UsageError("--resume " + path + ": the checkpoint was rendered with " + c.identity.differences(job.identity) +
+                         "; resume with the scene and options it was started with");
     if (c.ranks != uint32_t(dist.ranks))
         throw UsageError("--resume " + path + ": written by a run with " + std::to_string(c.ranks) +
                          " MPI ranks; resume with the same number");
@@ -150,7 +135,7 @@ void prepare(PreparedRender& job, const RenderRequest& request, const DistContex
         if (!w.empty()) std::fprintf(stderr, "warning: %s\n", w.c_str());
     }
     open_devices(job, request, quiet);
-    job.key = render_key(job.scene, job.settings, job.renderers.front()->kernel_options(), request.grid.chunk);
+    job.identity = render_identity(job.scene, job.settings, request.grid.chunk);
     job.acc = std::make_unique<SampleAccumulator>(request.grid, job.settings.width, job.settings.height);
     if (!request.resume.empty()) resume_samples(job, request, dist, quiet);
 }
@@ -169,7 +154,7 @@ void save_state(const PreparedRender& job, const RenderRequest& request, const D
     c.range_end = uint32_t(job.my_range.end);
     c.rank = uint32_t(dist.rank);
     c.ranks = uint32_t(dist.ranks);
-    c.render_key = job.key;
+    c.identity = job.identity;
     c.segments = job.acc->segments();
     save_checkpoint(request.checkpoint + job.rank_suffix, c);
 }
@@ -289,7 +274,7 @@ PartialImage partial_image_of(const PreparedRender& job, const RenderRequest& re
     part.chunk = request.grid.chunk;
     part.max_depth = job.settings.max_depth;
     part.seed = job.settings.seed;
-    part.render_key = job.key;
+    part.identity = job.identity;
     part.scene = job.scene.source;
     part.segments = job.acc->segments();
     return part;
@@ -355,9 +340,8 @@ int cmd_render(const std::vector<std::string>& args) {
             dist_finalize(dist);
             throw;
         }
-        const bool bad_input = dynamic_cast<const UsageError*>(&e) || dynamic_cast<const SceneError*>(&e);
         std::fprintf(stderr, "hairtrace (rank %d of %d): %s\n", dist.rank, dist.ranks, e.what());
-        dist_abort(dist, bad_input ? kExitUsage : kExitRuntime);
+        dist_abort(dist, exit_code_for(e));
     }
     dist_finalize(dist);
     return code;

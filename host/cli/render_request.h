@@ -5,7 +5,7 @@
 #pragma once
 
 #include "cli/args.h"
-#include "dist/accumulation.h"
+#include "split/accumulation.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
 

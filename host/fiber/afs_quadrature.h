@@ -1,4 +1,4 @@
-// Reference AFS^avg quadrature (Zinke 2004 §5, Appendix 2; MODEL_NOTES §7), double precision.
+// Reference AFS^avg quadrature (Zinke 2004 §5, Appendix 2; docs/MODEL.md §7), double precision.
 #pragma once
 
 #include <string>
@@ -7,7 +7,7 @@
 namespace ht {
 
 struct AfsValues {
-    double R = 0, TT = 0, TRT = 0;  // TRT: caustic removal, no glint (MODEL_NOTES §7 reading (a))
+    double R = 0, TT = 0, TRT = 0;  // TRT: caustic removal, no glint (docs/MODEL.md §7 reading (a))
     double TRT_glint = 0;           // TRT with removal + glint (reading (b))
     double density = 0;             // "averaged ray density factor" = int_0^1 S'_R dh = pi/8
 };

@@ -1,5 +1,7 @@
 #include "fiber/material.h"
 
+#include "core/constants.h"
+
 #include "kernels/fiber/longitudinal.h"
 
 #include <cmath>
@@ -11,8 +13,6 @@ static_assert(sizeof(HtMaterial) % 16 == 0, "HtMaterial must be a multiple of 16
 static_assert(sizeof(HtMaterial) == 224, "HtMaterial layout changed: update kernels/types.h comment");
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = kPi / 180.0;
 
 [[noreturn]] void fail(const HairMaterialDesc& d, const std::string& what) {
     throw SceneError("material '" + d.name + "': " + what);
@@ -100,7 +100,7 @@ HtMaterial make_kernel_material(const HairMaterialDesc& d) {
     m.beta_m = d.beta_m;
     m.beta_n = d.beta_n;
     check(d, "alpha_deg", d.alpha_deg, -15.0, 15.0);
-    m.alpha = (float)(d.alpha_deg * kDeg);
+    m.alpha = (float)(d.alpha_deg * kRadiansPerDegree);
     // ---- chiang derived
     double v = chiang_v_from_beta_m(d.beta_m);
     m.v[0] = (float)v;
@@ -111,7 +111,7 @@ HtMaterial make_kernel_material(const HairMaterialDesc& d) {
     double s = chiang_s_from_beta_n(d.beta_n);
     m.s = (float)s;
     m.azim_sigma = (float)(kPi * s / std::sqrt(3.0));  // std of a logistic with scale s
-    double a = d.alpha_deg * kDeg;
+    double a = d.alpha_deg * kRadiansPerDegree;
     const double k[3] = {1.0, 2.0, 4.0};
     for (int i = 0; i < 3; ++i) {
         m.sin_tilt[i] = (float)std::sin(k[i] * a);
@@ -121,18 +121,18 @@ HtMaterial make_kernel_material(const HairMaterialDesc& d) {
     // ---- Marschner / Zinke (Marschner 2003 Table 1 relations)
     check(d, "alpha_r_deg", d.alpha_r_deg, -20.0, 20.0);
     check(d, "beta_r_deg", d.beta_r_deg, 0.5, 45.0);
-    m.alpha_r = (float)(d.alpha_r_deg * kDeg);
-    m.alpha_tt = (float)(-0.5 * d.alpha_r_deg * kDeg);
-    m.alpha_trt = (float)(-1.5 * d.alpha_r_deg * kDeg);
-    m.beta_r = (float)(d.beta_r_deg * kDeg);
-    m.beta_tt = (float)(0.5 * d.beta_r_deg * kDeg);
-    m.beta_trt = (float)(2.0 * d.beta_r_deg * kDeg);
+    m.alpha_r = (float)(d.alpha_r_deg * kRadiansPerDegree);
+    m.alpha_tt = (float)(-0.5 * d.alpha_r_deg * kRadiansPerDegree);
+    m.alpha_trt = (float)(-1.5 * d.alpha_r_deg * kRadiansPerDegree);
+    m.beta_r = (float)(d.beta_r_deg * kRadiansPerDegree);
+    m.beta_tt = (float)(0.5 * d.beta_r_deg * kRadiansPerDegree);
+    m.beta_trt = (float)(2.0 * d.beta_r_deg * kRadiansPerDegree);
     check(d, "caustic_wc_deg", d.caustic_wc_deg, 1.0, 45.0);
     check(d, "caustic_kg", d.caustic_kg, 0.0, 10.0);
     check(d, "caustic_deta", d.caustic_deta, 0.01, 1.0);
     check(d, "caustic_dhm", d.caustic_dhm, 0.0, 1.0);
     check(d, "eccentricity", d.eccentricity, 0.5, 1.0);
-    m.caustic_wc = (float)(d.caustic_wc_deg * kDeg);
+    m.caustic_wc = (float)(d.caustic_wc_deg * kRadiansPerDegree);
     m.caustic_kg = d.caustic_kg;
     m.caustic_deta = d.caustic_deta;
     m.caustic_dhm = d.caustic_dhm;

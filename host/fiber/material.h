@@ -18,7 +18,7 @@ HtMaterial make_kernel_material(const HairMaterialDesc& d);
 uint32_t model_from_name(const std::string& name);
 const char* model_name(uint32_t model);
 
-// Chiang/pbrt roughness mappings (MODEL_NOTES §11).
+// Chiang/pbrt roughness mappings (docs/MODEL.md §11).
 double chiang_v_from_beta_m(double beta_m);   // (0.726 b + 0.812 b^2 + 3.7 b^20)^2
 double chiang_s_from_beta_n(double beta_n);   // sqrt(pi/8) (0.265 b + 1.194 b^2 + 5.372 b^22)
 // sigma_a from melanin concentrations (pbrt coefficients) and from a target colour (Chiang 2016).

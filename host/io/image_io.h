@@ -4,17 +4,14 @@
 // disk, permissions) leaves any previous file intact.
 #pragma once
 
-#include "render/renderer.h"
+#include "core/errors.h"
+#include "core/film.h"
 
 #include <map>
 #include <string>
 #include <vector>
 
 namespace ht {
-
-struct ImageError : std::runtime_error {
-    using std::runtime_error::runtime_error;
-};
 
 struct ImageMetadata {
     std::map<std::string, std::string> text;    // e.g. "hairtrace:device"

@@ -1,5 +1,6 @@
 #include "render/environment.h"
 
+#include "core/constants.h"
 #include "io/image_io.h"
 
 #include <cmath>
@@ -73,7 +74,7 @@ EnvironmentTables build_environment_from_rgb(int w, int hgt, const std::vector<f
     for (int y = 0; y < hgt; ++y) {
         double total;
         build_cdf(&lum[size_t(y) * w], size_t(w), &t.conditional[size_t(y) * (w + 1)], &total);
-        double theta = (y + 0.5) / hgt * 3.14159265358979323846;
+        double theta = (y + 0.5) / hgt * kPi;
         row_weight[y] = total * std::sin(theta);
     }
     t.marginal.resize(hgt + 1);

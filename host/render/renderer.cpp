@@ -10,6 +10,7 @@
 
 #include "bvh/bvh.h"
 #include "bvh/device_geometry.h"
+#include "core/constants.h"
 #include "render/environment.h"
 #include "render/features.h"
 #include "render/memory_plan.h"
@@ -28,7 +29,7 @@
 namespace ht {
 
 namespace {
-// POCL_FINDINGS: 32-256 are equal for traversal; 64 is also what compact.cl requires.
+// docs/POCL.md §1: 32-256 are equal for traversal; 64 is also what compact.cl requires.
 constexpr size_t kLocalSize = 64;
 
 cl::NDRange global_for(size_t n) { return cl::NDRange(round_up(std::max<size_t>(n, 1), kLocalSize)); }
@@ -94,17 +95,17 @@ struct Renderer::Impl {
         light_count = uint32_t(kl.size());
         lights = device_array(cl.context(), kl);
         camera = make_kernel_camera(scene.camera, s.width, s.height);
-        pixel_angle = float(2.0 * std::tan(0.5 * scene.camera.yfov_deg * 3.14159265358979323846 / 180.0) / s.height);
+        pixel_angle = float(2.0 * std::tan(0.5 * scene.camera.yfov_deg * kPi / 180.0) / s.height);
         environment = build_environment(scene.environment);
         env_texels = device_array(cl.context(), environment.texels);
         env_marginal = device_array(cl.context(), environment.marginal);
         env_conditional = device_array(cl.context(), environment.conditional);
 
         const bool afs = s.indirect == RenderSettings::Indirect::Afs;
-        // The render's identity (checkpoint and part keys) leaves the paging out: it depends on
+        // The render identity (render/render_identity.h) leaves the paging out: it depends on
         // the device, and paged and unpaged renders give the same bits (tested).
         stats.clamp_indirect = s.clamp_indirect;
-        // Options that change the estimator, not the scene (part of the render key); off = undefined.
+        // Options that change the estimator, not the scene (settings of the render identity); off = undefined.
         const std::string clamp = estimator_build_options(
             stats.clamp_indirect, s.regularize_deg, s.spawn_offset == RenderSettings::SpawnOffset::Pbrt);
         // The scene's features once (the lobe bounds are a quadrature per material).

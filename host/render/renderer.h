@@ -2,6 +2,7 @@
 #pragma once
 
 #include "cl/device.h"
+#include "core/film.h"
 #include "render/features.h"
 #include "render/memory_plan.h"
 #include "scene/scene.h"
@@ -34,17 +35,6 @@ struct RenderSettings {
     // pbrt-v4 offsets its curves' rays (a diagnostic for comparisons with pbrt, docs/ESTIMATOR.md).
     enum class SpawnOffset { Capsule, Pbrt } spawn_offset = SpawnOffset::Capsule;
     FeatureMode features = FeatureMode::Scene;  // --features: what is compiled in
-};
-
-// Linear radiance film: per pixel (sum r, sum g, sum b, sample count).
-struct Film {
-    int width = 0, height = 0;
-    std::vector<float> rgba;  // 4 floats per pixel
-    // mean radiance of pixel i, channel c
-    float mean(size_t i, int c) const {
-        float n = rgba[4 * i + 3];
-        return n > 0 ? rgba[4 * i + c] / n : 0.0f;
-    }
 };
 
 // One bounce of the wavefront over all samples so far: paths shaded (= closest-hit rays traced),

@@ -1,5 +1,6 @@
 #include "render/scene_upload.h"
 
+#include "core/constants.h"
 #include "fiber/material.h"
 
 #include <cmath>
@@ -8,7 +9,6 @@ static_assert(sizeof(HtTexture) == 32, "HtTexture layout must match kernels/type
 
 namespace ht {
 namespace {
-constexpr double kDeg = 3.14159265358979323846 / 180.0;
 
 void normalize3(double v[3]) {
     double l = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
@@ -36,7 +36,7 @@ HtCamera make_kernel_camera(const Camera& cam, int width, int height) {
     normalize3(r);
     double u[3];
     cross3(r, f, u);
-    double th = std::tan(0.5 * cam.yfov_deg * kDeg);
+    double th = std::tan(0.5 * cam.yfov_deg * kRadiansPerDegree);
     double aspect = double(width) / double(height);
     for (int i = 0; i < 3; ++i) {
         c.eye[i] = cam.eye[i];
@@ -67,8 +67,8 @@ std::vector<HtLight> make_kernel_lights(const std::vector<Light>& lights) {
             k.radiance[i] = l.color[i] * l.intensity;
         }
         k.position[3] = l.radius;
-        k.cos_outer = float(std::cos(l.outer_cone_deg * kDeg));
-        k.cos_inner = float(std::cos(std::min(l.inner_cone_deg, l.outer_cone_deg) * kDeg));
+        k.cos_outer = float(std::cos(l.outer_cone_deg * kRadiansPerDegree));
+        k.cos_inner = float(std::cos(std::min(l.inner_cone_deg, l.outer_cone_deg) * kRadiansPerDegree));
         out.push_back(k);
     }
     return out;

@@ -21,6 +21,7 @@
 #include <glm/glm.hpp>
 #include <map>
 
+#include "core/constants.h"
 #include "scene/hygiene.h"
 #include "scene/rng.h"
 #include "scene/scene_error.h"
@@ -29,7 +30,6 @@ namespace ht {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 struct BuiltinParams {
     uint64_t hairs = 0;

@@ -4,14 +4,14 @@
 #include <cmath>
 #include <limits>
 
+#include "core/constants.h"
+#include "core/hash.h"
 #include "scene/hygiene.h"
 #include "scene/scene_error.h"
 
 namespace ht {
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 std::string lower_extension(const std::string& path) {
     const size_t slash = path.find_last_of("/\\");
@@ -174,16 +174,10 @@ void ensure_camera_and_light(Scene& s) {
 }
 
 uint64_t strands_content_hash(const Strands& s) {
-    uint64_t h = 1469598103934665603ull;
-    auto feed = [&h](const void* data, size_t bytes) {
-        const unsigned char* p = static_cast<const unsigned char*>(data);
-        for (size_t i = 0; i < bytes; ++i) h = (h ^ p[i]) * 1099511628211ull;
-    };
-    feed(s.first_point.data(), s.first_point.size() * sizeof(uint32_t));
-    feed(s.points.data(), s.points.size() * sizeof(Vec3f));
-    feed(s.radius.data(), s.radius.size() * sizeof(float));
-    feed(s.material.data(), s.material.size() * sizeof(uint32_t));
-    return h;
+    uint64_t h = fnv1a(s.first_point);
+    h = fnv1a(s.points, h);
+    h = fnv1a(s.radius, h);
+    return fnv1a(s.material, h);
 }
 
 }  // namespace ht

@@ -1,6 +1,8 @@
 // In-memory scene: what every loader produces and everything downstream consumes.
 #pragma once
 
+#include "core/errors.h"
+
 #include <array>
 #include <cstdint>
 #include <stdexcept>
@@ -12,10 +14,6 @@ namespace ht {
 using Vec3f = std::array<float, 3>;
 
 // A bad scene file or scene description.  what() is one line naming the file and the problem.
-struct SceneError : std::runtime_error {
-    using std::runtime_error::runtime_error;
-};
-
 // Hair strands: strand s owns points [first_point[s], first_point[s+1]).
 struct Strands {
     std::vector<Vec3f> points;

@@ -1,5 +1,5 @@
 /* Zinke 2004 averaged attenuation coefficients AFS^avg_p(theta; eta, sigma_a) (§5, Appendix 2;
- * MODEL_NOTES §7):   AFS_p = integral_0^1 A_p(h) S'_p(h) dh,  S'_p = 1/|dPhi_p/dh|,
+ * docs/MODEL.md §7):   AFS_p = integral_0^1 A_p(h) S'_p(h) dh,  S'_p = 1/|dPhi_p/dh|,
  * theta_i = theta_r = theta (eta' and theta_t at theta), chord absorption 2 sigma_a cos gamma_t/cos theta_t
  * per internal segment, exact (= Bravais) Fresnel.  TRT: S''_TRT = S'_TRT x Marschner's removal factor at
  * phi = Phi(2, h) (reading (a), "TRT"), optionally + the glint term (reading (b), "TRT_glint"):

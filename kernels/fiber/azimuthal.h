@@ -1,6 +1,6 @@
 /* Azimuthal scattering: path geometry Phi(p, h), logistic lobes (Chiang/pbrt), wrapped Gaussians
  * (Zinke near-field blur, Marschner glints), and the exact root finder of Phi(p, h) = phi used by
- * the Marschner far field (MODEL_NOTES §3, §5, §11, §14.3-4, §14.6). */
+ * the Marschner far field (docs/MODEL.md §3, §5, §11, §12.3-4, §12.6). */
 #ifndef HT_FIBER_AZIMUTHAL_H
 #define HT_FIBER_AZIMUTHAL_H
 
@@ -12,7 +12,7 @@ HT_FN real ht_phi_path(int p, real gamma_i, real gamma_t) {
     return HT_R(2) * (real)p * gamma_t - HT_R(2) * gamma_i + (real)p * HT_PI;
 }
 
-/* 1/|dPhi/dh| in the cancellation-free forms of MODEL_NOTES §3 (inv_ep = 1/eta').
+/* 1/|dPhi/dh| in the cancellation-free forms of docs/MODEL.md §3 (inv_ep = 1/eta').
  * Clamped to 1e4 so that the TRT caustic (where it is infinite) stays finite. */
 HT_FN real ht_inv_dphi_dh_c(int p, real h, real c, real inv_ep) {
     real ep2 = HT_R(1) / ht_max(inv_ep * inv_ep, HT_R(1e-30));
@@ -101,7 +101,7 @@ HT_FN real ht_dphi_dgamma(int p, real gamma, real inv_ep) {
 #define HT_ROOT_TOL HT_R(5e-7)
 #endif
 
-/* Real roots of Marschner's cubic approximation (MODEL_NOTES §3)
+/* Real roots of Marschner's cubic approximation (docs/MODEL.md §3)
  *   Phi^(p, gamma) = (6 p c/pi - 2) gamma - (8 p c/pi^3) gamma^3 + p pi = target,  c = asin(1/eta'),
  * written as gamma^3 + P gamma + Q = 0 (trigonometric form for three roots, Cardano for one).
  * Returns the count (0..3).  Used only as Newton starting points. */

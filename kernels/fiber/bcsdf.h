@@ -1,6 +1,6 @@
 /* Hair fibre scattering: the one entry point the renderer calls.
  *
- * Frame (MODEL_NOTES §1): +x = tangent root->tip, sin theta = w.x, phi = atan2(w.z, w.y); wo and wi
+ * Frame (docs/MODEL.md §1): +x = tangent root->tip, sin theta = w.x, phi = atan2(w.z, w.y); wo and wi
  * are unit vectors pointing away from the fibre; h in [-1, 1] is the signed offset of the hit across
  * the fibre in units of the radius (h = sin gamma_o in pbrt's sense).
  *

@@ -1,5 +1,5 @@
 /* Chiang et al. 2016 energy-conserving hair model, with pbrt-v4 HairBxDF conventions
- * (MODEL_NOTES §9-11):
+ * (docs/MODEL.md §9-11):
  *   value(wo, wi, h) = sum_{p<3} M_p(theta_i; theta_o tilted, v_p) A_p(h) N_p(phi) + M_3 A_3 / (2 pi)
  * which is pbrt's f(wo, wi) * |cos theta| (pbrt divides by AbsCosTheta(wi) and its integrator
  * multiplies it back).  M_p: d'Eon 2011 (log form, exact I0); A_p: exact Fresnel, chord absorption,

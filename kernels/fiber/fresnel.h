@@ -1,4 +1,4 @@
-/* Dielectric Fresnel and the Bravais projected indices (MODEL_NOTES §2).
+/* Dielectric Fresnel and the Bravais projected indices (docs/MODEL.md §2).
  *
  * The Bravais 2-D Fresnel F(gamma'; eta', eta'') with both polarisations sharing gamma_t' from eta'
  * equals the exact unpolarised 3-D Fresnel at cos(incidence) = cos(theta) cos(gamma'), so that is

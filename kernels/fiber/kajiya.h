@@ -1,4 +1,4 @@
-/* Kajiya-Kay 1989 (MODEL_NOTES §8), normalised so kd and ks are albedos:
+/* Kajiya-Kay 1989 (docs/MODEL.md §8), normalised so kd and ks are albedos:
  *   value = kd cos(theta_i) / pi^2 + ks ks_norm max(0, cos(theta_i + theta_o))^p
  * cos(theta_i) = sin(t, l) (diffuse term); cos(theta_i + theta_o) = sin(t,l) sin(t,v) - (t.l)(t.v) is the
  * cosine to the nearest direction of the mirror cone theta_i = -theta_o (l, v pointing away from the

@@ -1,4 +1,4 @@
-/* Longitudinal scattering functions (MODEL_NOTES §9, §10, §14.5).
+/* Longitudinal scattering functions (docs/MODEL.md §9, §10, §12.5).
  *
  * d'Eon 2011 M_p in log form with an exponentially scaled Bessel function i0e(x) = e^-x I0(x):
  *   log M = log i0e(a) + (cos(theta_i + theta_o) - 1)/v - log v - log1p(-e^{-2/v}),

@@ -1,4 +1,4 @@
-/* Marschner et al. 2003 far-field model (MODEL_NOTES §2-5):
+/* Marschner et al. 2003 far-field model (docs/MODEL.md §2-5):
  *   S = sum_p M_p(theta_h) N_p(eta'(theta_d), phi) / cos^2 theta_d,   M_p = unit Gaussian(theta_h - alpha_p; beta_p)
  *   value = S cos(theta_i) / 2
  * The 1/2 is 1/D for a fibre of diameter D = 2 (units of the radius): the renderer's average over the

@@ -1,7 +1,7 @@
 /* Elementary functions for the fibre models.
  *
  * Host (real = double): the C++ standard library, i.e. correctly rounded to ~1 ulp.
- * Kernels (real = float): hand-written approximations that PoCL can vectorise (POCL_FINDINGS §3:
+ * Kernels (real = float): hand-written approximations that PoCL can vectorise (docs/POCL.md §2:
  * pow/log/atan2/acos are scalar library calls there, 6-50 ns each).  Stated errors are the
  * approximation error of the formula; float rounding (~1.2e-7 relative per operation) comes on top.
  *
@@ -108,7 +108,7 @@ HT_FN real3 ht_sanitize3(real3 a) { return make_real3(ht_sanitize(a.x), ht_sanit
 /* Wrap an angle to [-pi, pi]. */
 HT_FN real ht_wrap_pi(real x) { return x - HT_TWO_PI * floor((x + HT_PI) * HT_INV_TWO_PI); }
 
-/* Angles of a unit direction in the fibre frame (MODEL_NOTES §1): sin theta = w.x. */
+/* Angles of a unit direction in the fibre frame (docs/MODEL.md §1): sin theta = w.x. */
 HT_FN void ht_theta(real3 w, real* sin_t, real* cos_t) {
     real s = ht_clamp(w.x, HT_R(-1), HT_R(1));
     *sin_t = s;

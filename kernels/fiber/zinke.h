@@ -1,5 +1,5 @@
 /* Zinke, Sobottka, Weber 2004 near-field model, simplified variant (no s-dependence) with the rough
- * lobes of the paper's §4 / Appendix 1 (MODEL_NOTES §6), evaluated at the hit's own offset h:
+ * lobes of the paper's §4 / Appendix 1 (docs/MODEL.md §6), evaluated at the hit's own offset h:
  *   value = sum_p 1/2 g(theta_h - alpha_p; beta_p) cos(theta_i)/cos^2(theta_d) * A_p(h) * D(phi - Phi(p, h); sigma_w)
  * A_p: exact Fresnel at cos theta_d cos gamma_i, absorption 2 cos gamma_t'/cos theta_t per chord,
  * eta' and theta_t at theta_d (Appendix 1).  D: wrapped Gaussian with the std of a logistic of scale

@@ -1,4 +1,4 @@
-/* Binary BVH traversal over HtBvhNode (POCL_FINDINGS L3 "SoA in node" layout), shared by the
+/* Binary BVH traversal over HtBvhNode ("SoA in node" layout, docs/POCL.md §1), shared by the
  * stage kernels (float) and the host tests / microbenchmarks (double).
  *
  * Node 0 is the root; each node holds both children's boxes.  Child slot i: count_i > 0 is a
@@ -6,7 +6,7 @@
  * node index.  A slot with child == 0 and count == 0 is empty (node 0 is the root, never a child):
  * that is how a scene of 0 or 1 segments is stored.
  *
- * Why it looks like this (measured on PoCL 3.1 CPU, POCL_FINDINGS):
+ * Why it looks like this (measured on PoCL 3.1 CPU, docs/POCL.md §1):
  *   - one 8-wide slab test for both children (float8 in OpenCL; lanes 6,7 carry the child/count
  *     bits and are ignored);
  *   - compare-select min/max, not fmin/fmax (13-24 % slower);

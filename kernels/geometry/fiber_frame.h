@@ -1,4 +1,4 @@
-/* Local frame of a fibre at a hit, the convention the fibre models use (MODEL_NOTES §1, pbrt):
+/* Local frame of a fibre at a hit, the convention the fibre models use (docs/MODEL.md §1, pbrt):
  *
  *   x = t                                unit tangent, root -> tip
  *   z = normalize(wo - (wo . t) t)       wo projected into the normal plane (towards the viewer)

@@ -67,7 +67,7 @@ HtMaterial random_material(uint32_t model, uint64_t& s) {
 
 TEST(FiberKernel, FloatEvalMatchesDoubleHost) {
     // Tolerance: |float - double| <= 1e-4 |double| + 1e-7 x (largest value of that model in the batch)
-    // for all queries away from the fragile regions (MODEL_NOTES §14): directions within 2.5 deg of the
+    // for all queries away from the fragile regions (docs/MODEL.md §12): directions within 2.5 deg of the
     // tangent, |h| > 0.995, and for marschner/zinke the TRT caustic (|phi -+ phi_c| < 0.02 or eta' in
     // [1.98, 2.02], where the two caustics merge).  Everywhere (fragile or not) both must be finite and >= 0.  The absolute floor covers
     // far-tail values (exp(-30) and below) whose exponent carries float rounding x 30.

@@ -1,6 +1,6 @@
 // Long renders: checkpoints, resume, interrupts.  Driven through the CLI like a user would.
 #include "io/image_io.h"
-#include "render/checkpoint.h"
+#include "split/checkpoint.h"
 #include "scene/scene.h"
 
 #include <gtest/gtest.h>

@@ -1,8 +1,8 @@
 // Splitting a render: chunked accumulation, render-farm parts + merge, several devices, MPI.
 // The promise under test is bit-for-bit equality with the one-process render of the same
 // --spp, --chunk and --seed, whatever the split.
-#include "dist/accumulation.h"
-#include "dist/distributed.h"
+#include "split/accumulation.h"
+#include "split/distributed.h"
 #include "io/image_io.h"
 #include "cli/args.h"
 

@@ -97,7 +97,7 @@ TEST(GeometryPaging, PagedRenderEqualsTheUnpagedRender) {
     float sum = 0;
     for (float v : flat) sum += v;
     EXPECT_GT(sum, 0.0f);
-    // a checkpoint of the paged render resumes unpaged (the paging is not part of the render key)
+    // a checkpoint of the paged render resumes unpaged (the paging is not part of the render identity)
     ASSERT_EQ(run("HAIRTRACE_MAX_ALLOC=64K " + kRender + " --spp 1 --quiet --checkpoint " + (d / "c.ckpt") + " -o " +
                   (d / "one.exr")), 0);
     ASSERT_EQ(run(kRender + " --spp 3 --quiet --resume " + (d / "c.ckpt") + " -o " + (d / "resumed.exr")), 0);

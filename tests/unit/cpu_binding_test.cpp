@@ -1,7 +1,7 @@
-// The warning for MPI ranks whose CPU binding leaves cores of the node idle (dist/distributed.h).
+// The warning for MPI ranks whose CPU binding leaves cores of the node idle (split/distributed.h).
 #include <gtest/gtest.h>
 
-#include "dist/distributed.h"
+#include "split/distributed.h"
 
 #ifdef __linux__
 #include <sched.h>

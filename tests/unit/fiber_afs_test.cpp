@@ -15,7 +15,7 @@ using namespace ht;
 
 TEST(FiberAfs, SeventeenPercentStatement) {
     // Zinke §5: sigma_a = 0.1 (relative to the radius), eta = 1.55, theta = 0: AFS_TT^avg = 0.70666 and
-    // after 5 recursions 0.7067^5 = 17.6 % ("up to 17 %").  MODEL_NOTES §7 reference: 0.706660, 0.1762.
+    // after 5 recursions 0.7067^5 = 17.6 % ("up to 17 %").  docs/MODEL.md §7 reference: 0.706660, 0.1762.
     AfsValues v = afs_reference(1.55, 0.1, 0.0);
     EXPECT_NEAR(v.TT, 0.706660, 1e-6);
     EXPECT_NEAR(std::pow(v.TT, 5), 0.1762, 5e-5);
@@ -24,7 +24,7 @@ TEST(FiberAfs, SeventeenPercentStatement) {
 }
 
 TEST(FiberAfs, ReferenceValuesFromNotes) {
-    // MODEL_NOTES §7 / §15.9: AFS_R(0; 1.55) = 0.0228, TRT reading (a) 0.0049, reading (b) 0.148,
+    // docs/MODEL.md §7: AFS_R(0; 1.55) = 0.0228, TRT reading (a) 0.0049, reading (b) 0.148,
     // ray density factor pi/8.  Tolerances = the digits quoted.
     AfsValues v = afs_reference(1.55, 0.1, 0.0);
     EXPECT_NEAR(v.R, 0.0228, 5e-5);

@@ -9,7 +9,7 @@
 using namespace ht;
 
 TEST(FiberChiang, RoughnessMappingsMatchPbrt) {
-    // MODEL_NOTES §11 anchors
+    // docs/MODEL.md §11 anchors
     EXPECT_NEAR(chiang_v_from_beta_m(0.3), 0.084611, 5e-7);
     EXPECT_NEAR(chiang_s_from_beta_n(0.3), 0.117160, 5e-7);
     auto s = sigma_a_from_color({0.5, 0.5, 0.5}, 0.3);
@@ -57,7 +57,7 @@ TEST(FiberChiang, MpMatchesBesselFormAndIsNormalised) {
 }
 
 TEST(FiberChiang, ExactI0FixesPbrtSeriesSwitch) {
-    // MODEL_NOTES §14.5: log I0(11.9) = 9.7538 exactly (pbrt's series gives 9.7347).
+    // docs/MODEL.md §12.5: log I0(11.9) = 9.7538 exactly (pbrt's series gives 9.7347).
     EXPECT_NEAR(ht_log_i0(11.9), std::log(std::cyl_bessel_i(0.0, 11.9)), 1e-13);
     EXPECT_NEAR(ht_log_i0(11.9), 9.7538, 1e-4);
     for (double x : {0.0, 0.5, 3.7, 3.8, 14.9, 15.1, 50.0, 600.0})

@@ -31,7 +31,7 @@ TEST(FiberMarschner, RootsSolvePhiExactly) {
 }
 
 TEST(FiberMarschner, CausticConstantsMatchNotes) {
-    // MODEL_NOTES §3: eta' = 1.55 (theta_d = 0): h_c = 0.729726, phi_c = 0.32491 rad (1e-5).
+    // docs/MODEL.md §3: eta' = 1.55 (theta_d = 0): h_c = 0.729726, phi_c = 0.32491 rad (1e-5).
     HtMaterial m = make_kernel_material(fibertest::white("marschner", 0.3, 0.3));
     double phi_c, dh, t, hc;
     ht_marschner_caustic(&m, 1 / 1.55, &phi_c, &dh, &t, &hc);
@@ -59,7 +59,7 @@ TEST(FiberMarschner, NRClosedForm) {
 }
 
 TEST(FiberMarschner, AzimuthalNormalisationIsEnergyFraction) {
-    // integral N_p dphi = 1/2 integral_{-1}^{1} A_p dh (MODEL_NOTES §5), p = R, TT (caustic-free), 1e-4.
+    // integral N_p dphi = 1/2 integral_{-1}^{1} A_p dh (docs/MODEL.md §5), p = R, TT (caustic-free), 1e-4.
     HairMaterialDesc d = fibertest::white("marschner", 0.3, 0.3);
     d.has_sigma_a = true;
     d.sigma_a = {0.3f, 0.3f, 0.3f};
@@ -111,7 +111,7 @@ TEST(FiberMarschner, ReciprocalAndBoundedEnergyWithoutGlints) {
 }
 
 namespace {
-// A_R + A_TT + A_TRT of a smooth circle at theta = 0 (MODEL_NOTES §4), written out independently:
+// A_R + A_TT + A_TRT of a smooth circle at theta = 0 (docs/MODEL.md §4), written out independently:
 // unpolarised Fresnel from Snell's law, chord absorption exp(-2 sigma_a cos gamma_t) per pass.
 double attenuation_sum_theta0(double h, double eta, double sigma_a) {
     double ci = std::sqrt(1 - h * h), st = h / eta, ct = std::sqrt(1 - st * st);
@@ -173,7 +173,7 @@ TEST(FiberZinke, WhiteFibreNeverReflectsMoreThanItReceives) {
 }
 
 TEST(FiberMarschner, CubicApproximationIsOnlyAStart) {
-    // MODEL_NOTES §3: the cubic's TRT stationary point sits at h = 0.7108, phi = 20.49 deg versus the exact
+    // docs/MODEL.md §3: the cubic's TRT stationary point sits at h = 0.7108, phi = 20.49 deg versus the exact
     // 0.7297 / 18.62 deg (eta' = 1.55): its roots are close to, not equal to, the exact ones (TT within
     // 0.05 rad here), and ht_phi_roots polishes them to 1e-10 (RootsSolvePhiExactly).
     const double inv_ep = 1 / 1.55;

@@ -88,7 +88,7 @@ TEST(FiberMaterial, Conversions) {
     EXPECT_NEAR(m.caustic_wc, 15 * deg, 1e-7);
     // Kajiya-Kay normaliser: p = 1 -> 1/(2 pi * pi/2) = 1/pi^2
     EXPECT_NEAR(kajiya_ks_norm(1.0), 1 / (3.14159265358979 * 3.14159265358979), 1e-12);
-    // colour inversion round trip at beta_n = 0.3 (MODEL_NOTES §11: c = 0.5 -> 0.013857)
+    // colour inversion round trip at beta_n = 0.3 (docs/MODEL.md §11: c = 0.5 -> 0.013857)
     d = HairMaterialDesc();
     d.has_color = true;
     d.color = {0.5f, 0.5f, 0.5f};

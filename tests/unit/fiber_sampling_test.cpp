@@ -116,7 +116,7 @@ TEST(FiberSampling, ChiSquareOfSampledDirections) {
 
 TEST(FiberSampling, SampledUniformAndQuadratureEstimatorsAgree) {
     // Mean sample weight vs the deterministic quadrature of integral value dwi: |diff| < 5 standard errors
-    // + 2e-4 (quadrature error bound, MODEL_NOTES-style doubling check in fiber_furnace_test).
+    // + 2e-4 (quadrature error bound, the doubling check of fiber_furnace_test).
     for (const Case& c : kCases) {
         HtMaterial m = material(c.model);
         real3 wo = fibertest::wo_at(c.theta_deg);

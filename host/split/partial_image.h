@@ -1,15 +1,17 @@
 // Partial renders (render-farm parts): an OpenEXR file that holds the raw float32 sums of a
 // sample range, segment by segment, so that `hairtrace merge` can fold the parts of a render in
-// the canonical chunk order (dist/accumulation.h) and reproduce the single render bit for bit.
+// the canonical chunk order (split/accumulation.h) and reproduce the single render bit for bit.
 //
 // Channels: R, G, B = mean radiance of the part (a preview any EXR viewer shows), then for each
 // segment i the raw sums seg<i>.R, seg<i>.G, seg<i>.B and the per-pixel sample count seg<i>.N.
 // Metadata: hairtrace:partial = 1, hairtrace:sample_first / hairtrace:sample_count (the samples
 // held), hairtrace:spp_target, hairtrace:chunk, hairtrace:seed, hairtrace:max_depth,
-// hairtrace:render_key (16 hex digits) and hairtrace:segments ("first+count,..." in channel order).
+// hairtrace:render_identity (RenderIdentity::to_text), hairtrace:render_key (its key(), 16 hex
+// digits, for people) and hairtrace:segments ("first+count,..." in channel order).
 #pragma once
 
-#include "dist/accumulation.h"
+#include "render/render_identity.h"
+#include "split/accumulation.h"
 #include "io/image_io.h"
 
 #include <cstdint>
@@ -22,7 +24,7 @@ struct PartialImage {
     int width = 0, height = 0;
     int spp_target = 0, chunk = 0, max_depth = 0;
     uint32_t seed = 0;
-    uint64_t render_key = 0;
+    RenderIdentity identity;
     std::string scene;
     std::vector<FilmSegment> segments;  // sorted, disjoint
 };
@@ -32,7 +34,5 @@ void write_partial_exr(const std::string& path, const PartialImage& part, const 
 
 // Throws SceneError (exit 2) when the file is not a hairtrace partial or is inconsistent.
 PartialImage read_partial_exr(const std::string& path);
-
-std::string hex64(uint64_t v);
 
 }  // namespace ht

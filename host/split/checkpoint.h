@@ -1,11 +1,11 @@
 // Checkpoints of a progressive render: the raw float films (sums, not means) of the samples done
-// so far, in the canonical chunked order of dist/accumulation.h, plus what is needed to continue.
+// so far, in the canonical chunked order of split/accumulation.h, plus what is needed to continue.
 // Because every sample's random numbers are a pure function of (seed, pixel, sample), continuing
 // from a checkpoint gives the same bits as never stopping.
 #pragma once
 
-#include "dist/accumulation.h"
-#include "render/renderer.h"
+#include "render/render_identity.h"
+#include "split/accumulation.h"
 
 #include <cstdint>
 #include <string>
@@ -19,7 +19,7 @@ struct Checkpoint {
     uint32_t chunk = 0;                          // K of the chunk grid
     uint32_t range_first = 0, range_end = 0;     // the samples this process was asked for
     uint32_t rank = 0, ranks = 1;                // MPI: which rank wrote it, out of how many
-    uint64_t render_key = 0;  // hash of everything else that shapes the image (scene, options)
+    RenderIdentity identity;  // everything else that shapes the image (scene, options)
     std::vector<FilmSegment> segments;  // sorted, disjoint; see SampleAccumulator
 };
 
@@ -27,9 +27,8 @@ struct Checkpoint {
 // leaves a corrupt checkpoint, and the previous one survives.  Throws ImageError on failure.
 void save_checkpoint(const std::string& path, const Checkpoint& c);
 
-// Throws SceneError (bad input, exit 2) when the file is missing, truncated or corrupt.
+// Throws SceneError (bad input, exit 2) when the file is missing, truncated, corrupt or written
+// by a build with another checkpoint version.
 Checkpoint load_checkpoint(const std::string& path);
-
-uint64_t hash_text(const std::string& s);
 
 }  // namespace ht

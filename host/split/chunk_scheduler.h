@@ -7,7 +7,7 @@
 // canonical order (SampleAccumulator), so the image is the same for any number of devices.
 #pragma once
 
-#include "dist/accumulation.h"
+#include "split/accumulation.h"
 #include "render/renderer.h"
 
 #include <functional>

@@ -2,11 +2,11 @@
 // HT_HAVE_MPI).  `mpirun -np N hairtrace render ...` gives each rank a contiguous block of the
 // render's chunks; afterwards the films travel once along the ranks in order (0 -> 1 -> ... ->
 // N-1 -> 0), each rank folding its chunks onto the prefix it received.  That is the canonical
-// chunk order of dist/accumulation.h, so the image equals the one-process render bit for bit,
+// chunk order of split/accumulation.h, so the image equals the one-process render bit for bit,
 // and each rank sends one film (16 B per pixel) when the render starts at sample 0.
 #pragma once
 
-#include "dist/accumulation.h"
+#include "split/accumulation.h"
 
 #include <string>
 #include <vector>

@@ -1,6 +1,6 @@
-#include "dist/accumulation.h"
+#include "split/accumulation.h"
 
-#include "cli/args.h"
+#include "core/errors.h"
 
 #include <algorithm>
 #include <stdexcept>

@@ -1,7 +1,7 @@
-#include "render/checkpoint.h"
+#include "split/checkpoint.h"
 
-#include "io/image_io.h"
-#include "scene/scene.h"
+#include "core/errors.h"
+#include "core/hash.h"
 
 #include <cstdio>
 #include <cstring>
@@ -14,28 +14,21 @@ namespace {
 constexpr char kMagic[4] = {'H', 'T', 'C', 'K'};
 // 2: a list of film segments (chunked accumulation) instead of one film.  Version 1 files held
 // the plain sequential sum, which is not the chunked order once a render exceeds one chunk.
-constexpr uint32_t kVersion = 2;
+// 3: the render identity's five part digests instead of one key that left out the materials.
+constexpr uint32_t kVersion = 3;
 constexpr uint32_t kMaxSegments = 1u << 20;
-
-uint64_t fnv1a(const void* data, size_t n, uint64_t h = 1469598103934665603ull) {
-    const unsigned char* p = static_cast<const unsigned char*>(data);
-    for (size_t i = 0; i < n; ++i) { h ^= p[i]; h *= 1099511628211ull; }
-    return h;
-}
 
 struct Header {
     char magic[4];
     uint32_t version, width, height, seed, max_depth, samples_done, spp_target;
     uint32_t chunk, range_first, range_end, rank, ranks, segment_count;
-    uint64_t render_key, payload_hash;
+    uint64_t identity[RenderIdentity::kPartCount], payload_hash;
 };
 
 struct SegmentHeader {
     uint32_t first, count;
 };
 }  // namespace
-
-uint64_t hash_text(const std::string& s) { return fnv1a(s.data(), s.size()); }
 
 void save_checkpoint(const std::string& path, const Checkpoint& c) {
     Header h{};
@@ -53,7 +46,7 @@ void save_checkpoint(const std::string& path, const Checkpoint& c) {
     h.rank = c.rank;
     h.ranks = c.ranks;
     h.segment_count = uint32_t(c.segments.size());
-    h.render_key = c.render_key;
+    for (int p = 0; p < RenderIdentity::kPartCount; ++p) h.identity[p] = c.identity.digests[p];
     uint64_t hash = fnv1a(nullptr, 0);
     for (auto& s : c.segments) {
         SegmentHeader sh{uint32_t(s.first), uint32_t(s.count)};
@@ -89,7 +82,9 @@ Checkpoint load_checkpoint(const std::string& path) {
     if (std::memcmp(h.magic, kMagic, 4) != 0) throw SceneError(path + ": not a hairtrace checkpoint");
     if (h.version != kVersion)
         throw SceneError(path + ": checkpoint version " + std::to_string(h.version) +
-                         " is not supported (this build reads version " + std::to_string(kVersion) + ")");
+                         " is not supported (this build reads version " + std::to_string(kVersion) +
+                         "): it was written by " + (h.version < kVersion ? "an older" : "a newer") +
+                         " hairtrace; start the render again without --resume");
     if (!f.read(reinterpret_cast<char*>(&h) + 8, sizeof h - 8)) throw SceneError(path + ": truncated checkpoint header");
     if (h.width == 0 || h.height == 0 || h.width > 65536 || h.height > 65536)
         throw SceneError(path + ": checkpoint has an impossible image size");
@@ -107,7 +102,7 @@ Checkpoint load_checkpoint(const std::string& path) {
     c.range_end = h.range_end;
     c.rank = h.rank;
     c.ranks = h.ranks;
-    c.render_key = h.render_key;
+    for (int p = 0; p < RenderIdentity::kPartCount; ++p) c.identity.digests[p] = h.identity[p];
     uint64_t hash = fnv1a(nullptr, 0);
     const size_t floats = 4 * size_t(h.width) * h.height;
     for (uint32_t i = 0; i < h.segment_count; ++i) {

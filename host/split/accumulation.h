@@ -22,7 +22,9 @@
 // a range that starts elsewhere must keep its chunks apart until the merge.
 #pragma once
 
-#include "render/renderer.h"
+#include "core/film.h"
+
+#include <algorithm>
 
 #include <string>
 #include <utility>

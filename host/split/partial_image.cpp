@@ -1,6 +1,6 @@
-#include "dist/partial_image.h"
+#include "split/partial_image.h"
 
-#include "scene/scene.h"
+#include "core/hash.h"
 
 #include <OpenImageIO/imageio.h>
 
@@ -12,12 +12,6 @@
 namespace ht {
 namespace fs = std::filesystem;
 using namespace OIIO;
-
-std::string hex64(uint64_t v) {
-    char buf[17];
-    std::snprintf(buf, sizeof buf, "%016llx", (unsigned long long)v);
-    return buf;
-}
 
 void write_partial_exr(const std::string& path, const PartialImage& part, const ImageMetadata& extra) {
     if (fs::path(path).extension() != ".exr")
@@ -47,7 +41,8 @@ void write_partial_exr(const std::string& path, const PartialImage& part, const 
     spec.attribute("hairtrace:chunk", part.chunk);
     spec.attribute("hairtrace:seed", int(part.seed));
     spec.attribute("hairtrace:max_depth", part.max_depth);
-    spec.attribute("hairtrace:render_key", hex64(part.render_key));
+    spec.attribute("hairtrace:render_identity", part.identity.to_text());
+    spec.attribute("hairtrace:render_key", hex64(part.identity.key()));
     spec.attribute("hairtrace:segments", seg_list);
     spec.attribute("hairtrace:scene", part.scene);
     spec.attribute("oiio:ColorSpace", "Linear");
@@ -94,11 +89,18 @@ PartialImage read_partial_exr(const std::string& path) {
     p.max_depth = spec.get_int_attribute("hairtrace:max_depth", 0);
     p.seed = uint32_t(spec.get_int_attribute("hairtrace:seed", 0));
     p.scene = spec.get_string_attribute("hairtrace:scene");
-    const std::string key = spec.get_string_attribute("hairtrace:render_key");
+    const std::string identity = spec.get_string_attribute("hairtrace:render_identity");
     const std::string segs = spec.get_string_attribute("hairtrace:segments");
-    if (p.spp_target < 1 || p.chunk < 1 || key.size() != 16)
+    if (p.spp_target < 1 || p.chunk < 1)
         throw SceneError(path + ": partial render metadata is missing or corrupt");
-    p.render_key = std::stoull(key, nullptr, 16);
+    if (identity.empty())
+        throw SceneError(path + ": no hairtrace:render_identity: the part was written by an older hairtrace; "
+                                "render it again with this one");
+    try {
+        p.identity = RenderIdentity::from_text(identity);
+    } catch (const std::invalid_argument& e) {
+        throw SceneError(path + ": corrupt hairtrace:render_identity: " + e.what());
+    }
 
     std::vector<float> all(size_t(p.width) * p.height * spec.nchannels);
     if (!in->read_image(0, 0, 0, spec.nchannels, TypeDesc::FLOAT, all.data()))

@@ -1,6 +1,6 @@
-#include "dist/distributed.h"
+#include "split/distributed.h"
 
-#include "cli/args.h"
+#include "core/errors.h"
 
 #include <chrono>
 #include <cstdint>

@@ -1,4 +1,4 @@
-#include "dist/chunk_scheduler.h"
+#include "split/chunk_scheduler.h"
 
 #include <atomic>
 #include <chrono>

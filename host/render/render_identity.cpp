@@ -1,0 +1,149 @@
+#include "render/render_identity.h"
+
+#include "core/hash.h"
+#include "render/scene_upload.h"
+
+#include <fstream>
+#include <iterator>
+#include <stdexcept>
+#include <type_traits>
+
+namespace ht {
+
+namespace {
+
+const char* const kPartNames[RenderIdentity::kPartCount] = {"geometry", "materials", "lights", "camera", "settings"};
+// What each part covers, in the words of the options and scene contents a user changes.
+const char* const kPartMessages[RenderIdentity::kPartCount] = {
+    "different geometry (strand points, radii or materials per strand; meshes)",
+    "different materials (--model, --sigma-a, material extras of the scene; surface colours and textures)",
+    "different lights (the scene's lights or the default key light; --background, --environment, "
+    "--environment-intensity, the environment map's contents)",
+    "a different camera (the scene's camera or the default framing, image aspect)",
+    "different settings (--width, --height, --seed, --max-depth, --chunk, --indirect, --fiber-field, "
+    "--features, --clamp-indirect, --regularize)",
+};
+
+// Hashes values one after another: plain values by their bytes, vectors by their elements'.
+struct Digest {
+    uint64_t h = kFnv1aSeed;
+    template <typename T>
+    Digest& add(const T& v) {
+        static_assert(std::is_trivially_copyable_v<T>, "hash only plain bytes");
+        h = fnv1a(&v, sizeof v, h);
+        return *this;
+    }
+    template <typename T>
+    Digest& add(const std::vector<T>& v) {
+        add(uint64_t(v.size()));  // so that [a][bc] and [ab][c] differ
+        h = fnv1a(v, h);
+        return *this;
+    }
+    Digest& add(const std::string& s) {
+        add(uint64_t(s.size()));
+        h = fnv1a(s, h);
+        return *this;
+    }
+    // Records of several fields: the count, then `fields(digest, record)` for each.
+    template <typename T, typename Fields>
+    Digest& add_each(const std::vector<T>& records, Fields fields) {
+        add(uint64_t(records.size()));
+        for (const T& r : records) fields(*this, r);
+        return *this;
+    }
+};
+
+uint64_t file_digest(const std::string& path) {
+    std::ifstream f(path, std::ios::binary);
+    if (!f) throw SceneError(path + ": cannot read the environment map");
+    const std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    return fnv1a(bytes);
+}
+
+uint64_t geometry_digest(const Scene& scene) {
+    return Digest()
+        .add(strands_content_hash(scene.strands))
+        .add_each(scene.meshes, [](Digest& d, const Mesh& m) {
+            d.add(m.positions).add(m.indices).add(m.normals).add(m.uvs).add(m.material);
+        })
+        .h;
+}
+
+// Hair materials as the kernels get them (overrides applied, melanin and colour converted).
+uint64_t materials_digest(const Scene& scene) {
+    return Digest()
+        .add(make_kernel_materials(scene.materials))
+        .add_each(scene.surface_materials,
+                  [](Digest& d, const SurfaceMaterialDesc& m) { d.add(m.albedo).add(m.texture); })
+        .add_each(scene.textures, [](Digest& d, const Texture& t) {
+            d.add(t.width).add(t.height).add(t.wrap_s).add(t.wrap_t).add(t.texels);
+        })
+        .h;
+}
+
+uint64_t lights_digest(const Scene& scene) {
+    const Environment& env = scene.environment;
+    Digest d;
+    d.add(make_kernel_lights(scene.lights)).add(env.color).add(env.intensity).add(env.map_path);
+    if (!env.map_path.empty()) d.add(file_digest(env.map_path));
+    return d.h;
+}
+
+uint64_t camera_digest(const Scene& scene, const RenderSettings& s) {
+    return Digest().add(make_kernel_camera(scene.camera, s.width, s.height)).h;
+}
+
+// The kernel build options are left out: they follow from the scene and these settings (and
+// from the device's geometry paging, which never changes a bit).
+uint64_t settings_digest(const RenderSettings& s, int chunk) {
+    Digest d;
+    d.add(s.width).add(s.height).add(s.seed).add(s.max_depth).add(chunk);
+    d.add(s.indirect).add(s.fiber_field).add(s.features).add(s.clamp_indirect).add(s.regularize_deg);
+    return d.h;
+}
+
+}  // namespace
+
+uint64_t RenderIdentity::key() const { return fnv1a(digests.data(), sizeof digests); }
+
+std::string RenderIdentity::differences(const RenderIdentity& other) const {
+    std::string out;
+    for (int p = 0; p < kPartCount; ++p)
+        if (digests[p] != other.digests[p]) out += (out.empty() ? "" : " and ") + std::string(kPartMessages[p]);
+    return out;
+}
+
+std::string RenderIdentity::to_text() const {
+    std::string out;
+    for (int p = 0; p < kPartCount; ++p) out += (p ? "," : "") + std::string(kPartNames[p]) + "=" + hex64(digests[p]);
+    return out;
+}
+
+RenderIdentity RenderIdentity::from_text(const std::string& text) {
+    RenderIdentity id;
+    size_t pos = 0;
+    for (int p = 0; p < kPartCount; ++p) {
+        const std::string name = std::string(p ? "," : "") + kPartNames[p] + "=";
+        if (text.compare(pos, name.size(), name) != 0 || pos + name.size() + 16 > text.size())
+            throw std::invalid_argument("render identity '" + text + "' lacks " + kPartNames[p]);
+        const std::string digit = text.substr(pos + name.size(), 16);
+        if (digit.find_first_not_of("0123456789abcdef") != std::string::npos)
+            throw std::invalid_argument("render identity '" + text + "' has a malformed " + kPartNames[p]);
+        id.digests[p] = std::stoull(digit, nullptr, 16);
+        pos += name.size() + 16;
+    }
+    if (pos != text.size()) throw std::invalid_argument("render identity '" + text + "' has trailing text");
+    return id;
+}
+
+RenderIdentity render_identity(const Scene& scene, const RenderSettings& settings, int chunk) {
+    RenderIdentity id;
+    id.digests[RenderIdentity::Geometry] = geometry_digest(scene);
+    id.digests[RenderIdentity::Materials] = materials_digest(scene);
+    id.digests[RenderIdentity::Lights] = lights_digest(scene);
+    id.digests[RenderIdentity::Camera] = camera_digest(scene, settings);
+    id.digests[RenderIdentity::Settings] = settings_digest(settings, chunk);
+    return id;
+}
+
+}  // namespace ht
