@@ -1,5 +1,6 @@
 #include "bench/bench.h"
 
+#include "cli/args.h"
 #include "core/errors.h"
 
 #include "bench/embree_tracer.h"
