@@ -36,7 +36,7 @@ std::vector<std::string> split(const std::string& s, char sep) {
 
 // "model=zinke,depth=5;model=marschner,depth=1"
 std::vector<ConvergeConfig> parse_configs(const std::string& text) {
-    static const std::vector<std::string> known = {"model", "depth", "indirect", "field"};
+    static const std::vector<std::string> known = {"model", "depth", "indirect", "field", "sampler"};
     std::vector<ConvergeConfig> out;
     for (auto& c : split(text, ';')) {
         ConvergeConfig cfg;
@@ -46,7 +46,7 @@ std::vector<ConvergeConfig> parse_configs(const std::string& text) {
             if (eq == std::string::npos) throw UsageError("--configs: '" + kv + "' is not key=value");
             std::string k = kv.substr(0, eq), v = kv.substr(eq + 1);
             if (std::find(known.begin(), known.end(), k) == known.end())
-                throw UsageError("--configs: unknown key '" + k + "' (known: model, depth, indirect, field)");
+                throw UsageError("--configs: unknown key '" + k + "' (known: model, depth, indirect, field, sampler)");
             cfg.keys[k] = v;
         }
         out.push_back(cfg);
@@ -109,7 +109,7 @@ int cmd_converge(const std::vector<std::string>& args) {
     ArgParser p("converge");
     p.positional("SCENE", "scene file or builtin:NAME");
     p.option("--reference", "REF", "linear reference image (EXR) of the same size")
-        .option("--configs", "LIST", "configurations separated by ';', each key=value pairs separated by ','; keys: model (kajiya|marschner|zinke|chiang), depth (bounces), indirect (exact|afs; afs without depth means depth 1), field (near|far|auto|material)", "depth=1")
+        .option("--configs", "LIST", "configurations separated by ';', each key=value pairs separated by ','; keys: model (kajiya|marschner|zinke|chiang), depth (bounces), indirect (exact|afs; afs without depth means depth 1), field (near|far|auto|material), sampler (sobol|independent)", "depth=1")
         .option("--spp", "LIST", "increasing sample counts at which the error is measured", "1,2,4,8,16,32")
         .option("--width", "W", "image width (must match the reference)", "256")
         .option("--height", "H", "image height (must match the reference)", "256")
@@ -165,6 +165,11 @@ int cmd_converge(const std::vector<std::string>& args) {
             }
         }
         if (cfg.keys.count("field")) rs.fiber_field = parse_fiber_field("--configs field", cfg.keys.at("field"));
+        if (cfg.keys.count("sampler")) {
+            const std::string& v = cfg.keys.at("sampler");
+            if (v == "independent") rs.sampler = RenderSettings::Sampler::Independent;
+            else if (v != "sobol") throw UsageError("--configs: sampler must be sobol or independent, got '" + v + "'");
+        }
         rs.spp = spps.back();
         Renderer r(cl, s, rs);
         Film film;

@@ -138,6 +138,7 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
         .option("--indirect", "exact|afs|none", "hair-to-hair light: exact = path traced to --max-depth; afs = traced to --max-depth (auto: 1), then the paper's averaged attenuation: the last bounce's shadow rays cross hair with AFS_TT^avg per fibre; none = direct light with opaque hair (depth 1)", "exact")
         .option("--clamp-indirect", "C|off", "cap the contribution of every light path that scattered at two or more surfaces at C (radiance, largest rgb channel, hue kept): fewer sparkles at low sample counts at the cost of a bias that must be measured per scene (builtin:strand, irradiance 1: C = 3 removes 2.8 % of the light, C = 1 14.5 %)", "off")
         .option("--regularize", "DEG|off", "path regularisation: where a path meets hair after a first scattering, widen the marschner/zinke lobes to at least DEG degrees (longitudinal widths and zinke's azimuthal spread); bright two-lobe sparkles become a blur of indirect highlights (biased; measured in docs/PERFORMANCE.md)", "off")
+        .option("--sampler", "sobol|independent", "random numbers: Owen-scrambled Sobol' points (each jointly used pair stratified, kernels/rng.h) or independent counter-based hashing (A/B); measured in docs/PERFORMANCE.md", "sobol")
         .option("--spawn-offset", "capsule|pbrt", "where rays leaving a fibre start: just outside its capsule, or 1-1.73 fibre diameters off it along the normal as pbrt-v4 offsets its curves' rays (a diagnostic for comparing with pbrt renders: rays then skip the nearest neighbours; docs/ESTIMATOR.md)", "capsule")
         .option("--fiber-field", "near|far|auto|material", "for marschner/zinke materials: near field (zinke) everywhere, far field (marschner) everywhere, or auto: near where a fibre covers at least half a camera pixel's footprint and for hair-to-hair light, far elsewhere; with --model and no --fiber-field: material", "auto")
         .option("--background", "R,G,B", "uniform environment radiance, found by the fibres' own sampling (uniform light directions would rarely meet narrow lobes: no next-event estimation); replaces the scene's")
@@ -192,6 +193,8 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
                                                            ? std::string("material") : p.get("--fiber-field"));
     rs.clamp_indirect = parse_clamp_indirect(p.get("--clamp-indirect"));
     if (p.get("--regularize") != "off") rs.regularize_deg = float(p.get_double("--regularize", 0.1, 90));
+    if (p.get("--sampler") == "independent") rs.sampler = RenderSettings::Sampler::Independent;
+    else if (p.get("--sampler") != "sobol") throw UsageError("--sampler takes sobol or independent");
     if (p.get("--spawn-offset") == "pbrt") rs.spawn_offset = RenderSettings::SpawnOffset::Pbrt;
     else if (p.get("--spawn-offset") != "capsule") throw UsageError("--spawn-offset takes capsule or pbrt");
     const double time_limit = p.get_double("--time-limit", 0, 1e9);

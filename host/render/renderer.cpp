@@ -115,6 +115,7 @@ struct Renderer::Impl {
         if (s.regularize_deg > 0)
             clamp += float_define("HT_REGULARIZE_WIDTH", s.regularize_deg * 3.14159265358979323846 / 180.0);
         if (s.spawn_offset == RenderSettings::SpawnOffset::Pbrt) clamp += " -DHT_SPAWN_PBRT=1";
+        if (s.sampler == RenderSettings::Sampler::Sobol) clamp += " -DHT_SAMPLER_SOBOL=1";
         // The scene's features once (the lobe bounds are a quadrature per material).
         features = scene_features(scene, s.fiber_field, afs, s.features);
         options = kernel_build_options(features) + clamp;

@@ -108,10 +108,10 @@ HT_FN int ht_nee_sample(__global const HtLight* lights, uint light_count, const 
                         __global const float* env_texels, __global const float* env_marginal,
                         __global const float* env_conditional, uint nee_count, uint seed,
                         uint pixel, uint sample, uint bounce, float3 p, HtLightSample* ls) {
-    float ul = ht_uniform(seed, pixel, sample, ht_dim(bounce, HT_DIM_LIGHT_PICK));
+    float ul = ht_sample(seed, pixel, sample, bounce, HT_DIM_LIGHT_PICK);
     uint li = min((uint)(ul * (float)nee_count), nee_count - 1u);
-    float u = ht_uniform(seed, pixel, sample, ht_dim(bounce, HT_DIM_LIGHT_U));
-    float v = ht_uniform(seed, pixel, sample, ht_dim(bounce, HT_DIM_LIGHT_V));
+    float u = ht_sample(seed, pixel, sample, bounce, HT_DIM_LIGHT_U);
+    float v = ht_sample(seed, pixel, sample, bounce, HT_DIM_LIGHT_V);
     if (li < light_count) {
         HtLight light = lights[li];
         int ok = ht_sample_light(&light, p, u, v, ls);
@@ -151,7 +151,7 @@ HT_FN int ht_continue_path(HtPathState* st, float3 nthr, float pdf, float3 o, fl
 /* Russian roulette from HT_RR_START_BOUNCE on. */
 HT_FN float3 ht_roulette_at(float3 nthr, uint seed, uint pixel, uint sample, uint bounce) {
     if (bounce + 1u < HT_RR_START_BOUNCE) return nthr;
-    return ht_roulette(nthr, ht_uniform(seed, pixel, sample, ht_dim(bounce, HT_DIM_RR)));
+    return ht_roulette(nthr, ht_sample(seed, pixel, sample, bounce, HT_DIM_RR));
 }
 
 #if HT_FEATURE_MESHES
@@ -266,8 +266,9 @@ __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM,
                 }
             }
             if (bounce + 1u < ext_depth) {
-                float u0 = ht_uniform(seed, st.pixel, sample, ht_dim(bounce, HT_DIM_BSDF_0));
-                float u1 = ht_uniform(seed, st.pixel, sample, ht_dim(bounce, HT_DIM_BSDF_0 + 1u));
+                /* the jointly stratified direction pair (rng.h's layout) */
+                float u0 = ht_sample(seed, st.pixel, sample, bounce, HT_DIM_BSDF_0 + 1u);
+                float u1 = ht_sample(seed, st.pixel, sample, bounce, HT_DIM_BSDF_0 + 2u);
                 float3 wi;
                 float pdf = 0.0f;
                 if (ht_lambert_sample(ns, ng, u0, u1, &wi, &pdf)) {
@@ -336,10 +337,10 @@ __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM,
             if (bounce + 1u < ext_depth) {
                 float3 wi_l = (float3)(0.0f), weight = (float3)(0.0f);
                 float pdf = 0.0f;
-                float u0 = ht_uniform(seed, st.pixel, sample, ht_dim(bounce, HT_DIM_BSDF_0));
-                float u1 = ht_uniform(seed, st.pixel, sample, ht_dim(bounce, HT_DIM_BSDF_0 + 1u));
-                float u2 = ht_uniform(seed, st.pixel, sample, ht_dim(bounce, HT_DIM_BSDF_0 + 2u));
-                float u3 = ht_uniform(seed, st.pixel, sample, ht_dim(bounce, HT_DIM_BSDF_0 + 3u));
+                float u0 = ht_sample(seed, st.pixel, sample, bounce, HT_DIM_BSDF_0);
+                float u1 = ht_sample(seed, st.pixel, sample, bounce, HT_DIM_BSDF_0 + 1u);
+                float u2 = ht_sample(seed, st.pixel, sample, bounce, HT_DIM_BSDF_0 + 2u);
+                float u3 = ht_sample(seed, st.pixel, sample, bounce, HT_DIM_BSDF_0 + 3u);
                 if (ht_bcsdf_sample(&mat, wo_l, h, u0, u1, u2, u3, &wi_l, &weight, &pdf)) {
                     float3 nthr = ht_roulette_at(thr * weight, seed, st.pixel, sample, bounce);
                     float3 wi = fx * wi_l.x + fy * wi_l.y + fz * wi_l.z;
