@@ -10,7 +10,8 @@
  * Why the first 2^m samples of a group form a (0,m,2)-net in components 0/1 for every m: the
  * Sobol' generator matrices are upper triangular, so the first m output digits depend only on the
  * m lowest index bits; the shuffle permutes those bits among themselves (a nested scramble of the
- * bit-reversed index changes bit k from bits below k only); an Owen scramble of the output keeps
+ * bit-reversed index changes bit k from bits above k only) and leaves the higher ones constant
+ * within each aligned block of 2^m samples (a digital shift); an Owen scramble of the output keeps
  * every elementary interval's point count.  tests/unit/sobol_test.cpp checks it. */
 #ifndef HT_SOBOL_H
 #define HT_SOBOL_H
@@ -82,9 +83,18 @@ HT_FN uint ht_sobol_group_seed(uint seed, uint pixel, uint group) {
     return ht_hash32(h ^ (group * 0x27d4eb2du + 0x165667b1u));
 }
 
+/* Burley's shuffle: the sample index Owen-scrambled, then xor-ed with the scramble of 0.  That
+ * xor keeps the bits above the sample's highest bit 0 (scrambled they would be a constant of the
+ * seed: a digital shift of the points, which the output scramble absorbs anyway), so the Sobol'
+ * loop runs over log2(sample) bits instead of 32, and the first 2^m samples are a permutation of
+ * the indices [0, 2^m). */
+HT_FN uint ht_sobol_shuffle(uint sample, uint seed) {
+    return ht_reverse_bits32(ht_laine_karras(ht_reverse_bits32(sample), seed) ^ ht_laine_karras(0u, seed));
+}
+
 /* Component `comp` (0..3) of sample `sample` of a group: a 32-bit fraction. */
 HT_FN uint ht_sobol_group_bits(uint group_seed, uint sample, uint comp) {
-    uint index = ht_owen_scramble(sample, group_seed);
+    uint index = ht_sobol_shuffle(sample, group_seed);
     uint x = ht_sobol_bits(index, comp);
     return ht_owen_scramble(x, ht_hash32(group_seed + (comp + 1u) * 0x9e3779b9u));
 }

@@ -70,6 +70,24 @@ TEST(Sobol, OwenScrambleIsANestedPermutation) {
     }
 }
 
+TEST(Sobol, ShuffleKeepsEveryPowerOfTwoPrefixAndBlock) {
+    // Samples [b 2^m, (b + 1) 2^m) map to indices of one aligned block of 2^m, each once; block 0
+    // onto [0, 2^m) itself (so the Sobol' loop stays short).
+    for (uint seed : {0u, 7u, 0x9e3779b9u})
+        for (int m = 0; m <= 12; ++m)
+            for (uint block : {0u, 5u}) {
+                const uint n = 1u << m;
+                std::vector<int> seen(n, 0);
+                const uint first = ht_sobol_shuffle(block * n, seed) >> m;
+                for (uint i = 0; i < n; ++i) {
+                    const uint index = ht_sobol_shuffle(block * n + i, seed);
+                    ASSERT_EQ(index >> m, block == 0u ? 0u : first) << "seed " << seed << " m " << m;
+                    ++seen[index & (n - 1u)];
+                }
+                for (int c : seen) ASSERT_EQ(c, 1);
+            }
+}
+
 TEST(Sobol, JointlyUsedPairsAre02NetsAfterScrambling) {
     // For every power of two up to 2^10, in the first block and in a later one (chunks start at
     // multiples of 16), at several seeds, pixels and bounces.
