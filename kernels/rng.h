@@ -21,7 +21,8 @@
  *                                                     with u3 for the azimuth, kernels/fiber/zinke.h)
  *   ROULETTE    RR (0)                                Russian roulette
  *
- * Pixel x/y and light u/v are components 0/1 of their group, the (0,2) pair of Sobol'. */
+ * Every pair above is components 0/1 of its group: the first two Sobol' dimensions, a (0,2)-sequence
+ * (tests/unit/sobol_test.cpp checks the nets). */
 #ifndef HT_RNG_H
 #define HT_RNG_H
 
