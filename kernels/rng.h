@@ -1,13 +1,37 @@
-/* Counter-based random numbers: a pure function of (seed, pixel, sample, dimension).
+/* Random numbers: a pure function of (seed, pixel, sample, bounce, slot).
  *
  * No state is carried between kernels or threads, so an image depends only on the seed and the
  * sample count -- not on the thread count, the device, the launch order, checkpoints or how the
- * samples are split across devices and machines.  Dimensions are numbered per bounce
- * (HT_DIMS_PER_BOUNCE each) so adding a bounce never changes the numbers of earlier ones. */
+ * samples are split across devices and machines.  Two samplers, chosen at kernel build time
+ * (HT_SAMPLER_SOBOL, `render --sampler`; part of the build options and so of the render's identity):
+ *   sobol (1)        Owen-scrambled Sobol' points (sobol.h), one jointly stratified group per use;
+ *   independent (0)  counter-based hashing, every dimension independent (A/B reference).
+ *
+ * Dimension layout of one bounce (the slot numbers; the independent sampler uses dimension
+ * bounce * HT_DIMS_PER_BOUNCE + slot, so adding a bounce never changes the numbers of earlier
+ * ones).  For sobol, the slots that are used together form one group -- the components of one
+ * padded Sobol' set -- so their first 2^m samples are stratified jointly:
+ *
+ *   group       slots (Sobol' component)              used for
+ *   CAMERA      PIXEL_X (0), PIXEL_Y (1)              sub-pixel jitter (bounce 0 only)
+ *   LIGHT       LIGHT_U (0), LIGHT_V (1), LIGHT_PICK (2)  next-event light point and which light
+ *   BSDF_THETA  BSDF_1 (0), BSDF_2 (1)                fibre: longitudinal angle (u1, u2);
+ *                                                     surfaces: the cosine-weighted direction
+ *   BSDF_PHI    BSDF_0 (0), BSDF_3 (1)                fibre: lobe pick u0 (its remainder is reused
+ *                                                     with u3 for the azimuth, kernels/fiber/zinke.h)
+ *   ROULETTE    RR (0)                                Russian roulette
+ *
+ * Every pair above is components 0/1 of its group: the first two Sobol' dimensions, a (0,2)-sequence
+ * (tests/unit/sobol_test.cpp checks the nets). */
 #ifndef HT_RNG_H
 #define HT_RNG_H
 
-#include "compat.h"
+#include "hash.h"
+#include "sobol.h"
+
+#ifndef HT_SAMPLER_SOBOL
+#define HT_SAMPLER_SOBOL 0
+#endif
 
 #define HT_DIMS_PER_BOUNCE 16u
 /* dimension slots inside one bounce */
@@ -19,28 +43,51 @@
 #define HT_DIM_BSDF_0 5u /* 5..8: the four uniforms of the fibre sampler */
 #define HT_DIM_RR 9u
 
-/* "lowbias32" integer hash (Chris Wellons' hash prospector): full avalanche, 2 multiplies. */
-HT_FN uint ht_hash32(uint x) {
-    x ^= x >> 16;
-    x *= 0x7feb352du;
-    x ^= x >> 15;
-    x *= 0x846ca68bu;
-    x ^= x >> 16;
-    return x;
-}
+/* Sobol' groups inside one bounce */
+#define HT_GROUPS_PER_BOUNCE 5u
+#define HT_GROUP_CAMERA 0u
+#define HT_GROUP_LIGHT 1u
+#define HT_GROUP_BSDF_THETA 2u
+#define HT_GROUP_BSDF_PHI 3u
+#define HT_GROUP_ROULETTE 4u
 
-HT_FN uint ht_hash4(uint a, uint b, uint c, uint d) {
-    uint h = ht_hash32(a ^ 0x9e3779b9u);
-    h = ht_hash32(h ^ b);
-    h = ht_hash32(h ^ (c * 0x85ebca6bu));
-    return ht_hash32(h ^ (d * 0xc2b2ae35u));
-}
-
-/* Uniform in [0, 1): the top 24 bits, so the float result is exact and never rounds to 1. */
+/* Independent sampler: uniform in [0, 1), the top 24 bits, exact in float and never 1. */
 HT_FN real ht_uniform(uint seed, uint pixel, uint sample, uint dim) {
     return (real)(ht_hash4(seed, pixel, sample, dim) >> 8) * HT_R(5.9604644775390625e-8);
 }
 
 HT_FN uint ht_dim(uint bounce, uint slot) { return bounce * HT_DIMS_PER_BOUNCE + slot; }
+
+/* The Sobol' group of a slot (the layout table above); comp receives its component. */
+HT_FN uint ht_slot_group(uint slot, uint* comp) {
+    switch (slot) {
+    case HT_DIM_PIXEL_X: *comp = 0u; return HT_GROUP_CAMERA;
+    case HT_DIM_PIXEL_Y: *comp = 1u; return HT_GROUP_CAMERA;
+    case HT_DIM_LIGHT_U: *comp = 0u; return HT_GROUP_LIGHT;
+    case HT_DIM_LIGHT_V: *comp = 1u; return HT_GROUP_LIGHT;
+    case HT_DIM_LIGHT_PICK: *comp = 2u; return HT_GROUP_LIGHT;
+    case HT_DIM_BSDF_0 + 1u: *comp = 0u; return HT_GROUP_BSDF_THETA;
+    case HT_DIM_BSDF_0 + 2u: *comp = 1u; return HT_GROUP_BSDF_THETA;
+    case HT_DIM_BSDF_0: *comp = 0u; return HT_GROUP_BSDF_PHI;
+    case HT_DIM_BSDF_0 + 3u: *comp = 1u; return HT_GROUP_BSDF_PHI;
+    default: *comp = 0u; return HT_GROUP_ROULETTE;
+    }
+}
+
+/* Owen-scrambled Sobol' sampler: the slot's component of its group's padded set. */
+HT_FN real ht_sobol_sample(uint seed, uint pixel, uint sample, uint bounce, uint slot) {
+    uint comp;
+    uint group = ht_slot_group(slot, &comp);
+    return ht_sobol_uniform(seed, pixel, bounce * HT_GROUPS_PER_BOUNCE + group, sample, comp);
+}
+
+/* The sampler the kernels were built with. */
+HT_FN real ht_sample(uint seed, uint pixel, uint sample, uint bounce, uint slot) {
+#if HT_SAMPLER_SOBOL
+    return ht_sobol_sample(seed, pixel, sample, bounce, slot);
+#else
+    return ht_uniform(seed, pixel, sample, ht_dim(bounce, slot));
+#endif
+}
 
 #endif

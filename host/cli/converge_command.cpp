@@ -38,10 +38,11 @@ std::vector<std::string> split(const std::string& s, char sep) {
 }
 
 // "model=zinke,depth=5;model=marschner,depth=1": each key means what its render option means
-// (model = --model, depth = --max-depth, indirect = --indirect, field = --fiber-field), on top of
+// (model = --model, depth = --max-depth, indirect = --indirect, field = --fiber-field, sampler =
+// --sampler), on top of
 // the options given on the command line.
 std::vector<ConvergeConfig> parse_configs(const std::string& text, const ImageRequest& base) {
-    static const std::vector<std::string> known = {"model", "depth", "indirect", "field"};
+    static const std::vector<std::string> known = {"model", "depth", "indirect", "field", "sampler"};
     std::vector<ConvergeConfig> out;
     for (auto& c : split(text, ';')) {
         ConvergeConfig cfg{c, base};
@@ -54,6 +55,10 @@ std::vector<ConvergeConfig> parse_configs(const std::string& text, const ImageRe
             if (k == "depth") r.max_depth = parse_int("--configs depth", v, 1, 1000);
             if (k == "indirect") r.indirect = require_choice("--configs indirect", v, indirect_mode_names());
             if (k == "field") r.fiber_field = parse_fiber_field("--configs field", v);
+            if (k == "sampler")
+                r.settings.sampler = require_choice("--configs sampler", v, {"sobol", "independent"}) == "sobol"
+                                         ? RenderSettings::Sampler::Sobol
+                                         : RenderSettings::Sampler::Independent;
         }
         out.push_back(cfg);
     }
@@ -116,7 +121,7 @@ int cmd_converge(const std::vector<std::string>& args) {
                             "a CSV of the measurements and a log-log plot.");
     p.group("convergence")
         .path("--reference", "REF", "linear reference image (EXR) of the same size", PathKind::Input)
-        .option("--configs", "LIST", "configurations separated by ';', each key=value pairs separated by ','; keys as the render options: model (--model), depth (--max-depth), indirect (--indirect), field (--fiber-field)", "depth=1")
+        .option("--configs", "LIST", "configurations separated by ';', each key=value pairs separated by ','; keys as the render options: model (--model), depth (--max-depth), indirect (--indirect), field (--fiber-field), sampler (--sampler)", "depth=1")
         .option("--spp", "LIST", "increasing sample counts at which the error is measured", "1,2,4,8,16,32")
         .path("--csv", "FILE", "write config,spp,seconds,rmse,relmse,max_error,nonfinite rows", PathKind::Csv, "converge.csv")
         .path("--png", "FILE", "log-log plot of RMSE against render time", PathKind::Image, "converge.png")

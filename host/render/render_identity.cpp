@@ -21,7 +21,7 @@ const char* const kPartMessages[RenderIdentity::kPartCount] = {
     "--environment-intensity, the environment map's contents)",
     "a different camera (the scene's camera or the default framing, image aspect)",
     "different settings (--width, --height, --seed, --max-depth, --chunk, --indirect, --fiber-field, "
-    "--features, --clamp-indirect, --regularize, --spawn-offset)",
+    "--features, --clamp-indirect, --regularize, --spawn-offset, --sampler)",
 };
 
 // Hashes values one after another: plain values by their bytes, vectors by their elements'.
@@ -99,7 +99,7 @@ uint64_t settings_digest(const RenderSettings& s, int chunk) {
     Digest d;
     d.add(s.width).add(s.height).add(s.seed).add(s.max_depth).add(chunk);
     d.add(s.indirect).add(s.fiber_field).add(s.features).add(s.clamp_indirect).add(s.regularize_deg);
-    d.add(s.spawn_offset);
+    d.add(s.spawn_offset).add(s.sampler);
     return d.h;
 }
 

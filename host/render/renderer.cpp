@@ -107,7 +107,8 @@ struct Renderer::Impl {
         stats.clamp_indirect = s.clamp_indirect;
         // Options that change the estimator, not the scene (settings of the render identity); off = undefined.
         const std::string clamp = estimator_build_options(
-            stats.clamp_indirect, s.regularize_deg, s.spawn_offset == RenderSettings::SpawnOffset::Pbrt);
+            stats.clamp_indirect, s.regularize_deg, s.spawn_offset == RenderSettings::SpawnOffset::Pbrt,
+            s.sampler == RenderSettings::Sampler::Sobol);
         // The scene's features once (the lobe bounds are a quadrature per material).
         features = scene_features(scene, s.fiber_field, afs, s.features);
         options = kernel_build_options(features) + clamp;

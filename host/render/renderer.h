@@ -31,6 +31,8 @@ struct RenderSettings {
     float clamp_indirect = 0.0f;
     // Path regularisation: minimum lobe width (degrees) at hair reached after a scattering (0: off).
     float regularize_deg = 0.0f;
+    // Random numbers: Owen-scrambled Sobol' or independent hashing (kernels/rng.h).
+    enum class Sampler { Sobol, Independent } sampler = Sampler::Sobol;
     // Where rays leaving a fibre start: just outside the capsule (the default), or offset as
     // pbrt-v4 offsets its curves' rays (a diagnostic for comparisons with pbrt, docs/ESTIMATOR.md).
     enum class SpawnOffset { Capsule, Pbrt } spawn_offset = SpawnOffset::Capsule;

@@ -163,20 +163,21 @@ HT_FN void ht_point_eval(const HtShadingPoint* sp, real3 wi, real3* value, real*
     ht_bcsdf_eval(&sp->mat, sp->wo_l, ht_to_fiber_local(wi, sp->fx, sp->fy, sp->fz), sp->h, value, pdf);
 }
 
-/* Draws the vertex's uniforms from dimensions HT_DIM_BSDF_0.. of `bounce` (kernels/rng.h). */
+/* Draws the vertex's uniforms from the BSDF slots of `bounce` (kernels/rng.h's layout). */
 HT_FN int ht_point_sample(const HtShadingPoint* sp, uint seed, uint pixel, uint sample, uint bounce,
                           real3* wi, real3* weight, real* pdf) {
-    real u0 = ht_uniform(seed, pixel, sample, ht_dim(bounce, HT_DIM_BSDF_0));
-    real u1 = ht_uniform(seed, pixel, sample, ht_dim(bounce, HT_DIM_BSDF_0 + 1u));
+    /* the jointly stratified pair: a surface's cosine-weighted direction, a fibre's longitudinal angle */
+    real u1 = ht_sample(seed, pixel, sample, bounce, HT_DIM_BSDF_0 + 1u);
+    real u2 = ht_sample(seed, pixel, sample, bounce, HT_DIM_BSDF_0 + 2u);
 #if HT_FEATURE_MESHES
     if (sp->is_surface) {
         /* cosine-weighted: value * cos / pdf is the albedo */
         *weight = sp->albedo;
-        return ht_lambert_sample(sp->ns, sp->ng, u0, u1, wi, pdf);
+        return ht_lambert_sample(sp->ns, sp->ng, u1, u2, wi, pdf);
     }
 #endif
-    real u2 = ht_uniform(seed, pixel, sample, ht_dim(bounce, HT_DIM_BSDF_0 + 2u));
-    real u3 = ht_uniform(seed, pixel, sample, ht_dim(bounce, HT_DIM_BSDF_0 + 3u));
+    real u0 = ht_sample(seed, pixel, sample, bounce, HT_DIM_BSDF_0);
+    real u3 = ht_sample(seed, pixel, sample, bounce, HT_DIM_BSDF_0 + 3u);
     real3 wi_l = make_real3(0, 0, 0);
     *weight = make_real3(0, 0, 0);
     if (!ht_bcsdf_sample(&sp->mat, sp->wo_l, sp->h, u0, u1, u2, u3, &wi_l, weight, pdf)) return 0;

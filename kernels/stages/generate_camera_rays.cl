@@ -12,8 +12,8 @@ __kernel void generate_camera_rays(HtCamera camera, uint pixel_offset, uint coun
     if (i >= count) return;
     uint pixel = pixel_offset + i;
     uint px = pixel % camera.width, py = pixel / camera.width;
-    float jx = ht_uniform(seed, pixel, sample, ht_dim(0u, HT_DIM_PIXEL_X));
-    float jy = ht_uniform(seed, pixel, sample, ht_dim(0u, HT_DIM_PIXEL_Y));
+    float jx = ht_sample(seed, pixel, sample, 0u, HT_DIM_PIXEL_X);
+    float jy = ht_sample(seed, pixel, sample, 0u, HT_DIM_PIXEL_Y);
     rays[i] = ht_camera_ray(&camera, px, py, jx, jy);
     ray_path[i] = i;
     HtPathState s;

@@ -66,10 +66,10 @@ HT_FN int ht_nee_sample(__global const HtLight* lights, uint light_count, const 
                         __global const float* env_texels, __global const float* env_marginal,
                         __global const float* env_conditional, uint nee_count, uint seed,
                         uint pixel, uint sample, uint bounce, float3 p, HtLightSample* ls) {
-    float ul = ht_uniform(seed, pixel, sample, ht_dim(bounce, HT_DIM_LIGHT_PICK));
+    float ul = ht_sample(seed, pixel, sample, bounce, HT_DIM_LIGHT_PICK);
     uint li = min((uint)(ul * (float)nee_count), nee_count - 1u);
-    float u = ht_uniform(seed, pixel, sample, ht_dim(bounce, HT_DIM_LIGHT_U));
-    float v = ht_uniform(seed, pixel, sample, ht_dim(bounce, HT_DIM_LIGHT_V));
+    float u = ht_sample(seed, pixel, sample, bounce, HT_DIM_LIGHT_U);
+    float v = ht_sample(seed, pixel, sample, bounce, HT_DIM_LIGHT_V);
     if (li < light_count) {
         HtLight light = lights[li];
         int ok = ht_sample_light(&light, p, u, v, ls);
@@ -109,7 +109,7 @@ HT_FN int ht_continue_path(HtPathState* st, float3 nthr, float pdf, float3 o, fl
 /* Russian roulette from HT_RR_START_BOUNCE on. */
 HT_FN float3 ht_roulette_at(float3 nthr, uint seed, uint pixel, uint sample, uint bounce) {
     if (bounce + 1u < HT_RR_START_BOUNCE) return nthr;
-    return ht_roulette(nthr, ht_uniform(seed, pixel, sample, ht_dim(bounce, HT_DIM_RR)));
+    return ht_roulette(nthr, ht_sample(seed, pixel, sample, bounce, HT_DIM_RR));
 }
 
 

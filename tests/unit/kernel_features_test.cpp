@@ -46,9 +46,9 @@ TEST(KernelFeatures, EveryEmittedDefineIsReadByAKernel) {
     for (bool& on : all.on) on = true;
     all.paging.pages = 4;
     all.paging.page_log2 = 10;
-    const std::string options = kernel_build_options(all) + estimator_build_options(2.0f, 10.0f, true);
+    const std::string options = kernel_build_options(all) + estimator_build_options(2.0f, 10.0f, true, true);
     const std::set<std::string> names = defined_names(options);
-    EXPECT_GE(names.size(), kFeatureCount + 5);
+    EXPECT_GE(names.size(), kFeatureCount + 6);
     const std::string src = program_without_declarations();
     for (const std::string& name : names)
         EXPECT_NE(src.find(name), std::string::npos) << name << " is emitted but no kernel reads it";
@@ -64,6 +64,6 @@ TEST(KernelFeatures, OneDefinePerSwitchAndEveryMeaningSaid) {
 }
 
 TEST(KernelFeatures, EstimatorOptionsAreEmptyWhenOff) {
-    EXPECT_EQ(estimator_build_options(0, 0, false), "");
-    EXPECT_NE(estimator_build_options(3, 0, false).find("HT_CLAMP_INDIRECT"), std::string::npos);
+    EXPECT_EQ(estimator_build_options(0, 0, false, false), "");
+    EXPECT_NE(estimator_build_options(3, 0, false, false).find("HT_CLAMP_INDIRECT"), std::string::npos);
 }
