@@ -33,7 +33,7 @@ int model_index(const std::string& name) {
 }
 }  // namespace
 
-// Why these bounds hold (MODEL_NOTES §4, §6-7):
+// Why these bounds hold (docs/MODEL.md §4, §6-7):
 //  * Every TT/TRT term carries the chord transmittance T(h, theta)^p (p internal chords; the TRT
 //    glint T(h_c)^2), and the chord 2 cos gamma_t / cos theta_t >= l_min = 2 sqrt(1 - 1/eta^2)
 //    because eta' >= eta (so sin gamma_t = h/eta' <= 1/eta) and cos theta_t <= 1.  Hence, pointwise
