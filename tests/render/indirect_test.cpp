@@ -136,7 +136,10 @@ TEST(Indirect, RegularisationLeavesDirectLightAndKeepsTheEnergyOfIndirectLight) 
     Film direct = render(s, rs);
     rs.regularize_deg = 20.0f;
     EXPECT_EQ(render(s, rs).rgba, direct.rgba);
+    // 64 samples: at 16 one rare two-lobe path (a sparkle) can move the unregularised total by
+    // 25 % (seen with the Sobol' sampler), which is the noise this test is not about
     rs.max_depth = 3;
+    rs.spp = 64;
     Film regularised = render(s, rs);
     rs.regularize_deg = 0.0f;
     Film exact = render(s, rs);
