@@ -137,7 +137,8 @@ int cmd_converge(const std::vector<std::string>& args) {
                          std::to_string(base.width) + "x" + std::to_string(base.height));
     base.seed = uint32_t(p.get_int("--seed", 0, 2147483647));
     Scene scene = load_scene(p.get("SCENE"), scene_load_options(p));
-    ensure_camera_and_light(scene);
+    apply_hair_color_options(p, scene);
+    ensure_camera_and_light(scene, scene_view_options(p));
     ClContext cl(p.has("--device") ? p.get_int("--device", 0, 1000) : -1);
 
     std::ofstream csv(p.get("--csv"));

@@ -223,6 +223,7 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
     }
     Scene scene = load_scene(p.get("SCENE"), load_options);
     if (p.has("--model")) apply_model_override(scene, p.get("--model"));
+    apply_hair_color_options(p, scene);
     if (p.has("--sigma-a")) {
         const Vec3f sa = parse_rgb("--sigma-a", p.get("--sigma-a"));
         for (auto& mat : scene.materials) {
@@ -241,7 +242,7 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
     if (p.has("--background")) scene.environment = Environment{"", parse_rgb("--background", p.get("--background")), 1.0f};
     if (p.has("--environment")) scene.environment.map_path = p.get("--environment");
     scene.environment.intensity *= float(p.get_double("--environment-intensity", 0, 1e12));
-    ensure_camera_and_light(scene);
+    ensure_camera_and_light(scene, scene_view_options(p));
     const std::string indirect = p.get("--indirect");
     if (indirect != "exact" && indirect != "afs" && indirect != "none")
         throw UsageError("--indirect must be exact, afs or none, got '" + indirect + "'");
