@@ -18,6 +18,7 @@
 // Radii are interpolated linearly in the parameter.  One Shape is one strand.
 #include <zlib.h>
 
+#include <algorithm>
 #include <array>
 #include <cctype>
 #include <cmath>
@@ -165,6 +166,12 @@ public:
 private:
     void read_file(const std::string& path, int depth) {
         if (depth > kMaxIncludeDepth) scene_fail(path, "Include/Import nested more than ", kMaxIncludeDepth, " deep");
+        // A file that includes itself (directly or not) would be read 2^depth times.
+        std::error_code ec;
+        const std::string key = std::filesystem::weakly_canonical(path, ec).string();
+        if (std::find(reading_.begin(), reading_.end(), key) != reading_.end())
+            scene_fail(path, "includes itself");
+        reading_.push_back(key);
         const std::vector<Token> tokens = tokenize(path, read_text(path, opt_.max_bytes));
         size_t i = 0;
         while (i < tokens.size()) {
@@ -176,6 +183,7 @@ private:
             while (i < tokens.size() && tokens[i].kind != Token::Word) args.push_back(&tokens[i++]);
             directive(path, depth, d, args);
         }
+        reading_.pop_back();
     }
 
     std::vector<double> numbers(const std::string& path, const std::string& d, const std::vector<const Token*>& a,
@@ -283,8 +291,10 @@ private:
         std::vector<P3> cp;
         for (size_t k = 0; k < raw.size(); k += 3) cp.push_back({raw[k], raw[k + 1], raw[k + 2]});
         const std::string basis = word(p, "basis", "bezier");
-        const int degree = int(scalar(p, "degree", 3));
-        if (degree != 2 && degree != 3) scene_fail(path, "curve ", shape, ": degree ", degree, " is not 2 or 3");
+        const double degree_value = scalar(p, "degree", 3);
+        if (degree_value != 2 && degree_value != 3)
+            scene_fail(path, "curve ", shape, ": degree ", degree_value, " is not 2 or 3");
+        const int degree = int(degree_value);
         if (basis != "bezier" && basis != "bspline")
             scene_fail(path, "curve ", shape, ": basis \"", basis, "\" is not bezier or bspline");
         // Bezier control points of each segment (degree + 1 each).
@@ -342,7 +352,7 @@ private:
         }
         s.first_point.push_back(uint32_t(s.points.size()));
         s.material.push_back(0);
-        shape_names_.push_back(str_cat(path, " curve ", shape));
+        shape_names_.push_back(path == top_ ? str_cat("curve ", shape) : str_cat(path, " curve ", shape));
     }
 
     // Widths scale with the transformation's mean linear scale (cube root of |det|).
@@ -358,6 +368,7 @@ private:
     Mat4 ctm_ = kIdentity;
     std::vector<Mat4> stack_;
     std::vector<std::string> shape_names_;
+    std::vector<std::string> reading_;  // the Include chain being read, canonical paths
     size_t shapes_ = 0, skipped_shapes_ = 0, skipped_directives_ = 0;
 };
 

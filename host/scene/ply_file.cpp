@@ -155,7 +155,8 @@ PlyHeader read_header(const std::string& path, uint64_t file_size) {
             double count = -1;
             words >> e.name >> count;
             if (e.name.empty() || !(count >= 0 && count <= double(file_size)) || count != std::floor(count))
-                scene_fail(path, "element '", e.name, "': count is missing or more than the file could hold");
+                scene_fail(path, "element '", e.name, "': the count is missing, or more items than the file's ", file_size,
+                           " bytes could hold");
             e.count = uint64_t(count);
             h.elements.push_back(e);
         } else if (word == "property") {
