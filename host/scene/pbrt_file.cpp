@@ -99,38 +99,52 @@ struct Token {
     double number = 0;
 };
 
-std::vector<Token> tokenize(const std::string& file, const std::string& s) {
-    std::vector<Token> out;
-    size_t i = 0;
-    while (i < s.size()) {
-        const char c = s[i];
-        if (std::isspace(static_cast<unsigned char>(c))) {
-            ++i;
-        } else if (c == '#') {
-            while (i < s.size() && s[i] != '\n') ++i;
-        } else if (c == '[' || c == ']') {
-            out.push_back({c == '[' ? Token::Open : Token::Close, std::string(1, c)});
-            ++i;
-        } else if (c == '"') {
-            const size_t end = s.find('"', i + 1);
-            if (end == std::string::npos) scene_fail(file, "a string is not closed");
-            out.push_back({Token::String, s.substr(i + 1, end - i - 1)});
-            i = end + 1;
-        } else {
-            size_t end = i;
-            while (end < s.size() && !std::isspace(static_cast<unsigned char>(s[end])) && s[end] != '[' &&
-                   s[end] != ']' && s[end] != '"' && s[end] != '#')
-                ++end;
-            Token t{Token::Word, s.substr(i, end - i)};
-            char* stop = nullptr;
-            t.number = std::strtod(t.text.c_str(), &stop);
-            if (*stop == '\0') t.kind = Token::Number;
-            out.push_back(std::move(t));
-            i = end;
+// Splits pbrt text into tokens one at a time (a whole file's tokens at once would take many times
+// the memory of its text).
+class Tokenizer {
+public:
+    Tokenizer(const std::string& file, const std::string& text) : file_(file), s_(text) {}
+
+    // The next token, or false at the end of the text.
+    bool next(Token& out) {
+        const std::string& s = s_;
+        while (i_ < s.size()) {
+            const char c = s[i_];
+            if (std::isspace(static_cast<unsigned char>(c))) {
+                ++i_;
+            } else if (c == '#') {
+                while (i_ < s.size() && s[i_] != '\n') ++i_;
+            } else if (c == '[' || c == ']') {
+                out = {c == '[' ? Token::Open : Token::Close, std::string(1, c)};
+                ++i_;
+                return true;
+            } else if (c == '"') {
+                const size_t end = s.find('"', i_ + 1);
+                if (end == std::string::npos) scene_fail(file_, "a string is not closed");
+                out = {Token::String, s.substr(i_ + 1, end - i_ - 1)};
+                i_ = end + 1;
+                return true;
+            } else {
+                size_t end = i_;
+                while (end < s.size() && !std::isspace(static_cast<unsigned char>(s[end])) && s[end] != '[' &&
+                       s[end] != ']' && s[end] != '"' && s[end] != '#')
+                    ++end;
+                out = {Token::Word, s.substr(i_, end - i_)};
+                char* stop = nullptr;
+                out.number = std::strtod(out.text.c_str(), &stop);
+                if (*stop == '\0') out.kind = Token::Number;
+                i_ = end;
+                return true;
+            }
         }
+        return false;
     }
-    return out;
-}
+
+private:
+    const std::string& file_;
+    const std::string& s_;
+    size_t i_ = 0;
+};
 
 // A parameter list: "type name" followed by one value or a bracketed list.
 struct Param {
@@ -172,35 +186,35 @@ private:
         if (std::find(reading_.begin(), reading_.end(), key) != reading_.end())
             scene_fail(path, "includes itself");
         reading_.push_back(key);
-        const std::vector<Token> tokens = tokenize(path, read_text(path, opt_.max_bytes));
-        size_t i = 0;
-        while (i < tokens.size()) {
-            const Token& t = tokens[i];
+        const std::string text = read_text(path, opt_.max_bytes);
+        Tokenizer tokens(path, text);
+        Token t;
+        bool more = tokens.next(t);
+        while (more) {
             if (t.kind != Token::Word) scene_fail(path, "expected a directive, found '", t.text.substr(0, 40), "'");
-            const std::string& d = t.text;
-            ++i;
-            std::vector<const Token*> args;  // everything up to the next directive
-            while (i < tokens.size() && tokens[i].kind != Token::Word) args.push_back(&tokens[i++]);
+            const std::string d = t.text;
+            std::vector<Token> args;  // everything up to the next directive
+            while ((more = tokens.next(t)) && t.kind != Token::Word) args.push_back(std::move(t));
             directive(path, depth, d, args);
         }
         reading_.pop_back();
     }
 
-    std::vector<double> numbers(const std::string& path, const std::string& d, const std::vector<const Token*>& a,
+    std::vector<double> numbers(const std::string& path, const std::string& d, const std::vector<Token>& a,
                                 size_t n) {
         std::vector<double> v;
-        for (const Token* t : a)
-            if (t->kind == Token::Number) v.push_back(t->number);
-            else if (t->kind != Token::Open && t->kind != Token::Close)
-                scene_fail(path, d, ": expected numbers, found '", t->text.substr(0, 40), "'");
+        for (const Token& t : a)
+            if (t.kind == Token::Number) v.push_back(t.number);
+            else if (t.kind != Token::Open && t.kind != Token::Close)
+                scene_fail(path, d, ": expected numbers, found '", t.text.substr(0, 40), "'");
         if (v.size() != n) scene_fail(path, d, " takes ", n, " numbers, found ", v.size());
         return v;
     }
 
-    void directive(const std::string& path, int depth, const std::string& d, const std::vector<const Token*>& a) {
+    void directive(const std::string& path, int depth, const std::string& d, const std::vector<Token>& a) {
         if (d == "Include" || d == "Import") {
-            if (a.size() != 1 || a[0]->kind != Token::String) scene_fail(path, d, " needs one file name");
-            std::filesystem::path next(a[0]->text);
+            if (a.size() != 1 || a[0].kind != Token::String) scene_fail(path, d, " needs one file name");
+            std::filesystem::path next(a[0].text);
             if (next.is_relative()) next = std::filesystem::path(path).parent_path() / next;
             read_file(next.string(), depth + 1);
         } else if (d == "AttributeBegin" || d == "TransformBegin") {
@@ -233,8 +247,8 @@ private:
                 for (int c = 0; c < 4; ++c) m[4 * r + c] = v[4 * c + r];
             ctm_ = d == "Transform" ? m : mul(ctm_, m);
         } else if (d == "Shape") {
-            if (a.empty() || a[0]->kind != Token::String) scene_fail(path, "Shape needs a type name");
-            if (a[0]->text != "curve") {
+            if (a.empty() || a[0].kind != Token::String) scene_fail(path, "Shape needs a type name");
+            if (a[0].text != "curve") {
                 ++skipped_shapes_;
                 return;
             }
@@ -244,25 +258,27 @@ private:
         }
     }
 
-    Params params(const std::string& path, const std::vector<const Token*>& a) {
+    Params params(const std::string& path, const std::vector<Token>& a) {
         Params out;
         size_t i = 1;
         while (i < a.size()) {
-            if (a[i]->kind != Token::String) scene_fail(path, "Shape \"curve\": expected a \"type name\" string");
-            const std::string decl = a[i++]->text;
+            if (a[i].kind != Token::String) scene_fail(path, "Shape \"curve\": expected a \"type name\" string");
+            const std::string decl = a[i++].text;
             const size_t space = decl.find(' ');
-            if (space == std::string::npos) scene_fail(path, "Shape \"curve\": parameter \"", decl, "\" has no type");
+            const size_t name_start = space == std::string::npos ? space : decl.find_first_not_of(' ', space);
+            if (name_start == std::string::npos)
+                scene_fail(path, "Shape \"curve\": parameter \"", decl, "\" is not \"type name\"");
             Param p;
             p.type = decl.substr(0, space);
-            const std::string name = decl.substr(decl.find_first_not_of(' ', space));
-            auto take = [&](const Token* t) {
-                if (t->kind == Token::Number) p.numbers.push_back(t->number);
-                else if (t->kind == Token::String) p.strings.push_back(t->text);
-                else scene_fail(path, "Shape \"curve\": bad value '", t->text.substr(0, 40), "' of \"", decl, "\"");
+            const std::string name = decl.substr(name_start);
+            auto take = [&](const Token& t) {
+                if (t.kind == Token::Number) p.numbers.push_back(t.number);
+                else if (t.kind == Token::String) p.strings.push_back(t.text);
+                else scene_fail(path, "Shape \"curve\": bad value '", t.text.substr(0, 40), "' of \"", decl, "\"");
             };
-            if (i < a.size() && a[i]->kind == Token::Open) {
+            if (i < a.size() && a[i].kind == Token::Open) {
                 ++i;
-                while (i < a.size() && a[i]->kind != Token::Close) take(a[i++]);
+                while (i < a.size() && a[i].kind != Token::Close) take(a[i++]);
                 if (i == a.size()) scene_fail(path, "Shape \"curve\": \"", decl, "\" has no closing ]");
                 ++i;
             } else if (i < a.size()) {

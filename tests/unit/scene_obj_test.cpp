@@ -11,15 +11,13 @@ using test::contains;
 using test::scene_error_of;
 
 TEST(SceneObj, LineElementsAreStrands) {
-    test::TempDir dir;
-    const std::string path = dir.file("hair.obj");
-    test::write_text(path,
-                     "# two polylines, one written segment by segment, and a face\n"
-                     "v 0 0 0\nv 0 1 0\nv 0 2 0\nv 1 0 0\nv 1 1 0\nv 1 2 0\nv 1 3 0\n"
-                     "l 1 2 3\n"
-                     "l 4 5\nl 5 6\nl -2 -1\n"
-                     "f 1 2 4\n");
-    const Scene s = load_scene(path);
+    const std::string text =
+        "# two polylines, one written segment by segment, and a face\n"
+        "v 0 0 0\nv 0 1 0\nv 0 2 0\nv 1 0 0\nv 1 1 0\nv 1 2 0\nv 1 3 0\n"
+        "l 1 2 3\n"
+        "l 4 5\nl 5 6\nl -2 -1\n"
+        "f 1 2 4\n";
+    const Scene s = test::load_text_scene("hair.obj", text);
     ASSERT_EQ(s.strands.strand_count(), 2u);
     EXPECT_EQ(s.strands.first_point, (std::vector<uint32_t>{0, 3, 7}));
     EXPECT_EQ(s.strands.points[6], (Vec3f{1, 3, 0}));
@@ -27,7 +25,7 @@ TEST(SceneObj, LineElementsAreStrands) {
     EXPECT_TRUE(test::any_warning_contains(s, "ignored 1 faces"));
     LoadOptions r;
     r.default_radius = 0.25f;
-    EXPECT_FLOAT_EQ(load_scene(path, r).strands.radius[3], 0.25f);
+    EXPECT_FLOAT_EQ(test::load_text_scene("hair.obj", text, r).strands.radius[3], 0.25f);
 }
 
 TEST(SceneObj, RefusedInput) {
@@ -53,10 +51,7 @@ TEST(SceneObj, RefusedInput) {
     text += "l";
     for (int i = 1; i <= 500; ++i) text += " " + std::to_string(i);
     test::write_text(big, text + "\n");
-    LoadOptions small;
-    small.max_bytes = 4096;
-    EXPECT_TRUE(contains(scene_error_of([&] { load_scene(big, small); }), "more than the limit"));
-    EXPECT_EQ(load_scene(big).strands.point_count(), 500u);
+    test::expect_refused_only_under_small_limit(big, 500);
 }
 
 }  // namespace

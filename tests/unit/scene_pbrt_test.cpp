@@ -18,14 +18,12 @@ using test::contains;
 using test::scene_error_of;
 
 TEST(ScenePbrt, LinearBezierIsExactAndWidthIsADiameter) {
-    test::TempDir dir;
-    const std::string path = dir.file("hair.pbrt");
-    test::write_text(path,
-                     "# two linear segments, one strand\n"
-                     "Shape \"curve\" \"string type\" \"cylinder\" \"string basis\" \"bezier\" \"integer degree\" 3\n"
-                     "  \"integer splitdepth\" 0 \"float width\" 0.5\n"
-                     "  \"point3 P\" [ 0 0 0  0 1 0  0 2 0  0 3 0  1 4 0  2 5 0  3 6 0 ]\n");
-    const Scene s = load_scene(path);
+    const Scene s = test::load_text_scene(
+        "hair.pbrt",
+        "# two linear segments, one strand\n"
+        "Shape \"curve\" \"string type\" \"cylinder\" \"string basis\" \"bezier\" \"integer degree\" 3\n"
+        "  \"integer splitdepth\" 0 \"float width\" 0.5\n"
+        "  \"point3 P\" [ 0 0 0  0 1 0  0 2 0  0 3 0  1 4 0  2 5 0  3 6 0 ]\n");
     ASSERT_EQ(s.strands.strand_count(), 1u);
     EXPECT_EQ(s.strands.points, (std::vector<Vec3f>{{0, 0, 0}, {0, 3, 0}, {3, 6, 0}}));
     EXPECT_EQ(s.strands.radius, (std::vector<float>{0.25f, 0.25f, 0.25f}));
@@ -48,11 +46,9 @@ double distance_to_chain(const Strands& s, const std::array<double, 3>& p) {
 }
 
 TEST(ScenePbrt, CurvedBsplineStaysWithinTheTolerance) {
-    test::TempDir dir;
-    const std::string path = dir.file("bspline.pbrt");
-    test::write_text(path, "Shape \"curve\" \"string basis\" \"bspline\" \"float width0\" 0.2 \"float width1\" 0.1\n"
-                           "  \"point3 P\" [ 0 0 0  1 2 0  2 0 0  3 2 0  4 0 1 ]\n");
-    const Scene s = load_scene(path);
+    const Scene s = test::load_text_scene("bspline.pbrt",
+                                          "Shape \"curve\" \"string basis\" \"bspline\" \"float width0\" 0.2 "
+                                          "\"float width1\" 0.1\n  \"point3 P\" [ 0 0 0  1 2 0  2 0 0  3 2 0  4 0 1 ]\n");
     ASSERT_EQ(s.strands.strand_count(), 1u);
     EXPECT_GT(s.strands.point_count(), 6u);  // bent: more than one capsule per segment
     EXPECT_NEAR(s.strands.radius.front(), 0.1f, 1e-6);
