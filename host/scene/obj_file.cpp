@@ -3,9 +3,9 @@
 // element that starts at the vertex where the previous one ended continues it (exporters that
 // write one `l a b` per segment, as glTF LINES does); `v` positions only: OBJ stores no radius,
 // so LoadOptions::default_radius, else radius_from_extent.  Faces, points, normals, texture
-// coordinates and materials (mtllib is not opened) are ignored with a counted warning.  Before
-// tinyobjloader allocates anything, one pass over the text counts the `v` lines and the `l`
-// indices and checks them against LoadOptions::max_bytes.
+// coordinates and materials (mtllib is not opened) are ignored, faces with a counted warning.
+// Before tinyobjloader allocates anything, one pass over the text counts the `v` lines and the
+// `l` indices, checks them against LoadOptions::max_bytes, and keeps only the lines it needs.
 #include <fstream>
 #include <sstream>
 
@@ -19,12 +19,17 @@ namespace ht {
 
 namespace {
 
-struct ObjCounts {
-    uint64_t vertices = 0, line_elements = 0, line_indices = 0;
+struct ObjLines {
+    std::string text;  // the `v`, `l`, `o` and `g` lines: all tinyobjloader is given
+    uint64_t vertices = 0, line_elements = 0, line_indices = 0, faces = 0;
 };
 
-ObjCounts count_obj(const std::string& text) {
-    ObjCounts c;
+// One pass over the text: counts what the strands will need, and keeps only the lines that make
+// them.  tinyobjloader never sees the others: besides being unused, some of them reach undefined
+// behaviour in it (a `vw` skin weight line with a non-finite joint id is converted to int;
+// found by fuzzing, tests/fuzz/regressions/fuzz_obj_file/).
+ObjLines hair_lines(const std::string& text) {
+    ObjLines c;
     std::istringstream in(text);
     std::string line;
     while (std::getline(in, line)) {
@@ -39,7 +44,14 @@ ObjCounts count_obj(const std::string& text) {
             std::istringstream words(line.substr(start + 1));
             std::string w;
             while (words >> w) ++c.line_indices;
+        } else if (kind == 'f') {
+            ++c.faces;
+            continue;
+        } else if (kind != 'o' && kind != 'g') {
+            continue;
         }
+        c.text += line;
+        c.text += '\n';
     }
     return c;
 }
@@ -51,7 +63,7 @@ Scene load_obj_file(const std::string& path, const LoadOptions& opt) {
     std::ifstream in(path, std::ios::binary);
     const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     if (!in.good() && !in.eof()) scene_fail(path, "read error");
-    const ObjCounts counts = count_obj(text);
+    const ObjLines counts = hair_lines(text);
     check_scene_size(path, str_cat("the file has ", counts.vertices, " vertices and ", counts.line_indices,
                                    " line element indices"),
                      counts.line_elements, counts.vertices + counts.line_indices, opt);
@@ -60,7 +72,7 @@ Scene load_obj_file(const std::string& path, const LoadOptions& opt) {
     tinyobj::ObjReader reader;
     tinyobj::ObjReaderConfig config;
     config.triangulate = false;
-    if (!reader.ParseFromString(text, "", config))
+    if (!reader.ParseFromString(counts.text, "", config))
         scene_fail(path, "OBJ parse error: ", reader.Error().empty() ? std::string("unknown") : reader.Error());
     const std::vector<tinyobj::real_t>& v = reader.GetAttrib().vertices;
     const uint64_t vertex_count = v.size() / 3;
@@ -69,10 +81,9 @@ Scene load_obj_file(const std::string& path, const LoadOptions& opt) {
     scene.source = path;
     Strands& s = scene.strands;
     std::vector<uint64_t> file_element;  // the file's line element (0-based, over all `l`) of each strand
-    uint64_t element = 0, ignored_faces = 0;
+    uint64_t element = 0;
     s.first_point.push_back(0);
     for (const tinyobj::shape_t& shape : reader.GetShapes()) {
-        ignored_faces += shape.mesh.num_face_vertices.size();
         const std::vector<tinyobj::index_t>& idx = shape.lines.indices;
         size_t next = 0;
         int64_t previous_end = -1;
@@ -102,8 +113,8 @@ Scene load_obj_file(const std::string& path, const LoadOptions& opt) {
     if (file_element.empty()) scene_fail(path, "no line elements ('l'): the file holds no hair strands");
     s.first_point.push_back(uint32_t(s.points.size()));
     s.material.push_back(0);
-    if (ignored_faces > 0)
-        scene.warnings.push_back(str_cat(path, ": ignored ", ignored_faces, " faces (only line elements are hair)"));
+    if (counts.faces > 0)
+        scene.warnings.push_back(str_cat(path, ": ignored ", counts.faces, " faces (only line elements are hair)"));
 
     float radius = opt.default_radius;
     if (!(radius > 0.0f)) {
