@@ -20,6 +20,18 @@ int cmd_merge(const std::vector<std::string>& args);
 // Scene-loading options shared by every command that reads a scene.
 void add_scene_options(ArgParser& p);
 LoadOptions scene_load_options(const ArgParser& p);
+// --up-axis, --look-from, --look-at, --up, --fov (for ensure_camera_and_light).
+ViewOptions scene_view_options(const ArgParser& p);
+// --hair-preset, --eumelanin, --pheomelanin, --hair-color: every hair material's absorption
+// source, read when the options are parsed (a UsageError when combined with each other or with
+// --sigma-a) and applied to the loaded scene.
+struct HairColorOverride {
+    enum Kind { None, Melanin, Color } kind = None;
+    float eumelanin = 0.0f, pheomelanin = 0.0f;
+    Vec3f color{0, 0, 0};
+};
+HairColorOverride hair_color_options(const ArgParser& p);
+void apply_hair_color(const HairColorOverride& o, Scene& scene);
 
 // --model / configs model=: sets every material's fibre model; throws UsageError for unknown names.
 void apply_model_override(Scene& scene, const std::string& model);

@@ -136,6 +136,8 @@ ImageRequest parse_image_request(const ArgParser& p) {
     ImageRequest r;
     r.scene = p.get("SCENE");
     r.load = scene_load_options(p);
+    r.view = scene_view_options(p);
+    r.hair_color = hair_color_options(p);
     RenderSettings& s = r.settings;
     s.width = p.get_int("--width", 1, 16384);
     s.height = p.get_int("--height", 1, 16384);
@@ -203,7 +205,8 @@ void apply_scene_overrides(Scene& scene, const ImageRequest& r) {
     if (r.background) scene.environment = Environment{"", *r.background, 1.0f};
     if (!r.environment.empty()) scene.environment.map_path = r.environment;
     scene.environment.intensity *= r.environment_intensity;
-    ensure_camera_and_light(scene);
+    apply_hair_color(r.hair_color, scene);
+    ensure_camera_and_light(scene, r.view);
 }
 
 RenderSettings resolve_settings(const Scene& scene, const ImageRequest& r, std::string* why) {

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "cli/args.h"
+#include "cli/commands.h"
 #include "split/accumulation.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
@@ -34,6 +35,8 @@ struct ImageRequest {
     std::string indirect = "exact";       // exact | afs | none
     std::optional<uint32_t> fiber_field;  // --fiber-field; nullopt: auto, or the materials' own with --model
     std::optional<Vec3f> background;
+    HairColorOverride hair_color;         // --hair-preset, --eumelanin, --pheomelanin, --hair-color
+    ViewOptions view;                     // --up-axis, --look-from, --look-at, --up, --fov
     std::string environment;
     float environment_intensity = 1.0f;
     DeviceChoice devices;

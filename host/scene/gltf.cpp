@@ -10,8 +10,9 @@
 //     endpoint (same index or identical position, end of one == start of the next) are chained
 //     into one strand.  Hair material: the primitive's material with hair parameters in its
 //     extras (gltf_material.h); no material = blond_hair_material().
-//   * the first camera met (perspective: yfov, aspectRatio); it looks along -Z of its node with
-//     +Y up.  Further and orthographic cameras are ignored with a warning.
+//   * the first camera met, or camera LoadOptions::camera_index when set (perspective: yfov,
+//     aspectRatio); it looks along -Z of its node with +Y up.  Further and orthographic cameras
+//     are ignored with a warning.
 //   * KHR_lights_punctual point, spot (inner/outer cone) and directional lights: colour and
 //     intensity as stated (range is ignored); position = node origin, direction = node -Z.
 //   * surfaces: TRIANGLES (4), TRIANGLE_STRIP (5) and TRIANGLE_FAN (6) primitives, indexed or
@@ -53,7 +54,6 @@ namespace ht {
 namespace {
 
 constexpr double kRadToDeg = 57.29577951308232;
-constexpr float kRadiusPerExtent = 1e-3f;
 
 Vec3f to_vec3f(const glm::dvec3& v) {
     return {static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z)};
@@ -243,7 +243,12 @@ private:
         if (static_cast<size_t>(index) >= model_.cameras.size())
             scene_fail(file_, "node ", node, ": camera ", index, " does not exist");
         const tinygltf::Camera& c = model_.cameras[index];
+        if (opt_.camera_index >= 0 && index != opt_.camera_index) {
+            ++ignored_cameras_;
+            return;
+        }
         if (c.type != "perspective") {
+            if (index == opt_.camera_index) scene_fail(file_, "camera ", index, " is ", c.type, ", not perspective");
             ++ignored_cameras_;
             return;
         }
@@ -633,15 +638,7 @@ private:
         if (missing_radius_.empty()) return;
         float radius = opt_.default_radius;
         if (!(radius > 0.0f)) {
-            float lo[3] = {std::numeric_limits<float>::max(), std::numeric_limits<float>::max(),
-                           std::numeric_limits<float>::max()};
-            float hi[3] = {-lo[0], -lo[1], -lo[2]};
-            for (const Vec3f& p : scene_.strands.points)
-                for (int a = 0; a < 3; ++a)
-                    if (std::isfinite(p[a])) lo[a] = std::min(lo[a], p[a]), hi[a] = std::max(hi[a], p[a]);
-            float extent = 0.0f;
-            for (int a = 0; a < 3; ++a) extent = std::max(extent, hi[a] - lo[a]);
-            radius = extent > 0.0f && std::isfinite(extent) ? extent * kRadiusPerExtent : kRadiusPerExtent;
+            radius = radius_from_extent(scene_.strands.points);
             scene_.warnings.push_back(str_cat(file_, ": ", missing_radius_.size(),
                                               " hair primitives have no _RADIUS and no material "
                                               "extras.radius: using ", radius,
@@ -673,7 +670,8 @@ private:
                                 " POINTS / LINE_LOOP primitives"));
         if (ignored_cameras_ > 0)
             w.push_back(str_cat(file_, ": ignored ", ignored_cameras_,
-                                " cameras (only the first perspective camera is used)"));
+                                opt_.camera_index >= 0 ? " cameras (--camera chose one)"
+                                                       : " cameras (only the first perspective camera is used)"));
         if (nonuniform_hair_nodes_ > 0)
             w.push_back(str_cat(file_, ": ", nonuniform_hair_nodes_,
                                 " hair primitives have a non-uniform node scale: radii scaled "
@@ -726,6 +724,9 @@ Scene load_gltf(const std::string& path, const LoadOptions& opt) {
                                             directory_of(path)))
                 scene_fail(path, "glTF parse error: ", err.empty() ? std::string("unknown") : err);
         }
+        if (opt.camera_index >= 0 && static_cast<size_t>(opt.camera_index) >= model.cameras.size())
+            scene_fail(path, "camera ", opt.camera_index, " was asked for but the file has ",
+                       model.cameras.size(), " cameras");
         Scene scene = GltfSceneBuilder(path, model, opt).build();
         if (!warn.empty()) scene.warnings.push_back(one_line(path + ": glTF parser: " + warn));
         return scene;

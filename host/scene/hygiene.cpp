@@ -21,6 +21,7 @@
 // has no direction) and the BVH (zero-size leaves).
 #include "scene/hygiene.h"
 
+#include <algorithm>
 #include <cfloat>
 #include <cmath>
 #include <stdexcept>
@@ -61,6 +62,16 @@ void check_scene_size(const std::string& file, const std::string& what, uint64_t
     if (bytes > opt.max_bytes)
         scene_fail(file, what, ": the strands would need ", gib(bytes), " (", bytes,
                    " bytes), more than the limit of ", gib(opt.max_bytes), " (LoadOptions::max_bytes)");
+}
+
+float radius_from_extent(const std::vector<Vec3f>& points) {
+    float lo[3] = {FLT_MAX, FLT_MAX, FLT_MAX}, hi[3] = {-FLT_MAX, -FLT_MAX, -FLT_MAX};
+    for (const Vec3f& p : points)
+        for (int a = 0; a < 3; ++a)
+            if (std::isfinite(p[a])) lo[a] = std::min(lo[a], p[a]), hi[a] = std::max(hi[a], p[a]);
+    float extent = 0.0f;
+    for (int a = 0; a < 3; ++a) extent = std::max(extent, hi[a] - lo[a]);
+    return extent > 0.0f && std::isfinite(extent) ? extent * kRadiusPerExtent : kRadiusPerExtent;
 }
 
 bool is_zero_length_segment(const Vec3f& a, const Vec3f& b) {

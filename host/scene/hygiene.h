@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "scene/scene.h"
 
@@ -44,6 +45,12 @@ HygieneReport sanitize_strands(Strands& s, const std::string& file, const Strand
 
 // Appends one warning line per kind of repair with its count (nothing when nothing was repaired).
 void add_hygiene_warnings(Scene& scene, const std::string& file, const HygieneReport& report);
+
+// The radius of hair whose file stores none: 1/1000 of the largest extent of the finite points'
+// bounding box (the fibre-to-scene ratio of the built-in scenes; non-finite points are refused
+// later by sanitize_strands), or 1/1000 when the points have no extent.
+constexpr float kRadiusPerExtent = 1e-3f;
+float radius_from_extent(const std::vector<Vec3f>& points);
 
 // True when the segment a -> b has zero length in single precision (see the rule).
 bool is_zero_length_segment(const Vec3f& a, const Vec3f& b);

@@ -1,4 +1,4 @@
-// Scene-level operations: loader dispatch, bounds, default camera and light, hashing.
+// Scene-level operations: loader dispatch, bounds, hashing.
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -104,9 +104,15 @@ Scene load_scene(const std::string& path, const LoadOptions& opt) {
             scene = load_usc_data(path, opt);
         else if (ext == ".gltf" || ext == ".glb")
             scene = load_gltf(path, opt);
+        else if (ext == ".ply")
+            scene = load_ply_file(path, opt);
+        else if (ext == ".obj")
+            scene = load_obj_file(path, opt);
+        else if (ext == ".pbrt" || ext == ".gz")
+            scene = load_pbrt_file(path, opt);
         else
             scene_fail(path, "unknown scene type '", ext.empty() ? std::string("(none)") : ext,
-                       "' (known: .hair, .data, .gltf, .glb, builtin:strand, builtin:ball)");
+                       "' (known: .hair, .data, .gltf, .glb, .ply, .obj, .pbrt, .pbrt.gz, builtin:strand, builtin:ball)");
     }
     scene.source = path;
     check_scene_invariants(scene);
@@ -138,39 +144,6 @@ Bounds scene_bounds(const Scene& s) {
         }
     }
     return b;
-}
-
-void ensure_camera_and_light(Scene& s) {
-    Bounds b = scene_bounds(s);
-    if (s.strands.points.empty()) b = {{-1, -1, -1}, {1, 1, 1}};
-    const Vec3f c = {(b.lo[0] + b.hi[0]) / 2, (b.lo[1] + b.hi[1]) / 2, (b.lo[2] + b.hi[2]) / 2};
-    const Vec3f half = {(b.hi[0] - b.lo[0]) / 2, (b.hi[1] - b.lo[1]) / 2, (b.hi[2] - b.lo[2]) / 2};
-    const float extent = std::max({2 * half[0], 2 * half[1], 2 * half[2], 1e-6f});
-    if (!s.has_camera) {
-        // From +z: the front face of the box, widened by 5 %, fills the 30 degree view (square
-        // aspect assumed; a wider image only adds margin at the sides).
-        Camera cam;
-        cam.yfov_deg = 30.0f;
-        const float tan_half = static_cast<float>(std::tan(cam.yfov_deg * kPi / 360.0));
-        const float fit = 1.05f * std::max({half[0], half[1], 1e-6f}) / tan_half;
-        cam.target = c;
-        cam.eye = {c[0], c[1], c[2] + half[2] + fit};
-        cam.up = {0, 1, 0};
-        s.camera = cam;
-        s.has_camera = true;
-    }
-    if (s.lights.empty() && !s.environment.enabled()) {
-        // Key light above, right and in front of the scene; its intensity makes the irradiance
-        // at the centre 1 (intensity / distance^2), so images are exposed alike at any scale.
-        Light l;
-        l.type = LightType::Point;
-        l.position = {c[0] + 0.6f * extent, c[1] + 0.9f * extent, c[2] + 0.9f * extent};
-        const float d2 = (0.36f + 0.81f + 0.81f) * extent * extent;
-        l.intensity = d2;
-        const float d = std::sqrt(d2);
-        l.direction = {-0.6f * extent / d, -0.9f * extent / d, -0.9f * extent / d};
-        s.lights.push_back(l);
-    }
 }
 
 uint64_t strands_content_hash(const Strands& s) {

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -133,6 +134,8 @@ struct LoadOptions {
     // than this (checked against the counts and image sizes a file states, before anything is
     // allocated or decoded).
     uint64_t max_bytes = uint64_t(16) << 30;
+    // glTF: which camera of the file to use (index into its cameras); -1: the first one met.
+    int camera_index = -1;
 };
 
 // Dispatch on the extension or the builtin: prefix.  Throws SceneError.
@@ -142,6 +145,9 @@ Scene load_scene(const std::string& path, const LoadOptions& opt = {});
 Scene load_hair_file(const std::string& path, const LoadOptions& opt);
 Scene load_usc_data(const std::string& path, const LoadOptions& opt);
 Scene load_gltf(const std::string& path, const LoadOptions& opt);
+Scene load_ply_file(const std::string& path, const LoadOptions& opt);
+Scene load_obj_file(const std::string& path, const LoadOptions& opt);
+Scene load_pbrt_file(const std::string& path, const LoadOptions& opt);
 // Built-in procedural scenes: "strand" (the paper's Fig. 5 blond lock, 2,500 x 100 segments)
 // and "ball" (curly hair ball, 10,000 x 30), optionally with parameters after '?':
 //   hairs=N      number of strands (default 2500 / 10000)
@@ -168,7 +174,21 @@ struct Bounds {
 };
 Bounds scene_bounds(const Scene& s);
 
-// Adds a camera framing the bounds and a key light when the scene has none.
-void ensure_camera_and_light(Scene& s);
+// What the user says about the view (host/scene/default_view.cpp); unset fields come from the
+// scene's own camera, or from the automatic framing when the scene has none.
+struct ViewOptions {
+    std::optional<Vec3f> up_axis;  // the model's up (+-x, +-y, +-z); unset: detect_up_axis
+    std::optional<Vec3f> look_from, look_at, up;
+    std::optional<float> yfov_deg;
+};
+
+// The model's up direction, a signed unit axis, from its strands' roots and tips (the rule is
+// written out in host/scene/default_view.cpp).
+Vec3f detect_up_axis(const Strands& strands);
+
+// Gives the scene a camera when it has none (a 3/4 front view from the side of the model's up
+// axis, fitted to the hair), applies the view options to it, and adds the key, rim and fill
+// light rig when the scene has no light and no environment.
+void ensure_camera_and_light(Scene& s, const ViewOptions& view = {});
 
 }  // namespace ht

@@ -18,27 +18,6 @@
 
 namespace ht {
 
-namespace {
-
-constexpr float kRadiusPerExtent = 1e-3f;
-
-// Radius from the bounds of the finite points (non-finite ones are refused later by hygiene).
-float radius_from_extent(const std::vector<Vec3f>& points) {
-    float lo[3] = {std::numeric_limits<float>::max(), std::numeric_limits<float>::max(),
-                   std::numeric_limits<float>::max()};
-    float hi[3] = {-lo[0], -lo[1], -lo[2]};
-    for (const Vec3f& p : points) {
-        if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) continue;
-        for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], p[a]), hi[a] = std::max(hi[a], p[a]);
-    }
-    float extent = 0.0f;
-    for (int a = 0; a < 3; ++a) extent = std::max(extent, hi[a] - lo[a]);
-    // A scene of coincident points has no extent; its strands are all dropped anyway.
-    return extent > 0.0f && std::isfinite(extent) ? extent * kRadiusPerExtent : kRadiusPerExtent;
-}
-
-}  // namespace
-
 Scene load_usc_data(const std::string& path, const LoadOptions& opt) {
     BinaryFile file(path);
     if (file.size() < 4)

@@ -328,3 +328,45 @@ write(T, "strand_seed", "strand?seed=18446744073709551615&hairs=1&segments=1")
 write(T, "empty_items", "ball?&&hairs=1&segments=2&")
 write(T, "bad_name", "hedgehog?hairs=2")
 write(T, "bad_value", "strand?hairs=-1&segments=1e3&radius=nan")
+
+# ---- PLY polylines ---------------------------------------------------------------------------------
+T = "fuzz_ply_file"
+PLY_XYZ = "element vertex %d\nproperty float x\nproperty float y\nproperty float z\n"
+write(T, "ascii_counts.ply", "ply\nformat ascii 1.0\n" + (PLY_XYZ % 5).replace("property float z\n", "property float z\nproperty float radius\n")
+      + "element strand 2\nproperty int vertex_count\nend_header\n0 0 0 .1\n0 1 0 .1\n0 2 0 .1\n1 0 0 .1\n1 1 0 .1\n3\n2\n")
+write(T, "ascii_lists_width.ply", "ply\nformat ascii 1.0\ncomment c\n" + (PLY_XYZ % 3).replace("property float z\n", "property float z\nproperty float width\n")
+      + "element curve 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0 1\n0 1 0 1\n1 1 0 1\n3 2 1 0\n")
+edges_le = b"ply\nformat binary_little_endian 1.0\n" + (PLY_XYZ % 3).encode() + \
+    b"property float thickness\nelement edge 2\nproperty int vertex1\nproperty int vertex2\nend_header\n" + \
+    b"".join(struct.pack("<4f", i, i * i, 0, 0.1) for i in range(3)) + struct.pack("<4i", 0, 1, 1, 2)
+write(T, "binary_le_edges.ply", edges_le)
+lists_be = b"ply\nformat binary_big_endian 1.0\n" + (PLY_XYZ % 3).replace("float", "double").encode() + \
+    b"element face 1\nproperty list uchar int vertex_indices\nelement hair 1\nproperty list ushort uint vertex_index\nend_header\n" + \
+    b"".join(struct.pack(">3d", i, 1, i) for i in range(3)) + b"\3" + struct.pack(">3i", 0, 1, 2) + \
+    struct.pack(">H3I", 3, 2, 1, 0)
+write(T, "binary_be_lists.ply", lists_be)
+write(T, "nan.ply", "ply\nformat ascii 1.0\n" + PLY_XYZ % 2 + "element strand 1\nproperty int nverts\nend_header\n0 0 0\nnan 1 0\n2\n")
+write(T, "index_range.ply", "ply\nformat ascii 1.0\n" + PLY_XYZ % 2 + "element strand 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n0 1 0\n2 0 5\n")
+write(T, "count_lies.ply", b"ply\nformat binary_little_endian 1.0\n" + (PLY_XYZ % 1000000).encode() + b"element strand 1\nproperty int count\nend_header\n")
+
+# ---- OBJ line elements -----------------------------------------------------------------------------
+T = "fuzz_obj_file"
+write(T, "lines.obj", "v 0 0 0\nv 0 1 0\nv 0 2 0\nv 1 0 0\nv 1 1 0\nl 1 2 3\nl 4 5\nl -1 -4\n")
+write(T, "segments_faces.obj", "o hair\nv 0 0 0\nv 0 1 0\nv 0 2 0\nvn 0 0 1\nl 1 2\nl 2 3\nf 1 2 3\ng other\nl 3 1\n")
+write(T, "bad_index.obj", "v 0 0 0\nl 1 7\n")
+write(T, "inf.obj", "v 0 0 0\nv 1e999 0 0\nl 1 2\n")
+
+# ---- pbrt-v4 curves --------------------------------------------------------------------------------
+T = "fuzz_pbrt_file"
+write(T, "bezier.pbrt", 'Shape "curve" "string type" "cylinder" "string basis" "bezier" "integer degree" 3 '
+      '"integer splitdepth" 0 "float width" 0.1 "point3 P" [ 0 0 0 0 1 0 0 2 0 0 3 0 ]\n')
+write(T, "bspline_widths.pbrt", 'Shape "curve" "string basis" "bspline" "integer degree" 2 "float width0" .2 '
+      '"float width1" .1 "string type" "ribbon" "normal N" [0 0 1 0 0 1] "point P" [0 0 0 1 2 0 2 0 0 3 1 1]\n')
+write(T, "scene.pbrt", 'LookAt 0 0 5 0 0 0 0 1 0\nCamera "perspective" "float fov" [30]\nWorldBegin\n'
+      'LightSource "distant" "point3 to" [0 0 -1]\nAttributeBegin\nTranslate 1 2 3\nScale 2 2 2\n'
+      'Rotate 30 0 0 1\nConcatTransform [1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1]\nMaterial "hair"\n'
+      'Shape "curve" "float width" 0.1 "point3 P" [0 0 0 0 0 1 0 0 2 0 0 3]\nShape "sphere"\nAttributeEnd\n'
+      'Transform [1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1]\nInclude "missing.pbrt"\n')
+write(T, "nan.pbrt", 'Shape "curve" "point3 P" [0 0 0 0 nan 0 0 2 0 0 3 0]\n')
+write(T, "self_include.pbrt", 'Import "input.pbrt"\n')
+write(T, "unclosed.pbrt", 'Shape "curve" "point3 P" [0 0 0 0 1 0\n')

@@ -6,7 +6,7 @@
 // so gtest_discover_tests runs each in its own process and one crash does not hide the others.
 //
 // Inputs go through ht::load_scene exactly as the fuzz targets send them (tests/fuzz/fuzz_*.cpp):
-// the file is copied to a scratch name whose extension picks the loader (.hair, .data; .glb when
+// the file is copied to a scratch name whose extension picks the loader (.hair, .data, .ply, .obj, .pbrt; .glb when
 // it starts with the GLB magic, else .gltf), and a builtin spec is "builtin:" + the file's text.
 //
 // The deep-nesting glTF reproducers are generated here instead of being stored (they are large
@@ -34,7 +34,7 @@ namespace fs = std::filesystem;
 namespace {
 
 struct Case {
-    std::string target;  // fuzz_hair_file, fuzz_usc_data, fuzz_gltf, fuzz_scene_builtin, fuzz_fiber_json
+    std::string target;  // fuzz_hair_file, fuzz_usc_data, fuzz_gltf, fuzz_{ply,obj,pbrt}_file, fuzz_scene_builtin, fuzz_fiber_json
     fs::path file;
     std::string name;  // gtest-safe
 };
@@ -52,7 +52,8 @@ std::vector<Case> collect_cases() {
     std::vector<Case> cases;
     for (const char* kind : {"regressions", "corpus"}) {
         for (const char* target :
-             {"fuzz_hair_file", "fuzz_usc_data", "fuzz_gltf", "fuzz_scene_builtin", "fuzz_fiber_json"}) {
+             {"fuzz_hair_file", "fuzz_usc_data", "fuzz_gltf", "fuzz_ply_file", "fuzz_obj_file", "fuzz_pbrt_file",
+              "fuzz_scene_builtin", "fuzz_fiber_json"}) {
             const fs::path dir = root / kind / target;
             std::error_code ec;
             if (!fs::is_directory(dir, ec)) continue;
@@ -109,6 +110,9 @@ std::string judge_as_target(const std::string& target, const std::string& bytes)
         return ht_fuzz::judge_fiber_query(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size());
     std::string name = "input.hair";
     if (target == "fuzz_usc_data") name = "input.data";
+    if (target == "fuzz_ply_file") name = "input.ply";
+    if (target == "fuzz_obj_file") name = "input.obj";
+    if (target == "fuzz_pbrt_file") name = "input.pbrt";
     if (target == "fuzz_gltf")
         name = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0 ? "input.glb" : "input.gltf";
     return judge(write_scratch(name, bytes));

@@ -1,4 +1,4 @@
-// Scene-level pieces: dispatch, error format, hygiene rule, bounds, default camera and light.
+// Scene-level pieces: dispatch, error format, hygiene rule, bounds.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -27,11 +27,11 @@ Strands make_strands(const std::vector<std::vector<Vec3f>>& strands, float radiu
 
 TEST(SceneCommon, DispatchOnExtension) {
     test::TempDir dir;
-    const std::string unknown = dir.file("hair.obj");
+    const std::string unknown = dir.file("hair.xyz");
     test::write_text(unknown, "v 0 0 0\n");
     std::string msg = scene_error_of([&] { load_scene(unknown); });
     test::expect_one_line_naming(msg, unknown);
-    EXPECT_TRUE(contains(msg, "unknown scene type '.obj'")) << msg;
+    EXPECT_TRUE(contains(msg, "unknown scene type '.xyz'")) << msg;
 
     const std::string upper = dir.file("HAIR.HAIR");
     test::write_file(upper, test::make_hair_bytes(test::HairSpec{test::three_strands()}));
@@ -86,33 +86,6 @@ TEST(SceneCommon, BoundsIncludeRadius) {
     EXPECT_EQ(b.lo, (Vec3f{-0.5f, -0.5f, -1.5f}));
     EXPECT_EQ(b.hi, (Vec3f{2.5f, 4.5f, 0.5f}));
     EXPECT_EQ(s.strands.segment_count(), 1u);
-}
-
-TEST(SceneCommon, EnsureCameraAndLightFramesTheBounds) {
-    Scene s = make_builtin("strand?hairs=200&segments=20");
-    s.has_camera = false;
-    s.lights.clear();
-    ensure_camera_and_light(s);
-    ASSERT_TRUE(s.has_camera);
-    ASSERT_EQ(s.lights.size(), 1u);
-    EXPECT_FLOAT_EQ(s.camera.yfov_deg, 30.0f);
-    const Bounds b = scene_bounds(s);
-    EXPECT_GT(s.camera.eye[2], b.hi[2]);
-    EXPECT_GT(s.lights[0].position[1], b.hi[1]);  // above
-    EXPECT_GT(s.lights[0].position[2], b.hi[2]);  // in front
-    // Every point projects inside the view cone (square image).
-    const double tan_half = std::tan(15.0 * 3.14159265358979 / 180.0);
-    for (const Vec3f& p : s.strands.points) {
-        const double depth = s.camera.eye[2] - p[2];
-        ASSERT_GT(depth, 0.0);
-        EXPECT_LE(std::abs(p[0] - s.camera.eye[0]) / depth, tan_half);
-        EXPECT_LE(std::abs(p[1] - s.camera.eye[1]) / depth, tan_half);
-    }
-    // An existing camera and light are kept.
-    s.camera.eye = {1, 2, 3};
-    ensure_camera_and_light(s);
-    EXPECT_EQ(s.camera.eye, (Vec3f{1, 2, 3}));
-    EXPECT_EQ(s.lights.size(), 1u);
 }
 
 }  // namespace

@@ -113,7 +113,17 @@ TEST(SceneGltf, CameraAndLights) {
                 {"extensions", {{"KHR_lights_punctual", {{"light", 1}}}}}});
     g.add_node({{"extensions", {{"KHR_lights_punctual", {{"light", 2}}}}}});
     test::TempDir dir;
-    const Scene s = load_scene(write_gltf(dir, g));
+    const std::string path = write_gltf(dir, g);
+    const Scene s = load_scene(path);
+
+    // --camera N picks another camera; one the file does not have is refused.
+    LoadOptions second;
+    second.camera_index = 1;
+    const Scene c = load_scene(path, second);
+    EXPECT_NEAR(c.camera.yfov_deg, 0.9 * 57.29578, 1e-3);
+    expect_vec_near(c.camera.eye, {0, 0, 0});
+    second.camera_index = 2;
+    EXPECT_TRUE(test::contains(scene_error_of([&] { load_scene(path, second); }), "the file has 2 cameras"));
 
     ASSERT_TRUE(s.has_camera);
     expect_vec_near(s.camera.eye, {0, 0, 10});

@@ -250,4 +250,21 @@ inline bool any_warning_contains(const Scene& s, const std::string& needle) {
     return false;
 }
 
+// Writes `text` as the file `name` of a fresh temporary directory and loads it.
+inline Scene load_text_scene(const std::string& name, const std::string& text, const LoadOptions& opt = {}) {
+    TempDir dir;
+    const std::string path = dir.file(name);
+    write_text(path, text);
+    return load_scene(path, opt);
+}
+
+// The file at `path`, holding `points` points, is refused under a 4 KiB memory limit (its counts
+// checked before the strands are allocated) and loads without it.
+inline void expect_refused_only_under_small_limit(const std::string& path, size_t points) {
+    LoadOptions small;
+    small.max_bytes = 4096;
+    EXPECT_TRUE(contains(scene_error_of([&] { load_scene(path, small); }), "more than the limit")) << path;
+    EXPECT_EQ(load_scene(path).strands.point_count(), points);
+}
+
 }  // namespace ht::test

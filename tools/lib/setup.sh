@@ -2,7 +2,7 @@
 # Sourced, not run.  Respects BUILD_DIR (default build) and BUILD_TYPE (default Release).
 
 HT_PACKAGES=(build-essential cmake pkg-config git pocl-opencl-icd ocl-icd-opencl-dev opencl-clhpp-headers
-             clinfo libopenimageio-dev libglm-dev libtinygltf-dev nlohmann-json3-dev libgtest-dev
+             clinfo libopenimageio-dev libglm-dev libtinygltf-dev libtinyobjloader-dev zlib1g-dev nlohmann-json3-dev libgtest-dev
              libgmock-dev libbenchmark-dev clang libclang-rt-14-dev fonts-dejavu-core
              libopenmpi-dev openmpi-bin)
 
