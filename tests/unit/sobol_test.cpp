@@ -51,7 +51,8 @@ TEST(Sobol, UnscrambledDimensionsAreEach1DStratified) {
     for (uint d = 0; d < 4; ++d)
         for (int m = 0; m <= 12; ++m) {
             std::vector<int> count(size_t(1) << m, 0);
-            for (uint i = 0; i < (1u << m); ++i) ++count[ht_sobol_bits(i, d) >> (32 - m) & ((1u << m) - 1u)];
+            // the top m bits (none for m = 0: a shift by 32 would be undefined)
+            for (uint i = 0; i < (1u << m); ++i) ++count[m == 0 ? 0u : ht_sobol_bits(i, d) >> (32 - m)];
             for (int c : count) ASSERT_EQ(c, 1) << "dim " << d << " m " << m;
         }
 }
