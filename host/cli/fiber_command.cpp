@@ -1,6 +1,7 @@
 #include "cli/fiber_command.h"
 
 #include "cli/args.h"
+#include "cli/commands.h"
 
 #include <nlohmann/json.hpp>
 
@@ -47,12 +48,6 @@ std::vector<double> parse_list(const std::string& opt, const std::string& s) {
     while (std::getline(ss, item, ',')) v.push_back(parse_double(opt, item, -1e30, 1e30));
     if (v.empty()) throw UsageError(opt + ": empty list");
     return v;
-}
-Vec3f vec3_opt(const std::string& opt, const std::string& s) {
-    auto v = parse_list(opt, s);
-    if (v.size() == 1) return {(float)v[0], (float)v[0], (float)v[0]};
-    if (v.size() != 3) throw UsageError(opt + ": expected 1 or 3 comma-separated numbers");
-    return {(float)v[0], (float)v[1], (float)v[2]};
 }
 
 json arr3(double a, double b, double c) { return json::array({a, b, c}); }
@@ -190,12 +185,12 @@ int run_furnace(const ArgParser& p, std::ostream& out) {
     if (has_model) d.model = p.get("--model");
     for (const ScalarParameter& s : kScalarParameters)
         if (p.has(s.option)) d.*s.field = float(p.get_double(s.option, -1e30, 1e30));
-    if (p.has("--sigma-a")) { d.sigma_a = vec3_opt("--sigma-a", p.get("--sigma-a")); d.has_sigma_a = true; }
+    if (p.has("--sigma-a")) { d.sigma_a = parse_rgb("--sigma-a", p.get("--sigma-a")); d.has_sigma_a = true; }
     if (p.has("--eumelanin")) { d.eumelanin = float(p.get_double("--eumelanin", -1e30, 1e30)); d.has_melanin = true; }
     if (p.has("--pheomelanin")) { d.pheomelanin = float(p.get_double("--pheomelanin", -1e30, 1e30)); d.has_melanin = true; }
-    if (p.has("--color")) { d.color = vec3_opt("--color", p.get("--color")); d.has_color = true; }
-    if (p.has("--kd")) d.kd = vec3_opt("--kd", p.get("--kd"));
-    if (p.has("--ks")) d.ks = vec3_opt("--ks", p.get("--ks"));
+    if (p.has("--color")) { d.color = parse_rgb("--color", p.get("--color")); d.has_color = true; }
+    if (p.has("--kd")) d.kd = parse_rgb("--kd", p.get("--kd"));
+    if (p.has("--ks")) d.ks = parse_rgb("--ks", p.get("--ks"));
     const std::vector<double> thetas = parse_list("--theta-deg", p.get("--theta-deg"));
     const int nh = p.get_int("--nh", 1, 64);
     if (!has_model) throw UsageError("fiber furnace: needs --model");
