@@ -2,7 +2,7 @@
  *
  * Only float / uint / int fields and fixed arrays of them: no real, no float3 (whose size differs
  * between OpenCL C and C++), no pointers.  Every struct's size is a multiple of 16 bytes and is
- * checked on the host with static_assert (host/cl/shared_types.h) so a mismatch fails the build.
+ * declared with its field offsets in layouts.h, which both compilers check.
  */
 #ifndef HT_TYPES_H
 #define HT_TYPES_H

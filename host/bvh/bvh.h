@@ -11,12 +11,6 @@
 
 namespace ht {
 
-static_assert(sizeof(HtPoint) == 16, "HtPoint layout must match the kernels");
-static_assert(sizeof(HtSegment) == 16, "HtSegment layout must match the kernels");
-static_assert(sizeof(HtBvhNode) == 64, "HtBvhNode layout must match the kernels");
-static_assert(sizeof(HtRay) == 32, "HtRay layout must match the kernels");
-static_assert(sizeof(HtHit) == 32, "HtHit layout must match the kernels");
-static_assert(sizeof(HtTriangleShading) == 128, "HtTriangleShading layout must match the kernels");
 
 // The traversal's private stack holds HT_STACK_SIZE (64) entries and pushes at most one per
 // level, so the builder turns any node deeper than this into a leaf.

@@ -21,11 +21,6 @@ template <typename F> void device_step(const char* what, F&& f) {
 }  // namespace
 
 namespace {
-static_assert(sizeof(HtBvhNode) == 1u << HT_NODE_BYTES_LOG2, "kernels/geometry/pages.h: HtBvhNode size");
-static_assert(sizeof(HtSegment) == 1u << HT_SEGMENT_BYTES_LOG2, "kernels/geometry/pages.h: HtSegment size");
-static_assert(sizeof(HtPoint) == 1u << HT_POINT_BYTES_LOG2, "kernels/geometry/pages.h: HtPoint size");
-static_assert(sizeof(HtTriangleShading) == 1u << HT_TRIANGLE_BYTES_LOG2,
-              "kernels/geometry/pages.h: HtTriangleShading size");
 static_assert(kMaxGeometryPages == HT_MAX_GEOMETRY_PAGES, "one page limit for host and kernels");
 
 cl::Buffer make_buffer(ClContext& cl, const std::string& what, const void* data, size_t bytes) {

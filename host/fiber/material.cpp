@@ -9,8 +9,6 @@
 
 namespace ht {
 
-static_assert(sizeof(HtMaterial) % 16 == 0, "HtMaterial must be a multiple of 16 bytes");
-static_assert(sizeof(HtMaterial) == 224, "HtMaterial layout changed: update kernels/types.h comment");
 
 namespace {
 

@@ -5,7 +5,6 @@
 
 #include <cmath>
 
-static_assert(sizeof(HtTexture) == 32, "HtTexture layout must match kernels/types.h");
 
 namespace ht {
 namespace {

@@ -21,7 +21,7 @@
 
 #include "../types.h"
 
-/* log2 of each paged record's size; host/bvh/device_geometry.cpp asserts them against sizeof. */
+/* log2 of each paged record's size; host/core/kernel_layouts.cpp asserts them against sizeof. */
 #define HT_NODE_BYTES_LOG2 6      /* HtBvhNode */
 #define HT_SEGMENT_BYTES_LOG2 4   /* HtSegment */
 #define HT_POINT_BYTES_LOG2 4     /* HtPoint */
