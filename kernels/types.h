@@ -122,6 +122,15 @@ typedef struct {
 #define HT_COUNTER_CUT 3   /* paths cut by --max-depth (kernels/stages/shade.cl says which) */
 #define HT_COUNTER_COUNT 4
 
+/* What one shade launch needs besides its buffers: the sample's coordinates in the random
+ * sequence, the bounce and its limit, and the --fiber-field choice. */
+typedef struct {
+    uint seed, sample, bounce, max_depth;
+    uint field_mode;    /* HT_FIELD_* */
+    float pixel_angle;  /* radians per pixel at the image centre (ray footprint for HT_FIELD_AUTO) */
+    uint pad0, pad1;
+} HtBounce;
+
 /* ---------------------------------------------------------------- camera and lights */
 
 typedef struct {

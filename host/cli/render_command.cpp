@@ -51,6 +51,7 @@ struct PreparedRender {
     std::vector<float> reference;
     std::vector<std::unique_ptr<ClContext>> contexts;
     std::vector<std::string> device_names;
+    std::unique_ptr<PreparedScene> prepared;  // once for every device (the renderers keep a reference)
     std::vector<std::unique_ptr<Renderer>> renderers;
     SampleRange range, my_range;  // the samples of the job and of this MPI rank
     std::string rank_suffix;      // each rank keeps its own checkpoint
@@ -89,7 +90,8 @@ void open_devices(PreparedRender& job, const RenderRequest& request, bool quiet)
     if (!quiet)
         std::fprintf(stderr, "scene: %s, %zu strands, %zu segments\n", job.scene.source.c_str(),
                      job.scene.strands.strand_count(), job.scene.strands.segment_count());
-    for (auto& c : job.contexts) job.renderers.push_back(std::make_unique<Renderer>(*c, job.scene, job.settings));
+    job.prepared = std::make_unique<PreparedScene>(prepare_scene(job.scene, job.settings));
+    for (auto& c : job.contexts) job.renderers.push_back(std::make_unique<Renderer>(*c, *job.prepared));
     const Renderer& renderer = *job.renderers.front();
     if (!quiet && renderer.stats().clamp_indirect > 0)
         std::fprintf(stderr, "indirect light clamped at %g per sample (--clamp-indirect)\n",
@@ -135,7 +137,7 @@ void prepare(PreparedRender& job, const RenderRequest& request, const DistContex
         if (!w.empty()) std::fprintf(stderr, "warning: %s\n", w.c_str());
     }
     open_devices(job, request, quiet);
-    job.identity = render_identity(job.scene, job.settings, request.grid.chunk);
+    job.identity = render_identity(job.scene, *job.prepared, request.grid.chunk);
     job.acc = std::make_unique<SampleAccumulator>(request.grid, job.settings.width, job.settings.height);
     if (!request.resume.empty()) resume_samples(job, request, dist, quiet);
 }

@@ -11,7 +11,8 @@
 namespace ht {
 
 MemoryPlan plan_device_memory(uint64_t pixels, uint64_t scene_bytes, uint64_t max_alloc, uint64_t global_mem,
-                              uint64_t user_limit, size_t max_paths_per_pass, const GeometryPaging& paging) {
+                              uint64_t user_limit, size_t max_paths_per_pass, const PathBufferSet& buffers,
+                              const GeometryPaging& paging) {
     MemoryPlan p;
     p.paging = paging;
     const uint64_t budget = user_limit ? std::min(user_limit, global_mem) : global_mem;
@@ -23,7 +24,7 @@ MemoryPlan plan_device_memory(uint64_t pixels, uint64_t scene_bytes, uint64_t ma
                           "); render a smaller image or split it into parts");
     const uint64_t fixed = p.film_bytes + p.scene_bytes;
     // at least one work-group's worth of paths must fit besides the film and the scene
-    const uint64_t min_pass = 64 * kBytesPerPath;
+    const uint64_t min_pass = buffers.pass_bytes(kPathGroup);
     if (fixed + min_pass > budget)
         throw DeviceError("the render needs " + format_bytes(fixed + min_pass) + " of device memory (film " +
                           format_bytes(p.film_bytes) + ", scene " + format_bytes(p.scene_bytes) +
@@ -32,11 +33,15 @@ MemoryPlan plan_device_memory(uint64_t pixels, uint64_t scene_bytes, uint64_t ma
                                             : std::string()) +
                           ") but only " + format_bytes(budget) + " is available" +
                           (user_limit ? " under --max-memory" : ""));
-    uint64_t paths = std::min<uint64_t>({pixels, max_paths_per_pass, (budget - fixed) / kBytesPerPath,
-                                         max_alloc / kLargestPathRecord});
+    // pass_bytes is linear in whole work-groups: count in groups, then take the largest that fits
+    const uint64_t avail = budget - fixed;
+    const uint64_t group_bytes = buffers.pass_bytes(2 * kPathGroup) - buffers.pass_bytes(kPathGroup);
+    const uint64_t fit_groups = 1 + (avail - min_pass) / group_bytes;
+    uint64_t paths = std::min<uint64_t>({pixels, max_paths_per_pass, fit_groups * kPathGroup,
+                                         max_alloc / buffers.largest_element()});
     paths = std::max<uint64_t>(paths, 1);
     p.paths_per_pass = size_t(paths);
-    p.pass_bytes = paths * kBytesPerPath;
+    p.pass_bytes = buffers.pass_bytes(p.paths_per_pass);
     return p;
 }
 

@@ -1,10 +1,7 @@
 #include "render/render_identity.h"
 
 #include "core/hash.h"
-#include "render/scene_upload.h"
 
-#include <fstream>
-#include <iterator>
 #include <stdexcept>
 #include <type_traits>
 
@@ -53,13 +50,6 @@ struct Digest {
     }
 };
 
-uint64_t file_digest(const std::string& path) {
-    std::ifstream f(path, std::ios::binary);
-    if (!f) throw SceneError(path + ": cannot read the environment map");
-    const std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-    return fnv1a(bytes);
-}
-
 uint64_t geometry_digest(const Scene& scene) {
     return Digest()
         .add(strands_content_hash(scene.strands))
@@ -70,9 +60,9 @@ uint64_t geometry_digest(const Scene& scene) {
 }
 
 // Hair materials as the kernels get them (overrides applied, melanin and colour converted).
-uint64_t materials_digest(const Scene& scene) {
+uint64_t materials_digest(const Scene& scene, const PreparedScene& p) {
     return Digest()
-        .add(make_kernel_materials(scene.materials))
+        .add(p.materials)
         .add_each(scene.surface_materials,
                   [](Digest& d, const SurfaceMaterialDesc& m) { d.add(m.albedo).add(m.texture); })
         .add_each(scene.textures, [](Digest& d, const Texture& t) {
@@ -81,17 +71,13 @@ uint64_t materials_digest(const Scene& scene) {
         .h;
 }
 
-uint64_t lights_digest(const Scene& scene) {
-    const Environment& env = scene.environment;
-    Digest d;
-    d.add(make_kernel_lights(scene.lights)).add(env.color).add(env.intensity).add(env.map_path);
-    if (!env.map_path.empty()) d.add(file_digest(env.map_path));
-    return d.h;
+// The environment as its tables hold it: the map's texels as loaded (not its file name), the
+// intensity and colour in the header.
+uint64_t lights_digest(const PreparedScene& p) {
+    return Digest().add(p.lights).add(p.environment.header).add(p.environment.texels).h;
 }
 
-uint64_t camera_digest(const Scene& scene, const RenderSettings& s) {
-    return Digest().add(make_kernel_camera(scene.camera, s.width, s.height)).h;
-}
+uint64_t camera_digest(const PreparedScene& p) { return Digest().add(p.camera).h; }
 
 // The kernel build options are left out: they follow from the scene and these settings (and
 // from the device's geometry paging, which never changes a bit).
@@ -137,14 +123,18 @@ RenderIdentity RenderIdentity::from_text(const std::string& text) {
     return id;
 }
 
-RenderIdentity render_identity(const Scene& scene, const RenderSettings& settings, int chunk) {
+RenderIdentity render_identity(const Scene& scene, const PreparedScene& prepared, int chunk) {
     RenderIdentity id;
     id.digests[RenderIdentity::Geometry] = geometry_digest(scene);
-    id.digests[RenderIdentity::Materials] = materials_digest(scene);
-    id.digests[RenderIdentity::Lights] = lights_digest(scene);
-    id.digests[RenderIdentity::Camera] = camera_digest(scene, settings);
-    id.digests[RenderIdentity::Settings] = settings_digest(settings, chunk);
+    id.digests[RenderIdentity::Materials] = materials_digest(scene, prepared);
+    id.digests[RenderIdentity::Lights] = lights_digest(prepared);
+    id.digests[RenderIdentity::Camera] = camera_digest(prepared);
+    id.digests[RenderIdentity::Settings] = settings_digest(prepared.settings, chunk);
     return id;
+}
+
+RenderIdentity render_identity(const Scene& scene, const RenderSettings& settings, int chunk) {
+    return render_identity(scene, prepare_scene(scene, settings), chunk);
 }
 
 }  // namespace ht

@@ -5,7 +5,7 @@
 // geometry paging, --max-memory, threads).
 #pragma once
 
-#include "render/renderer.h"
+#include "render/prepared_scene.h"
 #include "scene/scene.h"
 
 #include <array>
@@ -33,9 +33,10 @@ struct RenderIdentity {
 };
 
 // `scene` after every command-line override (materials, environment, default camera and
-// light), `settings` as the renderer gets them, and the chunk size of the canonical summation
-// order (split/accumulation.h).  Reads the environment map's file to hash its contents; throws
-// SceneError when it cannot be read.
+// light), `prepared` = prepare_scene(scene, settings) as the devices get it, and the chunk size
+// of the canonical summation order (split/accumulation.h).
+RenderIdentity render_identity(const Scene& scene, const PreparedScene& prepared, int chunk);
+// The same, preparing the scene first (tests and tools that render nothing).
 RenderIdentity render_identity(const Scene& scene, const RenderSettings& settings, int chunk);
 
 }  // namespace ht

@@ -14,14 +14,14 @@
 #include "render/environment.h"
 #include "render/features.h"
 #include "render/memory_plan.h"
-#include "render/scene_upload.h"
-#include "fiber/afs_quadrature.h"
-#include "kernels/fiber/afs.h"
+#include "render/path_buffers.h"
+#include "render/stage_args.h"
 #include "kernels/surface/texture.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cstdlib>
+#include <memory>
 #include <string>
 #include <cmath>
 #include <cstdio>
@@ -29,8 +29,7 @@
 namespace ht {
 
 namespace {
-// docs/POCL.md §1: 32-256 are equal for traversal; 64 is also what compact.cl requires.
-constexpr size_t kLocalSize = 64;
+constexpr size_t kLocalSize = kPathGroup;
 
 cl::NDRange global_for(size_t n) { return cl::NDRange(round_up(std::max<size_t>(n, 1), kLocalSize)); }
 
@@ -57,17 +56,12 @@ static bool injected_fault(const char* where) {
 
 struct Renderer::Impl {
     ClContext& cl;
-    RenderSettings settings;
-    SceneGeometry geometry;
+    std::unique_ptr<PreparedScene> owned;  // when constructed from a Scene
+    const PreparedScene& prepared;
+    const RenderSettings& settings;
     DeviceGeometry device_geometry;
-    cl::Buffer strand_material, materials, lights;
-    uint32_t light_count = 0;
-    EnvironmentTables environment;
-    cl::Buffer env_texels, env_marginal, env_conditional;
-    cl::Buffer textures, texels;  // base colour texture headers and the shared texel array
-    uint32_t texture_count = 0;
-    HtCamera camera{};
-    float pixel_angle = 0;  // radians per pixel at the image centre (ray footprint for --fiber-field auto)
+    SceneBuffers scene;
+    cl::Buffer afs_table;  // --indirect afs: AFS_TT^avg(theta) per material
     std::string options;
     KernelFeatures features;
     cl::Program program;
@@ -77,43 +71,38 @@ struct Renderer::Impl {
     RenderStats stats;
     cl::Buffer film_buf;
 
-    // per-pass buffers, sized for max paths per pass
+    // per-pass buffers (render/path_buffers.h), sized for max paths per pass
+    PathBufferSet buffer_set;
     size_t capacity = 0;
-    cl::Buffer rays[2], ray_path[2], hits, paths, shadow_rays, shadow_contrib, occluded, counters;
-    cl::Buffer stage_rays, stage_path, group_sums;  // uncompacted extension rays, per-group counts
-    cl::Buffer transmittance;                        // --indirect afs: per shadow slot, rgb
-    cl::Buffer afs_table;                            // --indirect afs: AFS_TT^avg(theta) per material
+    cl::Buffer buffers[size_t(PathBuffer::Count)];
+    cl::Buffer counters;
 
-    Impl(ClContext& c, const Scene& scene, const RenderSettings& s) : cl(c), settings(s) {
-        geometry = build_geometry(scene);
-        device_geometry = upload_geometry(cl, geometry);
-        std::vector<uint32_t> mat_of_strand(scene.strands.material.begin(), scene.strands.material.end());
-        strand_material = device_array(cl.context(), mat_of_strand);
-        const std::vector<HtMaterial> kmats = make_kernel_materials(scene.materials);
-        materials = device_array(cl.context(), kmats);
-        auto kl = make_kernel_lights(scene.lights);
-        light_count = uint32_t(kl.size());
-        lights = device_array(cl.context(), kl);
-        camera = make_kernel_camera(scene.camera, s.width, s.height);
-        pixel_angle = float(2.0 * std::tan(0.5 * scene.camera.yfov_deg * kPi / 180.0) / s.height);
-        environment = build_environment(scene.environment);
-        env_texels = device_array(cl.context(), environment.texels);
-        env_marginal = device_array(cl.context(), environment.marginal);
-        env_conditional = device_array(cl.context(), environment.conditional);
+    cl::Buffer& buffer(PathBuffer b) { return buffers[size_t(b)]; }
+    cl::Buffer& queue_rays(int q) { return buffer(q ? PathBuffer::RaysB : PathBuffer::RaysA); }
+    cl::Buffer& queue_paths(int q) { return buffer(q ? PathBuffer::RayPathB : PathBuffer::RayPathA); }
+
+    Impl(ClContext& c, std::unique_ptr<PreparedScene> own, const PreparedScene& p)
+        : cl(c), owned(std::move(own)), prepared(p), settings(p.settings) {
+        const RenderSettings& s = settings;
+        device_geometry = upload_geometry(cl, p.geometry);
+        scene.strand_material = device_array(cl.context(), p.strand_material);
+        scene.materials = device_array(cl.context(), p.materials);
+        scene.light_count = cl_uint(p.lights.size());
+        scene.lights = device_array(cl.context(), p.lights);
+        scene.environment = p.environment.header;
+        scene.env_texels = device_array(cl.context(), p.environment.texels);
+        scene.env_marginal = device_array(cl.context(), p.environment.marginal);
+        scene.env_conditional = device_array(cl.context(), p.environment.conditional);
 
         const bool afs = s.indirect == RenderSettings::Indirect::Afs;
+        buffer_set.indirect_afs = afs;
+        stats.clamp_indirect = s.clamp_indirect;
         // The render identity (render/render_identity.h) leaves the paging out: it depends on
         // the device, and paged and unpaged renders give the same bits (tested).
-        stats.clamp_indirect = s.clamp_indirect;
-        // Options that change the estimator, not the scene (settings of the render identity); off = undefined.
-        const std::string clamp = estimator_build_options(
-            stats.clamp_indirect, s.regularize_deg, s.spawn_offset == RenderSettings::SpawnOffset::Pbrt,
-            s.sampler == RenderSettings::Sampler::Sobol);
-        // The scene's features once (the lobe bounds are a quadrature per material).
-        features = scene_features(scene, s.fiber_field, afs, s.features);
-        options = kernel_build_options(features) + clamp;
+        features = p.features;
+        options = kernel_build_options(features) + p.estimator_options;
         features.paging = device_geometry.paging;
-        const std::string build_options = kernel_build_options(features) + clamp;
+        const std::string build_options = kernel_build_options(features) + p.estimator_options;
         program = cl.build("stages/wavefront.cl", build_options);
         stats.build_ms = cl.last_build_ms();
         stats.build_cached = cl.last_build_cached();
@@ -125,49 +114,41 @@ struct Renderer::Impl {
         k_resolve = cl::Kernel(program, "resolve_shadows");
         k_accumulate = cl::Kernel(program, "accumulate");
         k_compact_count = cl::Kernel(program, "compact_count");
+        k_compact_scan = cl::Kernel(program, "compact_scan");
+        k_compact_scatter = cl::Kernel(program, "compact_scatter");
         if (afs) {
-            std::vector<float> table;
-            for (const HtMaterial& m : kmats) {
-                const std::vector<float> t = afs_tt_table(m.eta, m.sigma_a);
-                table.insert(table.end(), t.begin(), t.end());
-            }
-            if (table.empty()) table.assign(4 * (HT_AFS_TT_TABLE_N + 1), 0.0f);  // no buffer of size 0
-            afs_table = device_array(cl.context(), table);
+            afs_table = device_array(cl.context(), p.afs_table);
             k_shadow_afs = cl::Kernel(program, "intersect_shadow_afs");
             k_resolve_afs = cl::Kernel(program, "resolve_shadows_afs");
         }
-        k_compact_scan = cl::Kernel(program, "compact_scan");
-        k_compact_scatter = cl::Kernel(program, "compact_scatter");
 
-        const std::vector<HtTexture> texture_headers = make_kernel_textures(scene.textures);
-        const uint64_t texel_bytes = texel_buffer_size(scene.textures) * sizeof(uint32_t);
-        const uint64_t scene_bytes = device_geometry.bytes + environment.texels.size() * 4 +
-                                     (environment.marginal.size() + environment.conditional.size()) * 4 +
-                                     texel_bytes + texture_headers.size() * sizeof(HtTexture);
+        const uint64_t scene_bytes = device_geometry.bytes + p.extra_scene_bytes();
         MemoryPlan plan = plan_device_memory(uint64_t(s.width) * uint64_t(s.height), scene_bytes,
                                              cl.info().max_alloc, cl.info().global_mem, s.max_device_bytes,
-                                             std::max<size_t>(s.max_paths_per_pass, 1), device_geometry.paging);
-        upload_textures(scene.textures, texture_headers, texel_bytes);
+                                             std::max<size_t>(s.max_paths_per_pass, 1), buffer_set,
+                                             device_geometry.paging);
+        upload_textures();
         allocate(plan.paths_per_pass);
     }
 
     // After the memory plan, so textures that cannot fit are refused before they are copied.
-    void upload_textures(const std::vector<Texture>& scene_textures, const std::vector<HtTexture>& headers,
-                         uint64_t texel_bytes) {
+    void upload_textures() {
+        const std::vector<HtTexture>& headers = prepared.texture_headers;
+        const uint64_t texel_bytes = prepared.texel_bytes;
         if (cl.info().max_alloc && texel_bytes > cl.info().max_alloc)
             throw DeviceError("the scene's textures need " + format_bytes(texel_bytes) +
                               " in one buffer but the device " + cl.info().name + " allocates at most " +
                               format_bytes(cl.info().max_alloc) + " per buffer; use smaller textures");
-        texture_count = uint32_t(headers.size());
-        textures = device_array(cl.context(), headers);
-        texels = cl::Buffer(cl.context(), CL_MEM_READ_ONLY, texel_bytes);
+        scene.texture_count = cl_uint(headers.size());
+        scene.textures = device_array(cl.context(), headers);
+        scene.texels = cl::Buffer(cl.context(), CL_MEM_READ_ONLY, texel_bytes);
         uint32_t table[HT_SRGB_TABLE_SIZE];
         ht_srgb_table(table);
-        cl.queue().enqueueWriteBuffer(texels, CL_TRUE, 0, sizeof table, table);
-        for (size_t i = 0; i < scene_textures.size(); ++i) {
-            const std::vector<uint32_t>& t = scene_textures[i].texels;
+        cl.queue().enqueueWriteBuffer(scene.texels, CL_TRUE, 0, sizeof table, table);
+        for (size_t i = 0; prepared.textures && i < prepared.textures->size(); ++i) {
+            const std::vector<uint32_t>& t = (*prepared.textures)[i].texels;
             if (!t.empty())
-                cl.queue().enqueueWriteBuffer(texels, CL_TRUE, size_t(headers[i].offset) * sizeof(uint32_t),
+                cl.queue().enqueueWriteBuffer(scene.texels, CL_TRUE, size_t(headers[i].offset) * sizeof(uint32_t),
                                               t.size() * sizeof(uint32_t), t.data());
         }
     }
@@ -175,23 +156,10 @@ struct Renderer::Impl {
     void allocate(size_t n) {
         if (injected_fault("alloc")) throw cl::Error(CL_MEM_OBJECT_ALLOCATION_FAILURE, "clCreateBuffer");
         capacity = n;
-        auto& ctx = cl.context();
-        size_t cap = round_up(n, kLocalSize);
-        for (int i = 0; i < 2; ++i) {
-            rays[i] = cl::Buffer(ctx, CL_MEM_READ_WRITE, cap * sizeof(HtRay));
-            ray_path[i] = cl::Buffer(ctx, CL_MEM_READ_WRITE, cap * sizeof(uint32_t));
-        }
-        hits = cl::Buffer(ctx, CL_MEM_READ_WRITE, cap * sizeof(HtHit));
-        paths = cl::Buffer(ctx, CL_MEM_READ_WRITE, cap * sizeof(HtPathState));
-        shadow_rays = cl::Buffer(ctx, CL_MEM_READ_WRITE, cap * sizeof(HtRay));
-        shadow_contrib = cl::Buffer(ctx, CL_MEM_READ_WRITE, cap * sizeof(HtShadowContrib));
-        occluded = cl::Buffer(ctx, CL_MEM_READ_WRITE, cap * sizeof(uint32_t));
-        counters = cl::Buffer(ctx, CL_MEM_READ_WRITE, HT_COUNTER_COUNT * sizeof(uint32_t));
-        stage_rays = cl::Buffer(ctx, CL_MEM_READ_WRITE, cap * sizeof(HtRay));
-        if (settings.indirect == RenderSettings::Indirect::Afs)
-            transmittance = cl::Buffer(ctx, CL_MEM_READ_WRITE, cap * 4 * sizeof(float));
-        stage_path = cl::Buffer(ctx, CL_MEM_READ_WRITE, cap * sizeof(uint32_t));
-        group_sums = cl::Buffer(ctx, CL_MEM_READ_WRITE, (cap / kLocalSize + 1) * sizeof(uint32_t));
+        for (const PathBufferSpec& b : kPathBuffers)
+            if (buffer_set.uses(b))
+                buffer(b.id) = cl::Buffer(cl.context(), CL_MEM_READ_WRITE, buffer_set.bytes(b, n));
+        counters = cl::Buffer(cl.context(), CL_MEM_READ_WRITE, HT_COUNTER_COUNT * sizeof(uint32_t));
     }
 
     // ---- stages ---------------------------------------------------------------------------
@@ -203,21 +171,21 @@ struct Renderer::Impl {
     }
 
     void generate_camera_rays(uint32_t offset, uint32_t count, uint32_t sample) {
-        k_generate.setArg(0, camera);
+        k_generate.setArg(0, prepared.camera);
         k_generate.setArg(1, offset);
         k_generate.setArg(2, count);
         k_generate.setArg(3, settings.seed);
         k_generate.setArg(4, sample);
-        k_generate.setArg(5, rays[0]);
-        k_generate.setArg(6, ray_path[0]);
-        k_generate.setArg(7, paths);
+        k_generate.setArg(5, queue_rays(0));
+        k_generate.setArg(6, queue_paths(0));
+        k_generate.setArg(7, buffer(PathBuffer::Paths));
         launch(k_generate, count);
     }
 
     void intersect_closest(int q, uint32_t count) {
         cl_uint a = set_geometry_args(k_closest);
-        k_closest.setArg(a++, rays[q]);
-        k_closest.setArg(a++, hits);
+        k_closest.setArg(a++, queue_rays(q));
+        k_closest.setArg(a++, buffer(PathBuffer::Hits));
         k_closest.setArg(a++, count);
         launch(k_closest, count);
     }
@@ -229,53 +197,35 @@ struct Renderer::Impl {
         a = set_paged_args(k_shade, a, device_geometry.segments);
         a = set_paged_args(k_shade, a, device_geometry.points);
         a = set_paged_args(k_shade, a, device_geometry.triangles);
-        k_shade.setArg(a++, textures);
-        k_shade.setArg(a++, texture_count);
-        k_shade.setArg(a++, texels);
-        k_shade.setArg(a++, strand_material);
-        k_shade.setArg(a++, materials);
-        k_shade.setArg(a++, lights);
-        k_shade.setArg(a++, light_count);
-        k_shade.setArg(a++, environment.header);
-        k_shade.setArg(a++, env_texels);
-        k_shade.setArg(a++, env_marginal);
-        k_shade.setArg(a++, env_conditional);
-        k_shade.setArg(a++, rays[q]);
-        k_shade.setArg(a++, hits);
-        k_shade.setArg(a++, ray_path[q]);
-        k_shade.setArg(a++, count);
-        k_shade.setArg(a++, paths);
-        k_shade.setArg(a++, shadow_rays);
-        k_shade.setArg(a++, shadow_contrib);
-        k_shade.setArg(a++, stage_rays);
-        k_shade.setArg(a++, stage_path);
-        k_shade.setArg(a++, counters);
-        k_shade.setArg(a++, settings.seed);
-        k_shade.setArg(a++, sample);
-        k_shade.setArg(a++, bounce);
-        k_shade.setArg(a++, uint32_t(settings.max_depth));
-        k_shade.setArg(a++, settings.fiber_field);
-        k_shade.setArg(a++, pixel_angle);
+        a = set_scene_args(k_shade, a, scene);
+        const ShadeQueue queue{queue_rays(q), buffer(PathBuffer::Hits), queue_paths(q), count,
+                               buffer(PathBuffer::Paths), buffer(PathBuffer::ShadowRays),
+                               buffer(PathBuffer::ShadowContrib), buffer(PathBuffer::StageRays),
+                               buffer(PathBuffer::StagePath), counters};
+        a = set_shade_queue_args(k_shade, a, queue);
+        const HtBounce b{settings.seed, sample, bounce, uint32_t(settings.max_depth), settings.fiber_field,
+                         prepared.pixel_angle, 0, 0};
+        k_shade.setArg(a++, b);
         launch(k_shade, count);
     }
 
     // Packs the surviving paths' extension rays into queue `out`, in slot order.
     void compact(int out, uint32_t count) {
         const uint32_t groups = uint32_t(round_up(count, kLocalSize) / kLocalSize);
-        k_compact_count.setArg(0, stage_path);
+        k_compact_count.setArg(0, buffer(PathBuffer::StagePath));
         k_compact_count.setArg(1, count);
-        k_compact_count.setArg(2, group_sums);
+        k_compact_count.setArg(2, buffer(PathBuffer::GroupSums));
         launch(k_compact_count, count);
-        k_compact_scan.setArg(0, group_sums);
+        k_compact_scan.setArg(0, buffer(PathBuffer::GroupSums));
         k_compact_scan.setArg(1, groups);
         k_compact_scan.setArg(2, counters);
         launch(k_compact_scan, cl::NDRange(1), cl::NDRange(1));
-        k_compact_scatter.setArg(0, stage_rays);
-        k_compact_scatter.setArg(1, stage_path);
+        k_compact_scatter.setArg(0, buffer(PathBuffer::StageRays));
+        k_compact_scatter.setArg(1, buffer(PathBuffer::StagePath));
         k_compact_scatter.setArg(2, count);
-        k_compact_scatter.setArg(3, group_sums);
-        k_compact_scatter.setArg(4, rays[out]);
-        k_compact_scatter.setArg(5, ray_path[out]);
+        k_compact_scatter.setArg(3, buffer(PathBuffer::GroupSums));
+        k_compact_scatter.setArg(4, queue_rays(out));
+        k_compact_scatter.setArg(5, queue_paths(out));
         launch(k_compact_scatter, count);
     }
 
@@ -291,40 +241,40 @@ struct Renderer::Impl {
 
     void intersect_shadow(uint32_t count) {
         cl_uint a = set_geometry_args(k_shadow);
-        k_shadow.setArg(a++, shadow_rays);
-        k_shadow.setArg(a++, occluded);
+        k_shadow.setArg(a++, buffer(PathBuffer::ShadowRays));
+        k_shadow.setArg(a++, buffer(PathBuffer::Occluded));
         k_shadow.setArg(a++, count);
         launch(k_shadow, count);
     }
 
     void intersect_shadow_afs(uint32_t count) {
         cl_uint a = set_geometry_args(k_shadow_afs);
-        k_shadow_afs.setArg(a++, strand_material);
+        k_shadow_afs.setArg(a++, scene.strand_material);
         k_shadow_afs.setArg(a++, afs_table);
-        k_shadow_afs.setArg(a++, shadow_rays);
-        k_shadow_afs.setArg(a++, transmittance);
+        k_shadow_afs.setArg(a++, buffer(PathBuffer::ShadowRays));
+        k_shadow_afs.setArg(a++, buffer(PathBuffer::Transmittance));
         k_shadow_afs.setArg(a++, count);
         launch(k_shadow_afs, count);
     }
 
     void resolve_shadows_afs(uint32_t count) {
-        k_resolve_afs.setArg(0, shadow_contrib);
-        k_resolve_afs.setArg(1, transmittance);
+        k_resolve_afs.setArg(0, buffer(PathBuffer::ShadowContrib));
+        k_resolve_afs.setArg(1, buffer(PathBuffer::Transmittance));
         k_resolve_afs.setArg(2, count);
-        k_resolve_afs.setArg(3, paths);
+        k_resolve_afs.setArg(3, buffer(PathBuffer::Paths));
         launch(k_resolve_afs, count);
     }
 
     void resolve_shadows(uint32_t count) {
-        k_resolve.setArg(0, shadow_contrib);
-        k_resolve.setArg(1, occluded);
+        k_resolve.setArg(0, buffer(PathBuffer::ShadowContrib));
+        k_resolve.setArg(1, buffer(PathBuffer::Occluded));
         k_resolve.setArg(2, count);
-        k_resolve.setArg(3, paths);
+        k_resolve.setArg(3, buffer(PathBuffer::Paths));
         launch(k_resolve, count);
     }
 
     void accumulate(cl::Buffer& film, uint32_t count) {
-        k_accumulate.setArg(0, paths);
+        k_accumulate.setArg(0, buffer(PathBuffer::Paths));
         k_accumulate.setArg(1, count);
         k_accumulate.setArg(2, film);
         launch(k_accumulate, count);
@@ -350,9 +300,19 @@ struct Renderer::Impl {
     }
 };
 
-Renderer::Renderer(ClContext& cl, const Scene& scene, const RenderSettings& settings) {
+Renderer::Renderer(ClContext& cl, const PreparedScene& prepared) {
     try {
-        impl_ = new Impl(cl, scene, settings);
+        impl_ = new Impl(cl, nullptr, prepared);
+    } catch (const cl::Error& e) {
+        throw DeviceError(std::string("OpenCL setup failed in ") + e.what() + ": " + cl_error_name(e.err()));
+    }
+}
+
+Renderer::Renderer(ClContext& cl, const Scene& scene, const RenderSettings& settings) {
+    auto own = std::make_unique<PreparedScene>(prepare_scene(scene, settings));
+    const PreparedScene& p = *own;
+    try {
+        impl_ = new Impl(cl, std::move(own), p);
     } catch (const cl::Error& e) {
         throw DeviceError(std::string("OpenCL setup failed in ") + e.what() + ": " + cl_error_name(e.err()));
     }
@@ -402,7 +362,7 @@ void Renderer::render_sample(uint32_t sample) {
             // max_depth scattering vertices; with an environment, the last vertex's BCSDF ray is
             // traced too, for the environment light it sees (kernels/stages/shade.cl)
             const uint32_t vertices = uint32_t(s.max_depth);
-            const uint32_t traced = vertices + (r.environment.header.enabled ? 1u : 0u);
+            const uint32_t traced = vertices + (r.scene.environment.enabled ? 1u : 0u);
             for (uint32_t bounce = 0; n > 0 && bounce < traced; ++bounce) {
                 const auto t_bounce = std::chrono::steady_clock::now();
                 r.intersect_closest(q, n);

@@ -5,6 +5,8 @@
 #include "core/film.h"
 #include "render/features.h"
 #include "render/memory_plan.h"
+#include "render/prepared_scene.h"
+#include "render/settings.h"
 #include "scene/scene.h"
 
 #include <cstdint>
@@ -13,31 +15,6 @@
 #include <vector>
 
 namespace ht {
-
-struct RenderSettings {
-    int width = 512, height = 512;
-    int spp = 16;
-    uint32_t seed = 1;
-    int max_depth = 1;        // 1 = direct light only
-    uint32_t fiber_field = 0; // HT_FIELD_MATERIAL | NEAR | FAR | AUTO
-    // Light beyond the last traced bounce: none, or the paper's averaged attenuation (AFS):
-    // the last bounce's shadow rays pass through hair with AFS_TT^avg per fibre crossed.
-    enum class Indirect { Exact, Afs } indirect = Indirect::Exact;
-    int first_sample = 0;     // render samples [first_sample, first_sample + spp)
-    size_t max_paths_per_pass = 1u << 20;  // bounds device memory for big images
-    uint64_t max_device_bytes = 0;         // --max-memory (0: the device's global memory)
-    bool profile_stages = false;           // time each stage kernel (drains the queue after each)
-    // Cap on each indirect sample's contribution (largest channel; 0: none), compiled into shade.
-    float clamp_indirect = 0.0f;
-    // Path regularisation: minimum lobe width (degrees) at hair reached after a scattering (0: off).
-    float regularize_deg = 0.0f;
-    // Random numbers: Owen-scrambled Sobol' or independent hashing (kernels/rng.h).
-    enum class Sampler { Sobol, Independent } sampler = Sampler::Sobol;
-    // Where rays leaving a fibre start: just outside the capsule (the default), or offset as
-    // pbrt-v4 offsets its curves' rays (a diagnostic for comparisons with pbrt, docs/ESTIMATOR.md).
-    enum class SpawnOffset { Capsule, Pbrt } spawn_offset = SpawnOffset::Capsule;
-    FeatureMode features = FeatureMode::Scene;  // --features: what is compiled in
-};
 
 // One bounce of the wavefront over all samples so far: paths shaded (= closest-hit rays traced),
 // shadow rays queued, and wall seconds of its stages.
@@ -74,6 +51,9 @@ using ProgressFn = std::function<bool(int, int)>;
 
 class Renderer {
 public:
+    // Uploads `prepared` (which must outlive the renderer) and builds the kernels for this device.
+    Renderer(ClContext& cl, const PreparedScene& prepared);
+    // The same for a scene prepared for this renderer alone (tests, single-device tools).
     Renderer(ClContext& cl, const Scene& scene, const RenderSettings& settings);
     ~Renderer();
     Renderer(const Renderer&) = delete;

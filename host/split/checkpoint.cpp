@@ -15,7 +15,8 @@ constexpr char kMagic[4] = {'H', 'T', 'C', 'K'};
 // 2: a list of film segments (chunked accumulation) instead of one film.  Version 1 files held
 // the plain sequential sum, which is not the chunked order once a render exceeds one chunk.
 // 3: the render identity's five part digests instead of one key that left out the materials.
-constexpr uint32_t kVersion = 3;
+// 4: the lights digest hashes the environment as loaded (header and texels), not its file.
+constexpr uint32_t kVersion = 4;
 constexpr uint32_t kMaxSegments = 1u << 20;
 
 struct Header {

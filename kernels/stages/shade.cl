@@ -31,6 +31,7 @@
 #include "../integrator/mis.h"
 #include "../integrator/roulette.h"
 #include "../integrator/shading_point.h"
+#include "stage_args.h"
 
 #ifndef HT_RR_START_BOUNCE
 #define HT_RR_START_BOUNCE 3u
@@ -113,19 +114,11 @@ HT_FN float3 ht_roulette_at(float3 nthr, uint seed, uint pixel, uint sample, uin
 }
 
 
-__kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM,
-                    __global const HtTexture* textures, uint texture_count,
-                    __global const uint* texels,
-                    __global const uint* strand_material, __global const HtMaterial* materials,
-                    __global const HtLight* lights, uint light_count, HtEnvironment env,
-                    __global const float* env_texels, __global const float* env_marginal,
-                    __global const float* env_conditional,
-                    __global const HtRay* rays, __global const HtHit* hits,
-                    __global const uint* ray_path, uint count, __global HtPathState* paths,
-                    __global HtRay* shadow_rays, __global HtShadowContrib* shadow_contrib,
-                    __global HtRay* stage_rays, __global uint* stage_path,
-                    volatile __global uint* counters, uint seed, uint sample, uint bounce,
-                    uint max_depth, uint field_mode, float pixel_angle) {
+__kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM, HT_SCENE_PARAMS, HT_SHADE_QUEUE_PARAMS,
+                    HtBounce b) {
+    const uint seed = b.seed, sample = b.sample, bounce = b.bounce, max_depth = b.max_depth;
+    const uint field_mode = b.field_mode;
+    const float pixel_angle = b.pixel_angle;
     __local uint lcount, lbase;
     uint k = get_global_id(0);
     int active = k < count;

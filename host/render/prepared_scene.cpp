@@ -1,0 +1,48 @@
+#include "render/prepared_scene.h"
+
+#include "core/constants.h"
+#include "fiber/afs_quadrature.h"
+#include "kernels/fiber/afs.h"
+#include "render/scene_upload.h"
+
+#include <cmath>
+
+namespace ht {
+
+uint64_t PreparedScene::extra_scene_bytes() const {
+    return environment.texels.size() * sizeof(float) +
+           (environment.marginal.size() + environment.conditional.size()) * sizeof(float) + texel_bytes +
+           texture_headers.size() * sizeof(HtTexture) + afs_table.size() * sizeof(float);
+}
+
+PreparedScene prepare_scene(const Scene& scene, const RenderSettings& s) {
+    PreparedScene p;
+    p.settings = s;
+    p.geometry = build_geometry(scene);
+    p.strand_material.assign(scene.strands.material.begin(), scene.strands.material.end());
+    p.materials = make_kernel_materials(scene.materials);
+    p.lights = make_kernel_lights(scene.lights);
+    p.camera = make_kernel_camera(scene.camera, s.width, s.height);
+    p.pixel_angle = float(2.0 * std::tan(0.5 * scene.camera.yfov_deg * kPi / 180.0) / s.height);
+    p.environment = build_environment(scene.environment);
+    p.texture_headers = make_kernel_textures(scene.textures);
+    p.textures = &scene.textures;
+    p.texel_bytes = texel_buffer_size(scene.textures) * sizeof(uint32_t);
+
+    const bool afs = s.indirect == RenderSettings::Indirect::Afs;
+    if (afs) {
+        for (const HtMaterial& m : p.materials) {
+            const std::vector<float> t = afs_tt_table(m.eta, m.sigma_a);
+            p.afs_table.insert(p.afs_table.end(), t.begin(), t.end());
+        }
+        if (p.afs_table.empty()) p.afs_table.assign(4 * (HT_AFS_TT_TABLE_N + 1), 0.0f);  // no buffer of size 0
+    }
+    // The lobe bounds are a quadrature per material: once per render, not per device.
+    p.features = scene_features(scene, s.fiber_field, afs, s.features);
+    p.estimator_options = estimator_build_options(s.clamp_indirect, s.regularize_deg,
+                                                  s.spawn_offset == RenderSettings::SpawnOffset::Pbrt,
+                                                  s.sampler == RenderSettings::Sampler::Sobol);
+    return p;
+}
+
+}  // namespace ht

@@ -1,0 +1,44 @@
+// A scene made ready for the kernels, once per render on the host: the BVH, the kernels' camera,
+// lights, materials, texture headers, environment tables, AFS tables and the features to compile.
+// Every device's Renderer uploads and launches from one PreparedScene (render/renderer.h), and the
+// render identity (render/render_identity.h) hashes its bytes, so what a checkpoint or a
+// render-farm part is keyed on is exactly what the devices were given.
+#pragma once
+
+#include "bvh/bvh.h"
+#include "render/environment.h"
+#include "render/features.h"
+#include "render/settings.h"
+#include "scene/scene.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace ht {
+
+struct PreparedScene {
+    RenderSettings settings;
+    SceneGeometry geometry;                  // points, leaf segments, BVH nodes, triangle shading
+    std::vector<uint32_t> strand_material;   // material index per strand
+    std::vector<HtMaterial> materials;       // after every override, converted (make_kernel_materials)
+    std::vector<HtLight> lights;
+    HtCamera camera{};
+    float pixel_angle = 0;                   // radians per pixel at the image centre (--fiber-field auto)
+    EnvironmentTables environment;
+    std::vector<HtTexture> texture_headers;  // offsets into the shared texel buffer
+    const std::vector<Texture>* textures = nullptr;  // the scene's texels, copied at upload
+    uint64_t texel_bytes = 0;                // the shared texel buffer: sRGB table + every texture
+    std::vector<float> afs_table;            // --indirect afs: AFS_TT^avg(theta) per material
+    KernelFeatures features;                 // what the scene needs (geometry unpaged)
+    std::string estimator_options;           // the estimator's -D values (clamp, sampler, ...)
+
+    // Device bytes of everything but the geometry (textures, environment tables).
+    uint64_t extra_scene_bytes() const;
+};
+
+// Builds everything above from `scene` (after the command line's overrides; it must outlive the
+// result, whose `textures` points into it).  Throws SceneError for an unreadable environment map.
+PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings);
+
+}  // namespace ht

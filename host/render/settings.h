@@ -1,0 +1,38 @@
+// What a render is asked to do, beyond the scene: image size, samples, depth and the estimator's
+// options.  Everything here but the pass size, memory limit and profiling shapes the image and is
+// part of the render identity (render/render_identity.h).
+#pragma once
+
+#include "render/features.h"
+
+#include <cstddef>
+#include <cstdint>
+
+namespace ht {
+
+struct RenderSettings {
+    int width = 512, height = 512;
+    int spp = 16;
+    uint32_t seed = 1;
+    int max_depth = 1;        // 1 = direct light only
+    uint32_t fiber_field = 0; // HT_FIELD_MATERIAL | NEAR | FAR | AUTO
+    // Light beyond the last traced bounce: none, or the paper's averaged attenuation (AFS):
+    // the last bounce's shadow rays pass through hair with AFS_TT^avg per fibre crossed.
+    enum class Indirect { Exact, Afs } indirect = Indirect::Exact;
+    int first_sample = 0;     // render samples [first_sample, first_sample + spp)
+    size_t max_paths_per_pass = 1u << 20;  // bounds device memory for big images
+    uint64_t max_device_bytes = 0;         // --max-memory (0: the device's global memory)
+    bool profile_stages = false;           // time each stage kernel (drains the queue after each)
+    // Cap on each indirect sample's contribution (largest channel; 0: none), compiled into shade.
+    float clamp_indirect = 0.0f;
+    // Path regularisation: minimum lobe width (degrees) at hair reached after a scattering (0: off).
+    float regularize_deg = 0.0f;
+    // Random numbers: Owen-scrambled Sobol' or independent hashing (kernels/rng.h).
+    enum class Sampler { Sobol, Independent } sampler = Sampler::Sobol;
+    // Where rays leaving a fibre start: just outside the capsule (the default), or offset as
+    // pbrt-v4 offsets its curves' rays (a diagnostic for comparisons with pbrt, docs/ESTIMATOR.md).
+    enum class SpawnOffset { Capsule, Pbrt } spawn_offset = SpawnOffset::Capsule;
+    FeatureMode features = FeatureMode::Scene;  // --features: what is compiled in
+};
+
+}  // namespace ht

@@ -1,0 +1,27 @@
+/* Argument bundles of the stage kernels, declared once.  OpenCL C 1.2 allows no pointers in
+ * kernel-argument structs, so a bundle is a parameter list; the host sets each bundle with one
+ * call (host/render/stage_args.h), and tests/render/stage_args_test.cpp checks that the host's
+ * argument names and order equal these (CL_KERNEL_ARG_NAME).  Stage signatures read
+ * (geometry, scene, queue, per-launch values). */
+#ifndef HT_STAGE_ARGS_H
+#define HT_STAGE_ARGS_H
+
+#include "../types.h"
+
+/* What the scene gives shading besides its geometry: textures, materials, lights, environment. */
+#define HT_SCENE_PARAMS                                                                            \
+    __global const HtTexture *textures, uint texture_count, __global const uint *texels,           \
+        __global const uint *strand_material, __global const HtMaterial *materials,                \
+        __global const HtLight *lights, uint light_count, HtEnvironment env,                       \
+        __global const float *env_texels, __global const float *env_marginal,                      \
+        __global const float *env_conditional
+
+/* shade's queues: the rays of this bounce with their hits and paths in, the shadow and
+ * (uncompacted) extension queues and the counters out. */
+#define HT_SHADE_QUEUE_PARAMS                                                                      \
+    __global const HtRay *rays, __global const HtHit *hits, __global const uint *ray_path,         \
+        uint count, __global HtPathState *paths, __global HtRay *shadow_rays,                      \
+        __global HtShadowContrib *shadow_contrib, __global HtRay *stage_rays,                      \
+        __global uint *stage_path, volatile __global uint *counters
+
+#endif /* HT_STAGE_ARGS_H */

@@ -1,0 +1,34 @@
+// The argument bundles' host side (host/render/stage_args.h) names the same parameters in the same
+// order as the kernels' (kernels/stages/stage_args.h): a parameter added, removed or moved on one
+// side only would otherwise shift every argument after it, which OpenCL reports at best as a size
+// mismatch and at worst not at all (two buffers swapped).
+#include <gtest/gtest.h>
+
+#include "cl/device.h"
+#include "render/features.h"
+#include "render/stage_args.h"
+
+#include <string>
+#include <vector>
+
+namespace {
+
+std::vector<std::string> kernel_arg_names(const cl::Kernel& k) {
+    std::vector<std::string> names;
+    const cl_uint n = k.getInfo<CL_KERNEL_NUM_ARGS>();
+    for (cl_uint i = 0; i < n; ++i) names.push_back(k.getArgInfo<CL_KERNEL_ARG_NAME>(i));
+    return names;
+}
+
+TEST(StageArgs, ShadeTakesGeometrySceneQueueAndBounceInTheHostsOrder) {
+    ht::ClContext cl;
+    const std::string options = ht::kernel_build_options(ht::KernelFeatures{}) + " -cl-kernel-arg-info";
+    cl::Program prog = cl.build("stages/wavefront.cl", options);
+    std::vector<std::string> expected = {"segs", "points", "tri_shading"};  // unpaged geometry
+    for (const std::string& n : ht::scene_arg_names()) expected.push_back(n);
+    for (const std::string& n : ht::shade_queue_arg_names()) expected.push_back(n);
+    expected.push_back("b");
+    EXPECT_EQ(kernel_arg_names(cl::Kernel(prog, "shade")), expected);
+}
+
+}  // namespace
