@@ -21,7 +21,8 @@
     X(MESHES, "triangle meshes")                                                                   \
     X(TEXTURES, "base colour textures")                                                            \
     X(LOBE_TT, "lobe TT")                                                                          \
-    X(LOBE_TRT, "lobe TRT (chiang: + TRRT+)")
+    X(LOBE_TRT, "lobe TRT (chiang: + TRRT+)")                                                      \
+    X(AOVS, "arbitrary output values (render --aovs)")
 
 /* Point lights need no switch: their code is the part every positional light shares. */
 #ifndef HT_FEATURE_LIGHT_SPOT
@@ -62,6 +63,11 @@
 #endif
 #ifndef HT_FEATURE_LOBE_TRT
 #define HT_FEATURE_LOBE_TRT 1
+#endif
+
+/* per-path output records (kernels/aovs.h): a setting, not a scene feature, so off unless asked */
+#ifndef HT_FEATURE_AOVS
+#define HT_FEATURE_AOVS 0
 #endif
 
 /* Values (defaults where they are read):

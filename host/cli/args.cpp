@@ -231,6 +231,27 @@ double parse_double(const std::string& what, const std::string& text, double lo,
     return v;
 }
 
+std::vector<double> parse_number_list(const std::string& what, const std::string& text, size_t count,
+                                      const char* form) {
+    const UsageError error(what + " expects " + form + " numbers, got '" + text + "'");
+    std::vector<double> v;
+    size_t start = 0;
+    for (;;) {
+        const size_t comma = text.find(',', start);
+        const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+        if (v.size() == count) throw error;
+        try {
+            v.push_back(parse_double(what, item, -HUGE_VAL, HUGE_VAL));
+        } catch (const UsageError&) {
+            throw error;
+        }
+        if (comma == std::string::npos) break;
+        start = comma + 1;
+    }
+    if (v.size() != count) throw error;
+    return v;
+}
+
 const std::string& require_choice(const std::string& what, const std::string& value,
                                   const std::vector<std::string>& choices) {
     for (const std::string& c : choices)

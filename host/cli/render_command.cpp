@@ -7,6 +7,7 @@
 #include "cli/render_request.h"
 #include "core/errors.h"
 #include "io/image_io.h"
+#include "render/aovs.h"
 #include "render/error_metrics.h"
 #include "render/features.h"
 #include "render/memory_plan.h"
@@ -130,6 +131,8 @@ void prepare(PreparedRender& job, const RenderRequest& request, const DistContex
     job.range = request.sample_range.value_or(SampleRange{0, request.grid.spp});
     job.my_range = rank_range(job.range, request.grid, dist.rank, dist.ranks);
     job.rank_suffix = dist.ranks > 1 ? ".rank" + std::to_string(dist.rank) : "";
+    if (!request.aovs.empty() && dist.ranks > 1)
+        throw UsageError("--aovs cannot be combined with MPI ranks yet: the reduction keeps the beauty only");
     if (!request.image.kernel_dir.empty()) set_kernel_dir(request.image.kernel_dir);
     load_inputs(job, request, quiet);
     if (!quiet && dist.mpi) {
@@ -290,7 +293,7 @@ void write_outputs(const PreparedRender& job, const RenderRequest& request, cons
     for (auto& o : request.outputs) {
         // A part's .exr keeps the raw sums for the merge; other formats show its mean.
         if (request.sample_range && keeps_raw_sums(o)) write_partial_exr(o, partial_image_of(job, request), meta);
-        else write_image(o, film, meta, exposure);
+        else write_image(o, film, meta, exposure, request.aovs.empty() ? std::vector<ImageChannel>{} : aov_channels(film, request.aovs));
         if (!quiet) std::fprintf(stderr, "wrote %s\n", o.c_str());
     }
     if (job.reference.empty()) return;

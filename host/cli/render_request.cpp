@@ -5,6 +5,7 @@
 #include "io/image_io.h"
 #include "kernels/types.h"
 #include "render/depth_choice.h"
+#include "render/aovs.h"
 #include "render/memory_plan.h"
 
 #include <algorithm>
@@ -31,6 +32,7 @@ struct OptionRow {
 // them.  A new option is one row here and one line in parse_image_request/parse_render_request.
 const OptionRow kOptions[] = {
     {"output", "-o", "OUT", "output image; the extension picks the format (.exr/.hdr/.tif linear float, .png/.jpg sRGB 8-bit)", "", Kind::Images, kRender},
+    {"output", "--aovs", "LIST", "comma-separated output values, written as extra channels of the .exr/.hdr/.tif outputs: alpha (A: coverage), depth (Z: mean hit distance), tangent (first hit's fibre tangent), albedo (first vertex's directional albedo), direct, indirect (light scattered at most once / more; direct + indirect = the beauty), R, TT, TRT, residual (the hair's share split by the lobes of the first hair vertex); not with --checkpoint, --resume, --sample-range or MPI yet", "", Kind::Value, kRender},
     {"output", "--exposure", "E|auto", "multiplier applied before tone mapping 8-bit outputs; auto maps the 95th percentile of lit pixels to 0.8 (linear outputs are never scaled)", "auto", Kind::Value, kRender},
 
     {"sampling", "--width", "W", "image width in pixels", "512", Kind::Value, kRender},
@@ -170,6 +172,32 @@ ImageRequest parse_image_request(const ArgParser& p) {
     return r;
 }
 
+namespace {
+// --aovs: known names, each once, and somewhere to write them.
+std::vector<std::string> parse_aov_list_of(const std::string& text, const RenderRequest& r) {
+    std::vector<std::string> names;
+    size_t start = 0;
+    for (;;) {
+        const size_t comma = text.find(',', start);
+        const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+        const std::string& name = require_choice("--aovs", item, aov_names());
+        if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
+        if (comma == std::string::npos) break;
+        start = comma + 1;
+    }
+    if (std::none_of(r.outputs.begin(), r.outputs.end(), [](const std::string& o) { return is_float_format(o); }))
+        throw UsageError("--aovs needs an .exr, .hdr or .tif output: 8-bit images hold the tone-mapped beauty only");
+    const char* conflict = !r.checkpoint.empty() ? "--checkpoint"
+                           : !r.resume.empty()   ? "--resume"
+                           : r.sample_range      ? "--sample-range"
+                                                 : nullptr;
+    if (conflict)
+        throw UsageError(std::string("--aovs cannot be combined with ") + conflict +
+                         " yet: checkpoints and render-farm parts keep the beauty only");
+    return names;
+}
+}  // namespace
+
 RenderRequest parse_render_request(const ArgParser& p) {
     RenderRequest r;
     r.image = parse_image_request(p);
@@ -188,6 +216,10 @@ RenderRequest parse_render_request(const ArgParser& p) {
     r.resume = p.get("--resume");
     r.reference = p.get("--reference");
     if (auto e = p.get_double_or("--exposure", "auto", 0, 1e9)) r.exposure = float(*e);
+    if (p.has("--aovs")) {
+        r.aovs = parse_aov_list_of(p.get("--aovs"), r);
+        r.image.settings.aovs = true;
+    }
     r.verbose = p.has("--verbose");
     r.profile = r.image.settings.profile_stages = p.has("--profile");
     r.quiet = p.has("--quiet");

@@ -53,6 +53,7 @@ struct RenderRequest {
     std::string checkpoint, resume, reference;
     double checkpoint_every = 60;
     std::optional<float> exposure;          // nullopt: auto
+    std::vector<std::string> aovs;          // --aovs, in the order given (render/aovs.h names)
     bool verbose = false, profile = false, quiet = false;
 };
 

@@ -50,24 +50,8 @@ uint32_t parse_fiber_field(const std::string& what, const std::string& f) {
 
 namespace {
 
-// "a,b,c": exactly `count` finite numbers, or a UsageError naming the option.
-std::vector<double> parse_numbers(const std::string& opt, const std::string& s, size_t count, const char* what) {
-    const UsageError error(opt + " expects " + what + " numbers, got '" + s + "'");
-    std::vector<double> v;
-    std::stringstream ss(s);
-    std::string item;
-    while (std::getline(ss, item, ',')) {
-        char* end = nullptr;
-        const double d = std::strtod(item.c_str(), &end);
-        if (item.empty() || *end || !std::isfinite(d) || v.size() == count) throw error;
-        v.push_back(d);
-    }
-    if (v.size() != count) throw error;
-    return v;
-}
-
 Vec3f parse_xyz(const ArgParser& p, const std::string& opt) {
-    const std::vector<double> v = parse_numbers(opt, p.get(opt), 3, "x,y,z");
+    const std::vector<double> v = parse_number_list(opt, p.get(opt), 3, "x,y,z");
     return {float(v[0]), float(v[1]), float(v[2])};
 }
 
@@ -115,7 +99,7 @@ HairColorOverride hair_color_options(const ArgParser& p) {
         if (p.has("--eumelanin")) o.eumelanin = float(p.get_double("--eumelanin", 0.0, 50.0));
         if (p.has("--pheomelanin")) o.pheomelanin = float(p.get_double("--pheomelanin", 0.0, 50.0));
     } else if (p.has("--hair-color")) {
-        const std::vector<double> c = parse_numbers("--hair-color", p.get("--hair-color"), 3, "r,g,b");
+        const std::vector<double> c = parse_number_list("--hair-color", p.get("--hair-color"), 3, "r,g,b");
         for (double x : c)
             if (!(x > 0.0 && x <= 1.0)) throw UsageError("--hair-color components must be in (0, 1], got '" + p.get("--hair-color") + "'");
         o.kind = HairColorOverride::Color;
@@ -140,10 +124,10 @@ void apply_hair_color(const HairColorOverride& o, Scene& scene) {
 
 Vec3f parse_rgb(const std::string& opt, const std::string& s) {
     if (s.find(',') == std::string::npos) {
-        const double grey = parse_numbers(opt, s, 1, "r,g,b")[0];
+        const double grey = parse_number_list(opt, s, 1, "r,g,b")[0];
         return {float(grey), float(grey), float(grey)};
     }
-    const std::vector<double> v = parse_numbers(opt, s, 3, "r,g,b");
+    const std::vector<double> v = parse_number_list(opt, s, 3, "r,g,b");
     return {float(v[0]), float(v[1]), float(v[2])};
 }
 

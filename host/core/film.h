@@ -11,6 +11,9 @@ namespace ht {
 struct Film {
     int width = 0, height = 0;
     std::vector<float> rgba;  // 4 floats per pixel
+    // render --aovs: HT_AOV_OUT sums per pixel (kernels/aovs.h), empty without; films add them
+    // like rgba, and host/render/aovs.h turns them into named channels.
+    std::vector<float> aov;
     // mean radiance of pixel i, channel c
     float mean(size_t i, int c) const {
         float n = rgba[4 * i + 3];

@@ -56,12 +56,28 @@ float auto_exposure(const Film& film) {
     return lum[k] > 0 ? 0.8f / lum[k] : 1.0f;
 }
 
-void write_image(const std::string& path, const Film& film, const ImageMetadata& meta, float exposure) {
+void write_image(const std::string& path, const Film& film, const ImageMetadata& meta, float exposure,
+                 const std::vector<ImageChannel>& extra) {
     std::string ext = lower_ext(path);
     if (ext.empty()) throw ImageError(path + ": no file extension to choose an image format from");
     bool linear = is_float_format(path);
     std::vector<float> rgb = film_to_rgb(film);
-    ImageSpec spec(film.width, film.height, 3, linear ? TypeDesc::FLOAT : TypeDesc::UINT8);
+    const size_t pixels = size_t(film.width) * size_t(film.height);
+    const int channels = 3 + (linear ? int(extra.size()) : 0);
+    ImageSpec spec(film.width, film.height, channels, linear ? TypeDesc::FLOAT : TypeDesc::UINT8);
+    if (channels > 3) {
+        std::vector<float> all(pixels * size_t(channels));
+        for (size_t i = 0; i < pixels; ++i) {
+            for (int c = 0; c < 3; ++c) all[i * channels + c] = rgb[3 * i + c];
+            for (size_t e = 0; e < extra.size(); ++e) all[i * channels + 3 + e] = extra[e].values.at(i);
+        }
+        rgb.swap(all);
+        spec.channelnames = {"R", "G", "B"};
+        for (const ImageChannel& e : extra) spec.channelnames.push_back(e.name);
+        for (size_t e = 0; e < extra.size(); ++e)
+            if (extra[e].name == "A") spec.alpha_channel = int(3 + e);
+            else if (extra[e].name == "Z") spec.z_channel = int(3 + e);
+    }
     if (ext == ".exr") spec.attribute("compression", "zip");
     for (auto& [k, v] : meta.text) spec.attribute(k, v);
     for (auto& [k, v] : meta.ints) spec.attribute(k, v);

@@ -19,12 +19,19 @@ struct ImageMetadata {
     std::map<std::string, float> floats;        // e.g. "hairtrace:render_seconds"
 };
 
+// A channel written after R, G, B by float formats (render --aovs).
+struct ImageChannel {
+    std::string name;           // e.g. "A", "Z", "direct.R"
+    std::vector<float> values;  // one per pixel, row 0 at the top
+};
+
 // Mean radiance per pixel, RGB, row 0 at the top.
 std::vector<float> film_to_rgb(const Film& film);
 
-// Throws ImageError naming the file on failure.
+// Throws ImageError naming the file on failure.  `extra` channels go into float formats only
+// (8-bit images hold the tone-mapped beauty).
 void write_image(const std::string& path, const Film& film, const ImageMetadata& meta,
-                 float exposure = 1.0f);
+                 float exposure = 1.0f, const std::vector<ImageChannel>& extra = {});
 
 // Reads a float RGB(A) image (reference images): width, height, rgb (3 per pixel).
 std::vector<float> read_rgb_image(const std::string& path, int& width, int& height);

@@ -4,6 +4,7 @@
 // buffer added here is counted everywhere.
 #pragma once
 
+#include "kernels/aovs.h"
 #include "kernels/types.h"
 
 #include <cstddef>
@@ -25,6 +26,7 @@ enum class PathBuffer {
     StageRays, StagePath,      // shade's uncompacted extension rays and their paths
     Transmittance,             // --indirect afs: rgb(a) transmittance per shadow ray
     GroupSums,                 // compaction's per-work-group counts
+    Aovs, ShadowAovs,          // --aovs: per-path records and per-shadow-slot shares (kernels/aovs.h)
     Count
 };
 
@@ -33,23 +35,25 @@ struct PathBufferSpec {
     const char* name;
     size_t element_bytes;
     size_t slots_per_element;  // 1, or kPathGroup for per-work-group records
-    bool afs_only;             // allocated only for --indirect afs
+    enum Use { Always, IndirectAfs, Aovs } use;  // allocated always, or only for that setting
 };
 
 constexpr PathBufferSpec kPathBuffers[] = {
-    {PathBuffer::RaysA, "rays[0]", sizeof(HtRay), 1, false},
-    {PathBuffer::RaysB, "rays[1]", sizeof(HtRay), 1, false},
-    {PathBuffer::RayPathA, "ray_path[0]", sizeof(uint32_t), 1, false},
-    {PathBuffer::RayPathB, "ray_path[1]", sizeof(uint32_t), 1, false},
-    {PathBuffer::Hits, "hits", sizeof(HtHit), 1, false},
-    {PathBuffer::Paths, "paths", sizeof(HtPathState), 1, false},
-    {PathBuffer::ShadowRays, "shadow_rays", sizeof(HtRay), 1, false},
-    {PathBuffer::ShadowContrib, "shadow_contrib", sizeof(HtShadowContrib), 1, false},
-    {PathBuffer::Occluded, "occluded", sizeof(uint32_t), 1, false},
-    {PathBuffer::StageRays, "stage_rays", sizeof(HtRay), 1, false},
-    {PathBuffer::StagePath, "stage_path", sizeof(uint32_t), 1, false},
-    {PathBuffer::Transmittance, "transmittance", 4 * sizeof(float), 1, true},
-    {PathBuffer::GroupSums, "group_sums", sizeof(uint32_t), kPathGroup, false},
+    {PathBuffer::RaysA, "rays[0]", sizeof(HtRay), 1, PathBufferSpec::Always},
+    {PathBuffer::RaysB, "rays[1]", sizeof(HtRay), 1, PathBufferSpec::Always},
+    {PathBuffer::RayPathA, "ray_path[0]", sizeof(uint32_t), 1, PathBufferSpec::Always},
+    {PathBuffer::RayPathB, "ray_path[1]", sizeof(uint32_t), 1, PathBufferSpec::Always},
+    {PathBuffer::Hits, "hits", sizeof(HtHit), 1, PathBufferSpec::Always},
+    {PathBuffer::Paths, "paths", sizeof(HtPathState), 1, PathBufferSpec::Always},
+    {PathBuffer::ShadowRays, "shadow_rays", sizeof(HtRay), 1, PathBufferSpec::Always},
+    {PathBuffer::ShadowContrib, "shadow_contrib", sizeof(HtShadowContrib), 1, PathBufferSpec::Always},
+    {PathBuffer::Occluded, "occluded", sizeof(uint32_t), 1, PathBufferSpec::Always},
+    {PathBuffer::StageRays, "stage_rays", sizeof(HtRay), 1, PathBufferSpec::Always},
+    {PathBuffer::StagePath, "stage_path", sizeof(uint32_t), 1, PathBufferSpec::Always},
+    {PathBuffer::Transmittance, "transmittance", 4 * sizeof(float), 1, PathBufferSpec::IndirectAfs},
+    {PathBuffer::GroupSums, "group_sums", sizeof(uint32_t), kPathGroup, PathBufferSpec::Always},
+    {PathBuffer::Aovs, "aovs", HT_AOV_STRIDE * sizeof(float), 1, PathBufferSpec::Aovs},
+    {PathBuffer::ShadowAovs, "shadow_aovs", HT_SHADOW_AOV_STRIDE * sizeof(float), 1, PathBufferSpec::Aovs},
 };
 static_assert(sizeof(kPathBuffers) / sizeof(kPathBuffers[0]) == size_t(PathBuffer::Count),
               "one kPathBuffers row per PathBuffer");
@@ -61,11 +65,16 @@ constexpr bool path_buffer_rows_in_order() {
 }
 static_assert(path_buffer_rows_in_order(), "kPathBuffers rows in PathBuffer order");
 
-// The buffers one render uses (the AFS transmittance only with --indirect afs).
+// The buffers one render uses (the AFS transmittance only with --indirect afs, the AOV records
+// only with --aovs).
 struct PathBufferSet {
     bool indirect_afs = false;
+    bool aovs = false;
 
-    bool uses(const PathBufferSpec& b) const { return !b.afs_only || indirect_afs; }
+    bool uses(const PathBufferSpec& b) const {
+        return b.use == PathBufferSpec::Always || (b.use == PathBufferSpec::IndirectAfs && indirect_afs) ||
+               (b.use == PathBufferSpec::Aovs && aovs);
+    }
     // Slots allocated for a pass of `paths` paths: whole work-groups.
     static size_t slots(size_t paths) { return (paths + kPathGroup - 1) / kPathGroup * kPathGroup; }
     // Bytes of buffer b for a pass of `paths` paths (0 when unused); per-group buffers get one

@@ -39,6 +39,7 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& s) {
     }
     // The lobe bounds are a quadrature per material: once per render, not per device.
     p.features = scene_features(scene, s.fiber_field, afs, s.features);
+    p.features[Feature::AOVS] = s.aovs;
     p.estimator_options = estimator_build_options(s.clamp_indirect, s.regularize_deg,
                                                   s.spawn_offset == RenderSettings::SpawnOffset::Pbrt,
                                                   s.sampler == RenderSettings::Sampler::Sobol);

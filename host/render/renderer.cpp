@@ -69,7 +69,7 @@ struct Renderer::Impl {
     cl::Kernel k_compact_count, k_compact_scan, k_compact_scatter;
     cl::Kernel k_shadow_afs, k_resolve_afs;
     RenderStats stats;
-    cl::Buffer film_buf;
+    cl::Buffer film_buf, film_aov;  // film_aov: --aovs only
 
     // per-pass buffers (render/path_buffers.h), sized for max paths per pass
     PathBufferSet buffer_set;
@@ -96,6 +96,7 @@ struct Renderer::Impl {
 
         const bool afs = s.indirect == RenderSettings::Indirect::Afs;
         buffer_set.indirect_afs = afs;
+        buffer_set.aovs = s.aovs;
         stats.clamp_indirect = s.clamp_indirect;
         // The render identity (render/render_identity.h) leaves the paging out: it depends on
         // the device, and paged and unpaged renders give the same bits (tested).
@@ -206,6 +207,10 @@ struct Renderer::Impl {
         const HtBounce b{settings.seed, sample, bounce, uint32_t(settings.max_depth), settings.fiber_field,
                          prepared.pixel_angle, 0, 0};
         k_shade.setArg(a++, b);
+        if (settings.aovs) {
+            k_shade.setArg(a++, buffer(PathBuffer::Aovs));
+            k_shade.setArg(a++, buffer(PathBuffer::ShadowAovs));
+        }
         launch(k_shade, count);
     }
 
@@ -262,7 +267,14 @@ struct Renderer::Impl {
         k_resolve_afs.setArg(1, buffer(PathBuffer::Transmittance));
         k_resolve_afs.setArg(2, count);
         k_resolve_afs.setArg(3, buffer(PathBuffer::Paths));
+        set_resolve_aov_args(k_resolve_afs, 4);
         launch(k_resolve_afs, count);
+    }
+
+    void set_resolve_aov_args(cl::Kernel& k, cl_uint a) {
+        if (!settings.aovs) return;
+        k.setArg(a, buffer(PathBuffer::Aovs));
+        k.setArg(a + 1, buffer(PathBuffer::ShadowAovs));
     }
 
     void resolve_shadows(uint32_t count) {
@@ -270,6 +282,7 @@ struct Renderer::Impl {
         k_resolve.setArg(1, buffer(PathBuffer::Occluded));
         k_resolve.setArg(2, count);
         k_resolve.setArg(3, buffer(PathBuffer::Paths));
+        set_resolve_aov_args(k_resolve, 4);
         launch(k_resolve, count);
     }
 
@@ -277,6 +290,10 @@ struct Renderer::Impl {
         k_accumulate.setArg(0, buffer(PathBuffer::Paths));
         k_accumulate.setArg(1, count);
         k_accumulate.setArg(2, film);
+        if (settings.aovs) {
+            k_accumulate.setArg(3, buffer(PathBuffer::Aovs));
+            k_accumulate.setArg(4, film_aov);
+        }
         launch(k_accumulate, count);
     }
 
@@ -330,6 +347,18 @@ void Renderer::upload_film(const Film& film) {
     try {
         r.film_buf = cl::Buffer(r.cl.context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR,
                                 floats * sizeof(float), const_cast<float*>(film.rgba.data()));
+        if (r.settings.aovs) {
+            const size_t aov_floats = size_t(HT_AOV_OUT) * (floats / 4);
+            if (film.aov.empty()) {
+                r.film_aov = cl::Buffer(r.cl.context(), CL_MEM_READ_WRITE, aov_floats * sizeof(float));
+                r.cl.queue().enqueueFillBuffer(r.film_aov, 0.0f, 0, aov_floats * sizeof(float));
+            } else if (film.aov.size() == aov_floats) {
+                r.film_aov = cl::Buffer(r.cl.context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR,
+                                        aov_floats * sizeof(float), const_cast<float*>(film.aov.data()));
+            } else {
+                throw std::invalid_argument("film AOV size does not match the render settings");
+            }
+        }
     } catch (const cl::Error& e) {
         throw DeviceError(std::string("cannot allocate the film on the device: ") + cl_error_name(e.err()));
     }
@@ -342,6 +371,11 @@ void Renderer::download_film(Film& film) {
     film.rgba.resize(4 * size_t(film.width) * size_t(film.height));
     try {
         r.cl.queue().enqueueReadBuffer(r.film_buf, CL_TRUE, 0, film.rgba.size() * sizeof(float), film.rgba.data());
+        film.aov.clear();
+        if (r.settings.aovs) {
+            film.aov.resize(size_t(HT_AOV_OUT) * size_t(film.width) * size_t(film.height));
+            r.cl.queue().enqueueReadBuffer(r.film_aov, CL_TRUE, 0, film.aov.size() * sizeof(float), film.aov.data());
+        }
     } catch (const cl::Error& e) {
         throw DeviceError(std::string("OpenCL failure reading the film: ") + cl_error_name(e.err()));
     }

@@ -33,6 +33,8 @@ struct RenderSettings {
     // pbrt-v4 offsets its curves' rays (a diagnostic for comparisons with pbrt, docs/ESTIMATOR.md).
     enum class SpawnOffset { Capsule, Pbrt } spawn_offset = SpawnOffset::Capsule;
     FeatureMode features = FeatureMode::Scene;  // --features: what is compiled in
+    // --aovs: record the output values of kernels/aovs.h (the beauty is the same bits either way).
+    bool aovs = false;
 };
 
 }  // namespace ht

@@ -32,6 +32,11 @@ void add_film(Film& a, const Film& b) {
     if (a.rgba.size() != b.rgba.size()) throw std::invalid_argument("films of different sizes");
     // One IEEE float addition per element; no reassociation happens across elements.
     for (size_t i = 0; i < a.rgba.size(); ++i) a.rgba[i] += b.rgba[i];
+    // AOV sums (render --aovs) the same way; a film without them counts as zeros
+    if (b.aov.empty()) return;
+    if (a.aov.empty()) a.aov.assign(b.aov.size(), 0.0f);
+    if (a.aov.size() != b.aov.size()) throw std::invalid_argument("films with different AOVs");
+    for (size_t i = 0; i < a.aov.size(); ++i) a.aov[i] += b.aov[i];
 }
 
 SampleAccumulator::SampleAccumulator(ChunkGrid grid, int width, int height)

@@ -27,6 +27,8 @@
 #include "../types.h"
 #include "../geometry/bvh_traverse.h"
 #include "../fiber/afs.h"
+#include "../integrator/aov_record.h"
+#include "stage_args.h"
 
 #define HT_AFS_MIN_TRANSMITTANCE 1e-4f
 
@@ -125,7 +127,7 @@ __kernel void intersect_shadow_afs(HT_GEOMETRY_PARAMS, __global const uint* stra
 /* Companion of resolve_shadows for translucent shadows: contribution times transmittance. */
 __kernel void resolve_shadows_afs(__global const HtShadowContrib* shadow_contrib,
                                   __global const float4* transmittance, uint count,
-                                  __global HtPathState* paths) {
+                                  __global HtPathState* paths HT_RESOLVE_AOV_PARAMS) {
     uint j = get_global_id(0);
     if (j >= count) return;
     float4 T = transmittance[j];
@@ -135,4 +137,7 @@ __kernel void resolve_shadows_afs(__global const HtShadowContrib* shadow_contrib
     s->radiance[0] += c.contrib[0] * T.x;
     s->radiance[1] += c.contrib[1] * T.y;
     s->radiance[2] += c.contrib[2] * T.z;
+#if HT_FEATURE_AOVS
+    ht_aov_resolve(aovs, shadow_aov, j, c.path, (float3)(c.contrib[0] * T.x, c.contrib[1] * T.y, c.contrib[2] * T.z));
+#endif
 }

@@ -31,6 +31,7 @@
 #include "../integrator/mis.h"
 #include "../integrator/roulette.h"
 #include "../integrator/shading_point.h"
+#include "../integrator/aov_record.h"
 #include "stage_args.h"
 
 #ifndef HT_RR_START_BOUNCE
@@ -115,7 +116,7 @@ HT_FN float3 ht_roulette_at(float3 nthr, uint seed, uint pixel, uint sample, uin
 
 
 __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM, HT_SCENE_PARAMS, HT_SHADE_QUEUE_PARAMS,
-                    HtBounce b) {
+                    HtBounce b HT_SHADE_AOV_PARAMS) {
     const uint seed = b.seed, sample = b.sample, bounce = b.bounce, max_depth = b.max_depth;
     const uint field_mode = b.field_mode;
     const float pixel_angle = b.pixel_angle;
@@ -127,12 +128,20 @@ __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM, HT_SCENE_PARA
     float3 shadow_value = (float3)(0.0f);
     uint p = 0u;
     HtPathState st;
+#if HT_FEATURE_AOVS
+    float4 shadow_frac = (float4)(0.0f);
+#endif
 
     if (active) {
         p = ray_path[k];
         st = paths[p];
         HtRay ray = rays[k];
         HtHit hit = hits[k];
+#if HT_FEATURE_AOVS
+        __global float* rec = aovs + (size_t)p * HT_AOV_STRIDE;
+        if (bounce == 0u) ht_aov_begin(rec, &hit);
+        const float4 frac = ht_aov_fractions(rec);
+#endif
         float3 thr = ht_load3(st.throughput);
         float3 dir = (float3)(ray.dx, ray.dy, ray.dz);
         const uint nee_count = light_count + ht_env_in_nee(&env);
@@ -149,6 +158,9 @@ __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM, HT_SCENE_PARA
             float3 add = ht_clamp_indirect(thr * le * w, bounce);
             if (ht_finite3(add)) {
                 st.radiance[0] += add.x; st.radiance[1] += add.y; st.radiance[2] += add.z;
+#if HT_FEATURE_AOVS
+                ht_aov_add_light(rec, add, bounce, frac);
+#endif
             } else {
                 atomic_inc(&counters[HT_COUNTER_NAN]);
             }
@@ -193,20 +205,37 @@ __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM, HT_SCENE_PARA
                         shadow_ray.tmax = ht_point_shadow_tmax(&sp, ls.distance);
                         shadow_value = c;
                         want_shadow = shadow_ray.tmax > 0.0f;
+#if HT_FEATURE_AOVS
+                        shadow_frac = bounce == 0u ? ht_aov_lobe_fractions(&sp, ls.wi) : frac;
+#endif
                     }
                 }
             }
 
-            /* extension ray */
-            if (bounce + 1u < ext_depth) {
-                float3 wi, weight;
-                float pdf = 0.0f;
-                if (ht_point_sample(&sp, seed, st.pixel, sample, bounce, &wi, &weight, &pdf)) {
-                    float3 nthr = ht_roulette_at(thr * weight, seed, st.pixel, sample, bounce);
-                    want_next = ht_continue_path(&st, nthr, pdf, ht_point_spawn(&sp, wi), wi, &next_ray,
-                                                 counters);
-                }
+            /* extension ray (with --aovs, the camera vertex's sample is also its albedo estimate) */
+            const int extend = bounce + 1u < ext_depth;
+            float3 wi = (float3)(0.0f), weight = (float3)(0.0f);
+            float pdf = 0.0f;
+            int sampled = 0;
+#if HT_FEATURE_AOVS
+            const int want_sample = extend || bounce == 0u;
+#else
+            const int want_sample = extend;
+#endif
+            if (want_sample)
+                sampled = ht_point_sample(&sp, seed, st.pixel, sample, bounce, &wi, &weight, &pdf);
+            if (extend && sampled) {
+                float3 nthr = ht_roulette_at(thr * weight, seed, st.pixel, sample, bounce);
+                want_next = ht_continue_path(&st, nthr, pdf, ht_point_spawn(&sp, wi), wi, &next_ray, counters);
             }
+#if HT_FEATURE_AOVS
+            if (bounce == 0u && sampled && ht_finite3(weight)) {
+                ht_aov_add3(rec, HT_AOV_ALBEDO, weight);
+                const float4 f = ht_aov_lobe_fractions(&sp, wi);
+                rec[HT_AOV_FRACTIONS] = f.x; rec[HT_AOV_FRACTIONS + 1u] = f.y;
+                rec[HT_AOV_FRACTIONS + 2u] = f.z; rec[HT_AOV_FRACTIONS + 3u] = f.w;
+            }
+#endif
         }
         paths[p] = st;
     }
@@ -227,6 +256,11 @@ __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM, HT_SCENE_PARA
         sc.contrib[0] = shadow_value.x; sc.contrib[1] = shadow_value.y; sc.contrib[2] = shadow_value.z;
         sc.path = p;
         shadow_contrib[k] = sc;
+#if HT_FEATURE_AOVS
+        __global float* sa = shadow_aov + (size_t)k * HT_SHADOW_AOV_STRIDE;
+        sa[0] = shadow_frac.x; sa[1] = shadow_frac.y; sa[2] = shadow_frac.z; sa[3] = shadow_frac.w;
+        sa[4] = bounce == 0u ? 1.0f : 0.0f;
+#endif
         if (want_next) stage_rays[k] = next_ray;
         stage_path[k] = want_next ? p : HT_NO_PATH;
     }

@@ -24,4 +24,16 @@
         __global HtShadowContrib *shadow_contrib, __global HtRay *stage_rays,                      \
         __global uint *stage_path, volatile __global uint *counters
 
+/* render --aovs (kernels/aovs.h): the per-path records and, for the stages that resolve shadow
+ * rays, the per-slot records of their contributions; the film's AOV sums for accumulate. */
+#if HT_FEATURE_AOVS
+#define HT_SHADE_AOV_PARAMS , __global float *aovs, __global float *shadow_aov
+#define HT_RESOLVE_AOV_PARAMS , __global float *aovs, __global const float *shadow_aov
+#define HT_ACCUMULATE_AOV_PARAMS , __global const float *aovs, __global float *film_aov
+#else
+#define HT_SHADE_AOV_PARAMS
+#define HT_RESOLVE_AOV_PARAMS
+#define HT_ACCUMULATE_AOV_PARAMS
+#endif
+
 #endif /* HT_STAGE_ARGS_H */

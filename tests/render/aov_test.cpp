@@ -1,0 +1,187 @@
+// render --aovs (kernels/aovs.h, host/render/aovs.h): the beauty keeps its bits, the values add up
+// where they must (direct + indirect = beauty; R + TT + TRT + residual = the hair's share), the
+// albedo of a non-absorbing fibre is 1 (energy conservation, the reference), and the command
+// line refuses what it cannot write before rendering.
+#include "cl/device.h"
+#include "kernels/aovs.h"
+#include "render/aovs.h"
+#include "render/renderer.h"
+#include "scene/scene.h"
+
+#include <gtest/gtest.h>
+
+#include "cli_test_util.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <cmath>
+#include <string>
+
+using namespace ht;
+
+namespace {
+
+ClContext& aov_cl() {
+    static ClContext cl;
+    return cl;
+}
+
+Film render(const Scene& scene, RenderSettings rs, bool aovs) {
+    rs.aovs = aovs;
+    Film film;
+    Renderer(aov_cl(), scene, rs).render(film);
+    return film;
+}
+
+RenderSettings small(int depth) {
+    RenderSettings rs;
+    rs.width = rs.height = 40;
+    rs.spp = 8;
+    rs.max_depth = depth;
+    return rs;
+}
+
+Scene lock() {
+    Scene s = load_scene("builtin:strand?hairs=300&segments=16");
+    ensure_camera_and_light(s);
+    return s;
+}
+
+const ImageChannel& channel(const std::vector<ImageChannel>& chs, const std::string& name) {
+    for (const ImageChannel& c : chs)
+        if (c.name == name) return c;
+    throw std::runtime_error("no channel " + name);
+}
+
+TEST(Aovs, BeautyIsTheSameBitsWithAndWithoutThem) {
+    const Scene s = lock();
+    const Film plain = render(s, small(4), false), with = render(s, small(4), true);
+    EXPECT_TRUE(plain.aov.empty());
+    ASSERT_EQ(with.aov.size(), size_t(HT_AOV_OUT) * 40 * 40);
+    EXPECT_EQ(plain.rgba, with.rgba);
+}
+
+// Per pixel and channel, |a + b - beauty| within 1e-5 of the image's largest beauty value (float
+// sums of the same terms in another order) and the image totals within 1e-5 relative.
+void expect_sum(const Film& f, const std::vector<ImageChannel>& chs, const std::vector<std::string>& layers) {
+    const size_t n = size_t(f.width) * f.height;
+    double peak = 0, total = 0, parts = 0;
+    for (size_t i = 0; i < n; ++i)
+        for (int c = 0; c < 3; ++c) peak = std::max(peak, double(f.mean(i, c)));
+    ASSERT_GT(peak, 0);
+    const char* rgb = "RGB";
+    for (size_t i = 0; i < n; ++i)
+        for (int c = 0; c < 3; ++c) {
+            double sum = 0;
+            for (const std::string& l : layers) sum += channel(chs, l + "." + rgb[c]).values[i];
+            EXPECT_NEAR(sum, f.mean(i, c), 1e-5 * peak) << "pixel " << i << " channel " << c;
+            total += f.mean(i, c);
+            parts += sum;
+        }
+    EXPECT_NEAR(parts, total, 1e-5 * total);
+}
+
+TEST(Aovs, DirectPlusIndirectIsTheBeautyAndTheLobesAreTheHairsShare) {
+    Scene s = lock();
+    s.environment.color = {0.2f, 0.3f, 0.4f};  // environment seen directly, and at the end of paths
+    const Film f = render(s, small(5), true);
+    const std::vector<ImageChannel> chs = aov_channels(f, aov_names());
+    expect_sum(f, chs, {"direct", "indirect"});
+    // indirect light exists at depth 5, and depth 1 has none
+    double indirect = 0;
+    for (float v : channel(chs, "indirect.G").values) indirect += v;
+    EXPECT_GT(indirect, 0);
+    const Film d1 = render(s, small(1), true);
+    const std::vector<ImageChannel> d1_chs = aov_channels(d1, {"indirect"});
+    for (float v : channel(d1_chs, "indirect.G").values) EXPECT_EQ(v, 0.0f);
+
+    // Without the environment every path's light came through hair first.
+    s.environment.color = {0, 0, 0};
+    const Film h = render(s, small(5), true);
+    expect_sum(h, aov_channels(h, aov_names()), {"R", "TT", "TRT", "residual"});
+}
+
+TEST(Aovs, AlphaDepthAndTangentDescribeWhatTheCameraSees) {
+    const Scene s = lock();
+    const Film f = render(s, small(2), true);
+    const std::vector<ImageChannel> chs = aov_channels(f, {"alpha", "depth", "tangent"});
+    const size_t n = size_t(f.width) * f.height;
+    size_t covered = 0, empty = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const float a = channel(chs, "A").values[i], z = channel(chs, "Z").values[i];
+        ASSERT_GE(a, 0.0f);
+        ASSERT_LE(a, 1.0f);
+        const double lum = f.mean(i, 0) + f.mean(i, 1) + f.mean(i, 2);
+        if (a == 0) {
+            ++empty;
+            EXPECT_EQ(lum, 0.0) << "light without anything in the pixel (no environment here)";
+            EXPECT_EQ(z, 0.0f);
+            continue;
+        }
+        ++covered;
+        // the camera sits outside the lock: a positive, finite distance and a mean of unit tangents
+        EXPECT_GT(z, 0.0f);
+        EXPECT_TRUE(std::isfinite(z));
+        const double t = std::hypot(channel(chs, "tangent.X").values[i], channel(chs, "tangent.Y").values[i],
+                                    channel(chs, "tangent.Z").values[i]);
+        EXPECT_LE(t, 1.0 + 1e-5);
+    }
+    EXPECT_GT(covered, n / 20);
+    EXPECT_GT(empty, n / 20);
+}
+
+// A non-absorbing chiang fibre scatters all the light it receives: its directional albedo is 1
+// (the sampling weights of such a fibre are 1 up to float rounding), so the albedo AOV divided by
+// coverage must be 1 to 1e-3 wherever hair is seen.
+TEST(Aovs, AlbedoOfANonAbsorbingFibreIsOne) {
+    Scene s = lock();
+    for (auto& m : s.materials) {
+        m.model = "chiang";
+        m.has_sigma_a = true;
+        m.has_melanin = m.has_color = false;
+        m.sigma_a = {0, 0, 0};
+    }
+    const Film f = render(s, small(1), true);
+    const std::vector<ImageChannel> chs = aov_channels(f, {"alpha", "albedo"});
+    size_t checked = 0;
+    for (size_t i = 0; i < size_t(f.width) * f.height; ++i) {
+        const float a = channel(chs, "A").values[i];
+        if (a < 0.5f) continue;
+        for (const char* c : {"albedo.R", "albedo.G", "albedo.B"}) EXPECT_NEAR(channel(chs, c).values[i] / a, 1.0, 1e-3);
+        ++checked;
+    }
+    EXPECT_GT(checked, 20u);
+}
+
+#ifdef HT_BINARY
+TEST(AovsCli, ChannelsAreNamedAndMistakesExit2BeforeRendering) {
+    using namespace clitest;
+    const std::string bin = HT_BINARY;
+    TempDir d("ht_aovs_");
+    const std::string small_render = bin + " render 'builtin:strand?hairs=100&segments=8' --width 24 --height 24 --spp 2 --quiet";
+    ASSERT_EQ(run(small_render + " --aovs alpha,depth,direct,indirect,TRT -o " + d / "a.exr"), 0);
+    auto in = OIIO::ImageInput::open(d / "a.exr");
+    ASSERT_TRUE(in);
+    const std::vector<std::string> expected = {"R", "G", "B", "A", "Z", "direct.R", "direct.G", "direct.B",
+                                               "indirect.R", "indirect.G", "indirect.B", "TRT.R", "TRT.G", "TRT.B"};
+    std::vector<std::string> names;
+    for (const auto& n : in->spec().channelnames) names.push_back(n);
+    std::sort(names.begin(), names.end());
+    std::vector<std::string> sorted = expected;
+    std::sort(sorted.begin(), sorted.end());
+    EXPECT_EQ(names, sorted);  // OpenEXR stores channels sorted by name
+    in->close();
+
+    const std::string err = d / "err.txt";
+    EXPECT_EQ(run(small_render + " --aovs alpha,drect -o " + d / "b.exr" + " 2>" + err), 2);
+    EXPECT_NE(slurp(err).find("did you mean direct"), std::string::npos) << slurp(err);
+    EXPECT_EQ(run(small_render + " --aovs alpha -o " + d / "c.png" + " 2>" + err), 2);
+    EXPECT_NE(slurp(err).find(".exr"), std::string::npos) << slurp(err);
+    EXPECT_EQ(run(small_render + " --aovs alpha -o " + d / "d.exr --checkpoint " + d / "ck" + " 2>" + err), 2);
+    EXPECT_NE(slurp(err).find("--checkpoint"), std::string::npos) << slurp(err);
+    EXPECT_FALSE(std::filesystem::exists(d / "b.exr") || std::filesystem::exists(d / "c.png") ||
+                 std::filesystem::exists(d / "d.exr"));
+}
+#endif
+
+}  // namespace
