@@ -18,6 +18,7 @@
 #include <iostream>
 #include <map>
 #include <sstream>
+#include <sys/resource.h>
 
 namespace ht {
 
@@ -78,6 +79,15 @@ std::vector<int> parse_spp_list(const std::string& text) {
     }
     if (out.empty()) throw UsageError("--spp is empty");
     return out;
+}
+
+// CPU seconds of this process, every thread (PoCL's workers too): on a machine shared with other
+// work the wall time of a render grows with the load, its CPU time much less, so the CSV carries
+// both (docs/PERFORMANCE.md §8 compares against timings taken on a quiet machine).
+double process_cpu_seconds() {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
 }
 
 PlotSpec error_plot(const std::string& scene_name) {
@@ -166,7 +176,7 @@ int cmd_converge(const std::vector<std::string>& args) {
         .path("--reference", "REF", "linear reference image (EXR) of the same size", PathKind::Input)
         .option("--configs", "LIST", "configurations separated by ';', each key=value pairs separated by ','; keys as the render options: model (--model), depth (--max-depth), indirect (--indirect), field (--fiber-field), sampler (--sampler)", "depth=1")
         .option("--spp", "LIST", "increasing sample counts at which the error is measured", "1,2,4,8,16,32")
-        .path("--csv", "FILE", "write config,spp,seconds,rmse,relmse,max_error,nonfinite,sparkle_share rows (sparkle_share: pixels whose error exceeds 10x the reference's 3x3 local standard deviation, as render --reference prints)", PathKind::Csv, "converge.csv")
+        .path("--csv", "FILE", "write config,spp,seconds,rmse,relmse,max_error,nonfinite,sparkle_share,cpu_seconds rows (sparkle_share: pixels whose error exceeds 10x the reference's 3x3 local standard deviation, as render --reference prints; cpu_seconds: the process's CPU time, all threads)", PathKind::Csv, "converge.csv")
         .path("--png", "FILE", "log-log plot of RMSE against render time", PathKind::Image, "converge.png")
         .path("--replot", "CSV", "only redraw --png from a CSV this command wrote earlier (no rendering)", PathKind::Input)
         .path("--external", "CSV", "also draw points measured elsewhere (e.g. another renderer's timings): a CSV with a header naming spp,seconds,rmse and optionally label (one curve per label); repeatable", PathKind::Input, "", true)
@@ -190,7 +200,7 @@ int cmd_converge(const std::vector<std::string>& args) {
 
     std::ofstream csv(p.get("--csv"));
     if (!csv) throw ImageError(p.get("--csv") + ": cannot write");
-    csv << "config,spp,seconds,rmse,relmse,max_error,nonfinite,sparkle_share\n";
+    csv << "config,spp,seconds,rmse,relmse,max_error,nonfinite,sparkle_share,cpu_seconds\n";
     PlotSpec plot = error_plot(scene.source);
     for (size_t ci = 0; ci < configs.size(); ++ci) {
         const ConvergeConfig& cfg = configs[ci];
@@ -219,23 +229,25 @@ int cmd_converge(const std::vector<std::string>& args) {
                 std::fprintf(stderr, "%-32s warm-up sample (first launch, not counted) %.3f s\n", cfg.label.c_str(),
                              std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
         }
-        double seconds = 0;
+        double seconds = 0, cpu_seconds = 0;
         size_t next = 0;
         for (int sample = 0; sample < spps.back(); ++sample) {
             auto t0 = std::chrono::steady_clock::now();
+            const double c0 = process_cpu_seconds();
             r.render_sample(uint32_t(sample));
             seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            cpu_seconds += process_cpu_seconds() - c0;
             if (sample + 1 == spps[next]) {
                 r.download_film(film);
                 ErrorMetrics m = compare_images(film_to_rgb(film), reference, film.width, film.height);
                 const double rmse = std::sqrt(std::max(0.0, m.rmse * m.rmse - ref_noise * ref_noise));
                 csv << '"' << cfg.label << "\"," << spps[next] << ',' << seconds << ',' << rmse << ',' << m.relmse
-                    << ',' << m.max_abs << ',' << m.nonfinite << ',' << m.sparkle_share << '\n';
+                    << ',' << m.max_abs << ',' << m.nonfinite << ',' << m.sparkle_share << ',' << cpu_seconds << '\n';
                 series.x.push_back(seconds);
                 series.y.push_back(rmse);
                 if (!quiet)
-                    std::fprintf(stderr, "%-32s spp %6d  %8.3f s  RMSE %.5g  relMSE %.5g  max %.4g  non-finite %zu  sparkles %.4g %%\n",
-                                 cfg.label.c_str(), spps[next], seconds, rmse, m.relmse, m.max_abs, m.nonfinite,
+                    std::fprintf(stderr, "%-32s spp %6d  %8.3f s (CPU %.3f s)  RMSE %.5g  relMSE %.5g  max %.4g  non-finite %zu  sparkles %.4g %%\n",
+                                 cfg.label.c_str(), spps[next], seconds, cpu_seconds, rmse, m.relmse, m.max_abs, m.nonfinite,
                                  100.0 * m.sparkle_share);
                 ++next;
             }

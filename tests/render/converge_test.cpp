@@ -46,9 +46,11 @@ TEST(Converge, WritesSparklesDrawsExternalPointsAndKeepsTheWarmUpApart) {
     ASSERT_EQ(run(cmd), 0) << slurp(d / "err.txt");
     const auto rows = csv_rows(d / "c.csv");
     ASSERT_EQ(rows.size(), 5u);
-    EXPECT_EQ(rows[0].back(), "sparkle_share");
+    EXPECT_EQ(rows[0][7], "sparkle_share");
+    EXPECT_EQ(rows[0].back(), "cpu_seconds");
     for (size_t i = 1; i < rows.size(); ++i) {
-        ASSERT_EQ(rows[i].size(), 8u);
+        ASSERT_EQ(rows[i].size(), 9u);
+        EXPECT_GT(std::stod(rows[i][8]), 0.0);
         const double share = std::stod(rows[i][7]);
         EXPECT_GE(share, 0.0);
         EXPECT_LE(share, 1.0);
