@@ -107,6 +107,7 @@ void add_external_points(PlotSpec& plot, const std::string& path) {
     if (!in) throw UsageError("--external: cannot read " + path);
     std::string line;
     if (!std::getline(in, line)) throw UsageError("--external " + path + ": empty file");
+    if (!line.empty() && line.back() == '\r') line.pop_back();
     const auto header = split(line, ',');
     auto column = [&](const std::string& name) {
         auto it = std::find(header.begin(), header.end(), name);
@@ -118,6 +119,7 @@ void add_external_points(PlotSpec& plot, const std::string& path) {
     const std::string fallback = path.substr(path.find_last_of('/') + 1);
     std::vector<PlotSeries> curves;
     while (std::getline(in, line)) {
+        if (!line.empty() && line.back() == '\r') line.pop_back();  // a CSV saved with CRLF line ends
         if (line.empty()) continue;
         const auto f = split(line, ',');
         if (int(f.size()) != int(header.size())) throw UsageError("--external " + path + ": malformed line: " + line);

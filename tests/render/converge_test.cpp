@@ -38,7 +38,8 @@ TEST(Converge, WritesSparklesDrawsExternalPointsAndKeepsTheWarmUpApart) {
     ASSERT_EQ(run(kBin + " render " + kScene + " --spp 32 --seed 7 --quiet -o " + (d / "ref.exr")), 0);
     {
         std::ofstream ext(d / "other.csv");
-        ext << "label,spp,seconds,rmse,extra\nother d2,4,0.5,0.1,x\nother d2,16,1.5,0.05,y\nother d5,16,2,0.2,z\n";
+        // CRLF line ends, as a spreadsheet saves them
+        ext << "label,spp,seconds,extra,rmse\r\nother d2,4,0.5,x,0.1\r\nother d2,16,1.5,y,0.05\r\nother d5,16,2,z,0.2\r\n";
     }
     const std::string cmd = kBin + " converge " + kScene + " --reference " + (d / "ref.exr") +
                             " --configs 'depth=2;depth=1' --spp 1,4 --csv " + (d / "c.csv") + " --png " +
