@@ -11,12 +11,14 @@
 #include "kernels/types.h"
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <algorithm>
 #include <fstream>
 #include <iostream>
 #include <map>
 #include <sstream>
+#include <sys/resource.h>
 
 namespace ht {
 
@@ -79,6 +81,15 @@ std::vector<int> parse_spp_list(const std::string& text) {
     return out;
 }
 
+// CPU seconds of this process, every thread (PoCL's workers too): on a machine shared with other
+// work the wall time of a render grows with the load, its CPU time much less, so the CSV carries
+// both (docs/PERFORMANCE.md §8 compares against timings taken on a quiet machine).
+double process_cpu_seconds() {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
 PlotSpec error_plot(const std::string& scene_name) {
     PlotSpec plot;
     plot.title = "error against render time: " + scene_name;
@@ -88,7 +99,50 @@ PlotSpec error_plot(const std::string& scene_name) {
     return plot;
 }
 
-int replot(const std::string& csv_path, const std::string& png, const std::string& scene_name) {
+// Points measured elsewhere (--external): a CSV whose header names at least the columns spp,
+// seconds and rmse (any order, other columns ignored); an optional label column splits the rows
+// into curves, else the file name labels them. Quoted fields are not supported: labels are plain.
+void add_external_points(PlotSpec& plot, const std::string& path) {
+    std::ifstream in(path);
+    if (!in) throw UsageError("--external: cannot read " + path);
+    std::string line;
+    if (!std::getline(in, line)) throw UsageError("--external " + path + ": empty file");
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const auto header = split(line, ',');
+    auto column = [&](const std::string& name) {
+        auto it = std::find(header.begin(), header.end(), name);
+        return it == header.end() ? -1 : int(it - header.begin());
+    };
+    const int c_spp = column("spp"), c_sec = column("seconds"), c_rmse = column("rmse"), c_label = column("label");
+    if (c_spp < 0 || c_sec < 0 || c_rmse < 0)
+        throw UsageError("--external " + path + ": the header must name the columns spp, seconds and rmse (it is: " + line + ")");
+    const std::string fallback = path.substr(path.find_last_of('/') + 1);
+    std::vector<PlotSeries> curves;
+    while (std::getline(in, line)) {
+        if (!line.empty() && line.back() == '\r') line.pop_back();  // a CSV saved with CRLF line ends
+        if (line.empty()) continue;
+        const auto f = split(line, ',');
+        if (int(f.size()) != int(header.size())) throw UsageError("--external " + path + ": malformed line: " + line);
+        const std::string label = c_label >= 0 ? f[size_t(c_label)] : fallback;
+        auto it = std::find_if(curves.begin(), curves.end(), [&](const PlotSeries& c) { return c.label == label; });
+        if (it == curves.end()) {
+            PlotSeries c;
+            c.label = label;
+            curves.push_back(c);
+            it = curves.end() - 1;
+        }
+        parse_int("--external " + path + " spp", f[size_t(c_spp)], 1, 1 << 30);
+        it->x.push_back(parse_double("--external " + path + " seconds", f[size_t(c_sec)], 1e-9, 1e30));
+        it->y.push_back(parse_double("--external " + path + " rmse", f[size_t(c_rmse)], 1e-30, 1e30));
+    }
+    for (auto& c : curves) {
+        c.color = plot_color(plot.series.size());
+        plot.series.push_back(c);
+    }
+}
+
+int replot(const std::string& csv_path, const std::string& png, const std::string& scene_name,
+           const std::vector<std::string>& externals) {
     std::ifstream in(csv_path);
     if (!in) throw UsageError("--replot: cannot read " + csv_path);
     std::string line;
@@ -110,6 +164,7 @@ int replot(const std::string& csv_path, const std::string& png, const std::strin
         plot.series.back().x.push_back(parse_double("--replot " + csv_path + " seconds", fields[1], 0, 1e30));
         plot.series.back().y.push_back(parse_double("--replot " + csv_path + " rmse", fields[2], 0, 1e30));
     }
+    for (auto& e : externals) add_external_points(plot, e);
     write_plot_png(png, plot);
     return kExitOk;
 }
@@ -123,13 +178,17 @@ int cmd_converge(const std::vector<std::string>& args) {
         .path("--reference", "REF", "linear reference image (EXR) of the same size", PathKind::Input)
         .option("--configs", "LIST", "configurations separated by ';', each key=value pairs separated by ','; keys as the render options: model (--model), depth (--max-depth), indirect (--indirect), field (--fiber-field), sampler (--sampler)", "depth=1")
         .option("--spp", "LIST", "increasing sample counts at which the error is measured", "1,2,4,8,16,32")
-        .path("--csv", "FILE", "write config,spp,seconds,rmse,relmse,max_error,nonfinite rows", PathKind::Csv, "converge.csv")
+        .path("--csv", "FILE", "write config,spp,seconds,rmse,relmse,max_error,nonfinite,sparkle_share,cpu_seconds rows (sparkle_share: pixels whose error exceeds 10x the reference's 3x3 local standard deviation, as render --reference prints; cpu_seconds: the process's CPU time, all threads)", PathKind::Csv, "converge.csv")
         .path("--png", "FILE", "log-log plot of RMSE against render time", PathKind::Image, "converge.png")
-        .path("--replot", "CSV", "only redraw --png from a CSV this command wrote earlier (no rendering)", PathKind::Input);
+        .path("--replot", "CSV", "only redraw --png from a CSV this command wrote earlier (no rendering)", PathKind::Input)
+        .path("--external", "CSV", "also draw points measured elsewhere (e.g. another renderer's timings): a CSV with a header naming spp,seconds,rmse and optionally label (one curve per label); repeatable", PathKind::Input, "", true)
+        .option("--reference-noise", "SIGMA", "the reference's own noise (RMSE of the reference against the truth); when given, RMSE is plotted and written with it removed: sqrt(max(0, RMSE^2 - SIGMA^2)) (as pbrt's timings do)", "0");
     add_render_options(p, RenderCommand::Converge);
     p.parse(args);
     if (p.wants_help()) { std::cout << p.help(); return kExitOk; }
-    if (p.has("--replot")) return replot(p.get("--replot"), p.get("--png"), p.get("SCENE"));
+    const std::vector<std::string> externals = p.all("--external");
+    if (p.has("--replot")) return replot(p.get("--replot"), p.get("--png"), p.get("SCENE"), externals);
+    const double ref_noise = p.get_double("--reference-noise", 0, 1e30);
     if (!p.has("--reference")) throw UsageError("converge: --reference REF.exr is required");
     const ImageRequest base = parse_image_request(p);
     if (base.devices.all || base.devices.indices.size() > 1) throw UsageError("converge: --device takes one device index");
@@ -143,7 +202,7 @@ int cmd_converge(const std::vector<std::string>& args) {
 
     std::ofstream csv(p.get("--csv"));
     if (!csv) throw ImageError(p.get("--csv") + ": cannot write");
-    csv << "config,spp,seconds,rmse,relmse,max_error,nonfinite\n";
+    csv << "config,spp,seconds,rmse,relmse,max_error,nonfinite,sparkle_share,cpu_seconds\n";
     PlotSpec plot = error_plot(scene.source);
     for (size_t ci = 0; ci < configs.size(); ++ci) {
         const ConvergeConfig& cfg = configs[ci];
@@ -160,28 +219,45 @@ int cmd_converge(const std::vector<std::string>& args) {
         PlotSeries series;
         series.label = cfg.label;
         series.color = plot_color(ci);
-        double seconds = 0;
+        // One untimed sample first: it pays PoCL's first-launch work-group compile (up to 10 s on
+        // the pbrt lock, docs/PERFORMANCE.md §7), which a user pays once per kernel and image size,
+        // not per sample; then the film starts again from zero (the sample is a pure function of
+        // its index, so sample 0 is rendered again identically).
+        {
+            auto t0 = std::chrono::steady_clock::now();
+            r.render_sample(0);
+            r.upload_film(film);
+            if (!quiet)
+                std::fprintf(stderr, "%-32s warm-up sample (first launch, not counted) %.3f s\n", cfg.label.c_str(),
+                             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+        }
+        double seconds = 0, cpu_seconds = 0;
         size_t next = 0;
         for (int sample = 0; sample < spps.back(); ++sample) {
             auto t0 = std::chrono::steady_clock::now();
+            const double c0 = process_cpu_seconds();
             r.render_sample(uint32_t(sample));
             seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            cpu_seconds += process_cpu_seconds() - c0;
             if (sample + 1 == spps[next]) {
                 r.download_film(film);
-                ErrorMetrics m = compare_images(film_to_rgb(film), reference);
-                csv << '"' << cfg.label << "\"," << spps[next] << ',' << seconds << ',' << m.rmse << ',' << m.relmse
-                    << ',' << m.max_abs << ',' << m.nonfinite << '\n';
+                ErrorMetrics m = compare_images(film_to_rgb(film), reference, film.width, film.height);
+                const double rmse = std::sqrt(std::max(0.0, m.rmse * m.rmse - ref_noise * ref_noise));
+                csv << '"' << cfg.label << "\"," << spps[next] << ',' << seconds << ',' << rmse << ',' << m.relmse
+                    << ',' << m.max_abs << ',' << m.nonfinite << ',' << m.sparkle_share << ',' << cpu_seconds << '\n';
                 series.x.push_back(seconds);
-                series.y.push_back(m.rmse);
+                series.y.push_back(rmse);
                 if (!quiet)
-                    std::fprintf(stderr, "%-32s spp %6d  %8.3f s  RMSE %.5g  relMSE %.5g  max %.4g  non-finite %zu\n",
-                                 cfg.label.c_str(), spps[next], seconds, m.rmse, m.relmse, m.max_abs, m.nonfinite);
+                    std::fprintf(stderr, "%-32s spp %6d  %8.3f s (CPU %.3f s)  RMSE %.5g  relMSE %.5g  max %.4g  non-finite %zu  sparkles %.4g %%\n",
+                                 cfg.label.c_str(), spps[next], seconds, cpu_seconds, rmse, m.relmse, m.max_abs, m.nonfinite,
+                                 100.0 * m.sparkle_share);
                 ++next;
             }
         }
         plot.series.push_back(series);
     }
     csv.close();
+    for (auto& e : externals) add_external_points(plot, e);
     write_plot_png(p.get("--png"), plot);
     if (!quiet) std::fprintf(stderr, "wrote %s and %s\n", p.get("--csv").c_str(), p.get("--png").c_str());
     return kExitOk;

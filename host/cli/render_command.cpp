@@ -297,10 +297,11 @@ void write_outputs(const PreparedRender& job, const RenderRequest& request, cons
         if (!quiet) std::fprintf(stderr, "wrote %s\n", o.c_str());
     }
     if (job.reference.empty()) return;
-    const ErrorMetrics m = compare_images(film_to_rgb(film), job.reference);
-    std::printf("error vs %s: RMSE %.6g  relMSE %.6g  max %.6g  mean %.6g (reference %.6g)  non-finite %zu  time %.3f s  spp %d\n",
+    const ErrorMetrics m = compare_images(film_to_rgb(film), job.reference, film.width, film.height);
+    std::printf("error vs %s: RMSE %.6g  relMSE %.6g  max %.6g  mean %.6g (reference %.6g)  non-finite %zu  "
+                "sparkles %.4g %% (%zu px > %gx local noise)  time %.3f s  spp %d\n",
                 request.reference.c_str(), m.rmse, m.relmse, m.max_abs, m.mean, m.ref_mean, m.nonfinite,
-                since(out.start), job.acc->samples());
+                100.0 * m.sparkle_share, m.sparkles, kSparkleFactor, since(out.start), job.acc->samples());
 }
 
 int render_main(const std::vector<std::string>& args, DistContext& dist) {

@@ -68,7 +68,7 @@ const OptionRow kOptions[] = {
     {"devices", "--max-memory", "SIZE", "upper bound for host memory while loading and for device memory while rendering, e.g. 512M or 8G; inputs that need more are refused before allocating, with the size named", "", Kind::Value, kBoth},
     {"devices", "--kernel-dir", "DIR", "load kernel sources from DIR instead of the embedded copies", "", Kind::InputFolder, kBoth},
 
-    {"reporting", "--reference", "REF", "linear image to compare with: prints RMSE, relMSE, max error, NaN count", "", Kind::InputFile, kRender},
+    {"reporting", "--reference", "REF", "linear image to compare with: prints RMSE, relMSE, max error, NaN count and the share of sparkles (pixels off by more than 10x the reference's 3x3 local standard deviation, docs/PERFORMANCE.md)", "", Kind::InputFile, kRender},
     {"reporting", "--verbose", "", "print the kernel features chosen for the scene and the build options", "", Kind::Flag, kRender},
     {"reporting", "--profile", "", "time every stage kernel separately and print the split (slows the render a little)", "", Kind::Flag, kRender},
     {"reporting", "--quiet", "", "no progress output on stderr", "", Kind::Flag, kBoth},
