@@ -14,6 +14,7 @@
 #include "render/environment.h"
 #include "render/features.h"
 #include "render/memory_plan.h"
+#include "render/ray_dump.h"
 #include "render/scene_upload.h"
 #include "fiber/afs_quadrature.h"
 #include "kernels/fiber/afs.h"
@@ -76,6 +77,7 @@ struct Renderer::Impl {
     cl::Kernel k_shadow_afs, k_resolve_afs;
     RenderStats stats;
     cl::Buffer film_buf;
+    RayDump* dump = nullptr;  // --dump-rays
 
     // per-pass buffers, sized for max paths per pass
     size_t capacity = 0;
@@ -361,6 +363,10 @@ Renderer::~Renderer() { delete impl_; }
 const std::string& Renderer::kernel_options() const { return impl_->options; }
 const KernelFeatures& Renderer::features() const { return impl_->features; }
 const RenderStats& Renderer::stats() const { return impl_->stats; }
+void Renderer::set_ray_dump(RayDump* dump) {
+    impl_->dump = dump;
+    if (dump) dump->bind(impl_->geometry);
+}
 
 void Renderer::upload_film(const Film& film) {
     Impl& r = *impl_;
@@ -406,12 +412,14 @@ void Renderer::render_sample(uint32_t sample) {
             for (uint32_t bounce = 0; n > 0 && bounce < traced; ++bounce) {
                 const auto t_bounce = std::chrono::steady_clock::now();
                 r.intersect_closest(q, n);
+                if (r.dump) r.dump->closest(r.cl.queue(), r.rays[q], r.hits, n, bounce);
                 r.shade(q, n, sample, bounce);
                 if (bounce + 1 == vertices && s.indirect == RenderSettings::Indirect::Afs) {
                     r.intersect_shadow_afs(n);
                     r.resolve_shadows_afs(n);
                 } else if (bounce < vertices) {
                     r.intersect_shadow(n);
+                    if (r.dump) r.dump->shadow(r.cl.queue(), r.shadow_rays, r.occluded, n, bounce);
                     r.resolve_shadows(n);
                 }
                 if (bounce + 1 < traced) r.compact(1 - q, n);  // else no path continues
