@@ -82,7 +82,7 @@ void RayDump::write_set(const std::string& path, const Set& s, bool shadow, uint
     put(32, strands);
     // width, height (the rays are not a pixel grid), curve type 0 (round linear) and the scene
     // hash (not computed: 0) stay zero
-    std::strncpy(reinterpret_cast<char*>(head) + 56, scene_.c_str(), 8);
+    std::memcpy(head + 56, scene_.data(), std::min<size_t>(scene_.size(), 8));  // NUL padded, not terminated
 
     std::ofstream f(path, std::ios::binary | std::ios::trunc);
     if (!f) throw std::runtime_error("--dump-rays: cannot write " + path);
