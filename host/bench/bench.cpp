@@ -172,6 +172,9 @@ Checksum checksum(const SceneGeometry& g, const std::vector<HtHit>& hits) {
 
 struct Agreement {
     size_t n = 0, hitmiss = 0, both = 0, prim = 0, t = 0, ours_only = 0, embree_only = 0;
+    // Both hit, |dt| too large, theirs the nearer; of those, theirs within 1e-2 of the origin
+    // (where a ray spawned at a fibre's surface would meet that fibre again).
+    size_t theirs_nearer = 0, theirs_at_origin = 0;
     bool ok() const { return n > 0 && hitmiss >= n - n / 1000 && t >= both - both / 100; }
 };
 
@@ -189,7 +192,10 @@ Agreement compare(const SceneGeometry& g, const std::vector<HtHit>& hits, const 
         ++a.both;
         a.prim += g.segments[hits[i].segment].segment == ref[i].prim;
         const double te = ref[i].t;
-        a.t += std::fabs(hits[i].t - te) <= 1e-4 * std::max(1.0, te);
+        const bool same_t = std::fabs(hits[i].t - te) <= 1e-4 * std::max(1.0, te);
+        a.t += same_t;
+        a.theirs_nearer += !same_t && te < hits[i].t;
+        a.theirs_at_origin += !same_t && te < hits[i].t && te < 1e-2;
     }
     return a;
 }
@@ -288,7 +294,8 @@ nlohmann::json measure_ray_set(DeviceTracer& tracer, const SceneGeometry& geo, c
         all_ok = all_ok && ok;
         jr[key] = {{"hitmiss_agree", a.hitmiss}, {"ours_only", a.ours_only},
                    {"embree_only", a.embree_only}, {"both_hit", a.both},
-                   {"primid_agree", a.prim}, {"t_agree", a.t}, {"ok", ok}};
+                   {"primid_agree", a.prim}, {"t_agree", a.t}, {"theirs_nearer", a.theirs_nearer},
+                   {"theirs_at_origin", a.theirs_at_origin}, {"ok", ok}};
         char b[400];
         if (s.shadow)
             std::snprintf(b, sizeof b,
@@ -298,10 +305,12 @@ nlohmann::json measure_ray_set(DeviceTracer& tracer, const SceneGeometry& geo, c
         else
             std::snprintf(b, sizeof b,
                           "    vs %s: hit/miss %zu/%zu (%s; ours-only %zu, theirs-only %zu), "
-                          "primID %s, |dt|<=1e-4max(1,t) %s of %zu both-hit%s", label,
+                          "primID %s, |dt|<=1e-4max(1,t) %s of %zu both-hit (theirs nearer %zu, "
+                          "%zu of them at t < 0.01)%s", label,
                           a.hitmiss, a.n, pct(a.hitmiss, a.n).c_str(), a.ours_only,
                           a.embree_only, pct(a.prim, a.both).c_str(),
-                          pct(a.t, a.both).c_str(), a.both, ok ? "" : "  MISMATCH");
+                          pct(a.t, a.both).c_str(), a.both, a.theirs_nearer, a.theirs_at_origin,
+                          ok ? "" : "  MISMATCH");
         agree_lines.push_back(b);
     };
     if (s.reference)
