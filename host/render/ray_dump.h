@@ -1,9 +1,8 @@
 // `hairtrace render --dump-rays DIR`: the rays a render actually traces, per bounce, closest-hit
-// and shadow, written as the Embree anchor's .rays files (format: ../shared/anchors/embree/README.md
-// "File formats", read back by host/bench/rays_file.cpp), with this tracer's answers as the
-// stored results.  `hairtrace bench --rays` then times exactly those rays and, with --embree,
-// checks every answer against Embree in the same process (issue #15: measure the rays paths
-// trace, not only camera rays).
+// and shadow, written as the Embree anchor's .rays files (the layout host/bench/rays_file.cpp
+// reads) with this tracer's answers as the stored results.  `hairtrace bench --rays` then times
+// exactly those rays and, with --embree, checks every answer against Embree in the same process
+// (issue #15: measure the rays paths trace, not only camera rays).
 #pragma once
 
 #include "bvh/bvh.h"
