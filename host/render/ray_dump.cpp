@@ -66,7 +66,7 @@ void RayDump::shadow(cl::CommandQueue& queue, const cl::Buffer& rays, const cl::
 }
 
 void RayDump::write_set(const std::string& path, const Set& s, bool shadow, uint32_t bounce) const {
-    // Header as the anchor's README "File formats" table: 64 bytes, little-endian.
+    // The 64-byte little-endian header host/bench/rays_file.cpp reads.
     unsigned char head[64] = {};
     auto put = [&](size_t off, uint32_t v) { std::memcpy(head + off, &v, 4); };
     std::memcpy(head, "HRAY", 4);
