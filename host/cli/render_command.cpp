@@ -334,9 +334,13 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
     const RunOutcome outcome = run(job, request, dist, quiet);
     if (!root) return exit_code();
     if (!quiet) report(job, request, outcome, dist);
-    if (job.dump)
-        for (const std::string& f : job.dump->write()) std::fprintf(stderr, "rays: %s\n", f.c_str());
     write_outputs(job, request, outcome, quiet);
+    // after the images, which a ray file that cannot be written must not cost (nor the checkpoint)
+    if (job.dump) try {
+            for (const std::string& f : job.dump->write()) std::fprintf(stderr, "rays: %s\n", f.c_str());
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "warning: --dump-rays: %s\n", e.what());
+        }
     // After the images: a checkpoint that cannot be written must not cost the render's images.
     if (dist.ranks == 1) save_state(job, request, dist);
     return exit_code();
