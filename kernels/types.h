@@ -32,14 +32,18 @@ typedef struct {
     uint flags;
 } HtSegment;
 
-/* Binary BVH node, "SoA in node" (docs/POCL.md §1): both children's boxes side by side so a
- * single 8-wide slab test covers both.  lo = (x0,x1,y0,y1,z0,z1, child0, child1) and
- * hi = (x0,x1,y0,y1,z0,z1, count0, count1), with child/count stored as uint bits.
- * count == 0: child is an inner node index; count > 0: child is the first index into the
- * leaf segment array and count the number of segments. */
+/* 4-wide BVH node, the children's bounds as SoA (host/bvh/NOTES.md "4-wide nodes"): per axis the
+ * four children's lower bounds, then their upper bounds, so one float8 multiply-subtract per axis
+ * gives every entry and exit distance (kernels/geometry/bvh_traverse.h ht_node_slabs).
+ * count[k] == 0: child[k] is an inner node index; count[k] > 0: child[k] is the first index into
+ * the leaf segment array and count[k] the number of segments; child 0 with count 0 = empty slot
+ * (node 0 is the root, never a child). */
 typedef struct {
-    float lo[8];
-    float hi[8];
+    float x[8];
+    float y[8];
+    float z[8];
+    uint child[4];
+    uint count[4];
 } HtBvhNode;
 
 /* No texture: HtTriangleShading.texture of an untextured triangle. */

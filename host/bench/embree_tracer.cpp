@@ -1,11 +1,13 @@
 #include "bench/embree_tracer.h"
 
 #include "cl/device.h"
+#include "bench/rays_file.h"
 #include "core/errors.h"
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <thread>
 
 #ifdef HT_HAVE_EMBREE
@@ -60,49 +62,67 @@ EmbreeTracer::~EmbreeTracer() {
 
 double EmbreeTracer::build_ms() const { return impl_->build_ms; }
 
-double EmbreeTracer::trace(const std::vector<HtRay>& rays, bool shadow, int reps, size_t* count) {
+namespace {
+// One pass over every ray on 2 threads (4096-ray chunks), as the anchor times it: flag[i] = hit or
+// occluded; with `out`, also Embree's full closest-hit record (the anchor's .rays layout).
+void embree_pass(RTCScene scene, const std::vector<HtRay>& rays, bool shadow, unsigned char* flag, EmbreeHit* out) {
     const size_t n = rays.size(), chunk = 4096;
-    std::vector<unsigned char> result(n);
-    auto pass = [&]() {
-        std::atomic<size_t> next{0};
-        auto worker = [&]() {
-            // as the anchor: flush denormals, Embree's recommendation
-            _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
-            _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
-            RTCIntersectContext ctx;
-            rtcInitIntersectContext(&ctx);
-            for (size_t b; (b = next.fetch_add(chunk)) < n;)
-                for (size_t i = b; i < std::min(n, b + chunk); ++i) {
-                    const HtRay& r = rays[i];
-                    RTCRayHit rh;
-                    rh.ray.org_x = r.ox; rh.ray.org_y = r.oy; rh.ray.org_z = r.oz; rh.ray.tnear = r.tmin;
-                    rh.ray.dir_x = r.dx; rh.ray.dir_y = r.dy; rh.ray.dir_z = r.dz;
-                    rh.ray.tfar = r.tmax >= 1e29f ? 3e38f : r.tmax;
-                    rh.ray.time = 0; rh.ray.mask = ~0u; rh.ray.id = 0; rh.ray.flags = 0;
-                    if (shadow) {
-                        rtcOccluded1(impl_->scene, &ctx, &rh.ray);
-                        result[i] = rh.ray.tfar < 0;  // Embree marks occlusion with tfar = -inf
-                    } else {
-                        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-                        rtcIntersect1(impl_->scene, &ctx, &rh);
-                        result[i] = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
-                    }
+    std::atomic<size_t> next{0};
+    auto worker = [&]() {
+        // as the anchor: flush denormals, Embree's recommendation
+        _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
+        _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
+        RTCIntersectContext ctx;
+        rtcInitIntersectContext(&ctx);
+        for (size_t b; (b = next.fetch_add(chunk)) < n;)
+            for (size_t i = b; i < std::min(n, b + chunk); ++i) {
+                const HtRay& r = rays[i];
+                RTCRayHit rh;
+                rh.ray.org_x = r.ox; rh.ray.org_y = r.oy; rh.ray.org_z = r.oz; rh.ray.tnear = r.tmin;
+                rh.ray.dir_x = r.dx; rh.ray.dir_y = r.dy; rh.ray.dir_z = r.dz;
+                rh.ray.tfar = r.tmax >= 1e29f ? 3e38f : r.tmax;
+                rh.ray.time = 0; rh.ray.mask = ~0u; rh.ray.id = 0; rh.ray.flags = 0;
+                if (shadow) {
+                    rtcOccluded1(scene, &ctx, &rh.ray);
+                    flag[i] = rh.ray.tfar < 0;  // Embree marks occlusion with tfar = -inf
+                    continue;
                 }
-        };
-        std::thread t1(worker), t2(worker);
-        t1.join();
-        t2.join();
+                rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+                rtcIntersect1(scene, &ctx, &rh);
+                flag[i] = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+                if (out)
+                    out[i] = flag[i] ? EmbreeHit{rh.ray.tfar, rh.hit.primID, rh.hit.u, rh.hit.v,
+                                                 {rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z}}
+                                     : EmbreeHit{INFINITY, 0xFFFFFFFFu, 0, 0, {0, 0, 0}};
+            }
     };
-    pass();  // warm-up
+    std::thread t1(worker), t2(worker);
+    t1.join();
+    t2.join();
+}
+}  // namespace
+
+double EmbreeTracer::trace(const std::vector<HtRay>& rays, bool shadow, int reps, size_t* count) {
+    std::vector<unsigned char> result(rays.size());
+    embree_pass(impl_->scene, rays, shadow, result.data(), nullptr);  // warm-up
     std::vector<double> ms;
     for (int k = 0; k < std::max(reps, 1); ++k) {
         const auto t0 = std::chrono::steady_clock::now();
-        pass();
+        embree_pass(impl_->scene, rays, shadow, result.data(), nullptr);
         ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     }
     *count = size_t(std::count(result.begin(), result.end(), 1));
     std::nth_element(ms.begin(), ms.begin() + ms.size() / 2, ms.end());
     return ms[ms.size() / 2];
+}
+
+void EmbreeTracer::answer(const std::vector<HtRay>& rays, bool shadow, std::vector<EmbreeHit>& hits,
+                          std::vector<uint32_t>& occluded) {
+    std::vector<unsigned char> flag(rays.size());
+    hits.assign(shadow ? 0 : rays.size(), EmbreeHit{});
+    embree_pass(impl_->scene, rays, shadow, flag.data(), shadow ? nullptr : hits.data());
+    occluded.assign(flag.begin(), flag.end());
+    if (!shadow) occluded.clear();
 }
 
 #else
@@ -115,6 +135,7 @@ EmbreeTracer::EmbreeTracer(const Strands&) {
 EmbreeTracer::~EmbreeTracer() = default;
 double EmbreeTracer::build_ms() const { return 0; }
 double EmbreeTracer::trace(const std::vector<HtRay>&, bool, int, size_t*) { return 0; }
+void EmbreeTracer::answer(const std::vector<HtRay>&, bool, std::vector<EmbreeHit>&, std::vector<uint32_t>&) {}
 
 #endif
 

@@ -12,6 +12,8 @@
 
 namespace ht {
 
+struct EmbreeHit;
+
 bool embree_available();
 
 class EmbreeTracer {
@@ -26,6 +28,10 @@ public:
     // Traces every ray on 2 threads (4096-ray chunks) `reps` times after a warm-up pass and returns
     // the median milliseconds; *count = hits (closest) or occluded rays (shadow).
     double trace(const std::vector<HtRay>& rays, bool shadow, int reps, size_t* count);
+    // One pass keeping every answer, to check another tracer ray by ray: closest hits in the
+    // anchor's record (t, primID, u, v, Ng; misses t = inf, primID = ~0) or occlusion flags.
+    void answer(const std::vector<HtRay>& rays, bool shadow, std::vector<EmbreeHit>& hits,
+                std::vector<uint32_t>& occluded);
 
 private:
     struct Impl;

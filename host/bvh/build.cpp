@@ -13,7 +13,9 @@
 #include "kernels/geometry/bvh_traverse.h"
 
 // The traversal pushes at most one entry per level, so the depth cap keeps the stack safe.
-static_assert(ht::kMaxBvhDepth < HT_STACK_SIZE, "BVH depth cap must stay below the kernel stack");
+// Flattener::visit collapses two binary levels per 4-wide node, so a 4-wide node on the path
+// to a leaf sits at binary depth >= 2 x its own; each pushes at most 3 entries.
+static_assert(3 * (ht::kMaxBvhDepth / 2 + 1) < HT_STACK_SIZE, "BVH depth cap must fit the kernel stack");
 
 namespace ht {
 namespace {
@@ -288,17 +290,10 @@ private:
     std::atomic<uint32_t> used_{0};
 };
 
-uint32_t float_bits(float f) {
-    uint32_t u;
-    std::memcpy(&u, &f, 4);
-    return u;
-}
-float bits_float(uint32_t u) {
-    float f;
-    std::memcpy(&f, &u, 4);
-    return f;
-}
-
+// Binary build tree -> 4-wide nodes, depth-first preorder.  A 4-wide node takes the children of
+// both of its binary node's children (a leaf child stays a leaf slot), i.e. always two binary
+// levels: the stack bound above relies on it.  (Opening the largest-area child first, as Embree's
+// and Cycles' collapses do, would pack more nodes full but could descend one level only.)
 struct Flattener {
     const std::vector<BNode>& in;
     std::vector<HtBvhNode>& out;
@@ -307,37 +302,48 @@ struct Flattener {
     double sah = 0;
     size_t leaves = 0, max_depth = 0;
 
-    // Returns the output index of intermediate node `id` (depth-first preorder).
+    // Returns the output index of intermediate node `id`.
     uint32_t visit(uint32_t id, size_t depth) {
         const uint32_t me = (uint32_t)out.size();
         out.emplace_back();
         max_depth = std::max(max_depth, depth);
         const BNode& bn = in[id];
-        Box both = bn.box[0];
-        both.grow(bn.box[1]);
-        sah += opt.c_trav * both.half_area() / root_area;
-        uint32_t child[2];
+        Slot slot[4];
+        int m = 0;
+        Box all;
         for (int s = 0; s < 2; ++s) {
+            if (bn.count[s] == 0 && bn.child[s] == 0) continue;  // empty (0- or 1-segment scene)
+            all.grow(bn.box[s]);
             if (bn.count[s] > 0) {
-                child[s] = bn.child[s];
+                slot[m++] = Slot{bn.box[s], bn.child[s], bn.count[s]};
+                continue;
+            }
+            const BNode& g = in[bn.child[s]];
+            for (int t = 0; t < 2; ++t)
+                if (g.count[t] > 0 || g.child[t] != 0) slot[m++] = Slot{g.box[t], g.child[t], g.count[t]};
+        }
+        sah += opt.c_trav * all.half_area() / root_area;
+        uint32_t child[4] = {0, 0, 0, 0};
+        for (int k = 0; k < m; ++k) {
+            if (slot[k].count > 0) {
+                child[k] = slot[k].child;
                 ++leaves;
                 max_depth = std::max(max_depth, depth + 1);
-                sah += opt.c_isect * bn.count[s] * bn.box[s].half_area() / root_area;
-            } else if (bn.child[s] == 0) {
-                child[s] = 0;  // empty slot (intermediate index 0 is never a child either)
+                sah += opt.c_isect * slot[k].count * slot[k].box.half_area() / root_area;
             } else {
-                child[s] = visit(bn.child[s], depth + 1);
+                child[k] = visit(slot[k].child, depth + 1);
             }
         }
         HtBvhNode& n = out[me];
-        for (int s = 0; s < 2; ++s) {
-            const bool empty = bn.count[s] == 0 && bn.child[s] == 0;
-            for (int k = 0; k < 3; ++k) {
-                n.lo[2 * k + s] = empty ? 0.0f : bn.box[s].lo[k];
-                n.hi[2 * k + s] = empty ? 0.0f : bn.box[s].hi[k];
+        for (int k = 0; k < 4; ++k) {
+            const bool used = k < m;
+            for (int a = 0; a < 3; ++a) {
+                float* axis = a == 0 ? n.x : a == 1 ? n.y : n.z;
+                axis[k] = used ? slot[k].box.lo[a] : 0.0f;
+                axis[k + 4] = used ? slot[k].box.hi[a] : 0.0f;
             }
-            n.lo[6 + s] = bits_float(child[s]);
-            n.hi[6 + s] = bits_float(bn.count[s]);
+            n.child[k] = child[k];
+            n.count[k] = used ? slot[k].count : 0u;
         }
         return me;
     }

@@ -1,5 +1,5 @@
 // Hair geometry for the kernels: strand points, capsule segments in BVH leaf order and the
-// flattened binary BVH (kernels/types.h HtBvhNode, "SoA in node").
+// 4-wide BVH (kernels/types.h HtBvhNode, children's bounds as SoA).
 #pragma once
 
 #include "scene/scene.h"
@@ -12,8 +12,9 @@
 namespace ht {
 
 
-// The traversal's private stack holds HT_STACK_SIZE (64) entries and pushes at most one per
-// level, so the builder turns any node deeper than this into a leaf.
+// The binary build tree's depth cap: the builder turns any node deeper than this into a leaf, so
+// the 4-wide tree (two binary levels per node, at most 3 pushes each) fits the traversal's
+// private stack of HT_STACK_SIZE entries (asserted in build.cpp).
 constexpr int kMaxBvhDepth = 60;
 
 struct BvhOptions {
@@ -41,7 +42,7 @@ struct BvhOptions {
 };
 
 struct BvhStats {
-    size_t nodes = 0;       // HtBvhNode count (inner nodes)
+    size_t nodes = 0;       // HtBvhNode count (4-wide inner nodes)
     size_t leaves = 0;
     size_t max_depth = 0;
     size_t references = 0;  // leaf entries (= segments unless split_ratio > 0)

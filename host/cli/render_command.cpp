@@ -11,6 +11,7 @@
 #include "render/error_metrics.h"
 #include "render/features.h"
 #include "render/memory_plan.h"
+#include "render/ray_dump.h"
 #include "render/render_identity.h"
 #include "render/renderer.h"
 #include "split/accumulation.h"
@@ -23,6 +24,7 @@
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 
@@ -58,6 +60,7 @@ struct PreparedRender {
     std::string rank_suffix;      // each rank keeps its own checkpoint
     RenderIdentity identity;  // shared by checkpoints and render-farm parts
     std::unique_ptr<SampleAccumulator> acc;
+    std::unique_ptr<RayDump> dump;  // --dump-rays
 };
 
 struct RunOutcome {
@@ -304,6 +307,16 @@ void write_outputs(const PreparedRender& job, const RenderRequest& request, cons
                 100.0 * m.sparkle_share, m.sparkles, kSparkleFactor, since(out.start), job.acc->samples());
 }
 
+// --dump-rays on the first device of rank 0; the files are named after the scene.
+void attach_ray_dump(PreparedRender& job, const RenderRequest& request, bool root) {
+    if (request.dump_rays.empty() || !root) return;
+    // "builtin:strand?hairs=200" -> strand, "data/ball.hair" -> ball
+    std::string name = job.scene.source.substr(0, job.scene.source.find('?'));
+    name = std::filesystem::path(name.substr(name.rfind(':') + 1)).stem().string();
+    job.dump = std::make_unique<RayDump>(request.dump_rays, name.empty() ? "scene" : name);
+    job.renderers.front()->set_ray_dump(job.dump.get());
+}
+
 int render_main(const std::vector<std::string>& args, DistContext& dist) {
     ArgParser p("render", kSummary);
     add_render_options(p, RenderCommand::Render);
@@ -323,10 +336,17 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
     const bool quiet = request.quiet || !root;  // one progress report per job, from rank 0
     PreparedRender job;
     prepare(job, request, dist, quiet);
+    attach_ray_dump(job, request, root);
     const RunOutcome outcome = run(job, request, dist, quiet);
     if (!root) return exit_code();
     if (!quiet) report(job, request, outcome, dist);
     write_outputs(job, request, outcome, quiet);
+    // after the images, which a ray file that cannot be written must not cost (nor the checkpoint)
+    if (job.dump) try {
+            for (const std::string& f : job.dump->write()) std::fprintf(stderr, "rays: %s\n", f.c_str());
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "warning: --dump-rays: %s\n", e.what());
+        }
     // After the images: a checkpoint that cannot be written must not cost the render's images.
     if (dist.ranks == 1) save_state(job, request, dist);
     return exit_code();

@@ -71,6 +71,7 @@ const OptionRow kOptions[] = {
     {"reporting", "--reference", "REF", "linear image to compare with: prints RMSE, relMSE, max error, NaN count and the share of sparkles (pixels off by more than 10x the reference's 3x3 local standard deviation, docs/PERFORMANCE.md)", "", Kind::InputFile, kRender},
     {"reporting", "--verbose", "", "print the kernel features chosen for the scene and the build options", "", Kind::Flag, kRender},
     {"reporting", "--profile", "", "time every stage kernel separately and print the split (slows the render a little)", "", Kind::Flag, kRender},
+    {"reporting", "--dump-rays", "DIR", "write the rays the render traces (closest hit and shadow, per bounce, the first 1,048,576 of each) with this tracer's answers to DIR/<scene>.b<bounce>.{closest,shadow}.rays, the Embree anchor's format, for `hairtrace bench --rays` (with several devices: the first device's share)", "", Kind::Value, kRender},
     {"reporting", "--quiet", "", "no progress output on stderr", "", Kind::Flag, kBoth},
 };
 
@@ -215,6 +216,7 @@ RenderRequest parse_render_request(const ArgParser& p) {
     r.checkpoint_every = p.get_double("--checkpoint-every", 0.01, 1e9);
     r.resume = p.get("--resume");
     r.reference = p.get("--reference");
+    r.dump_rays = p.get("--dump-rays");
     if (auto e = p.get_double_or("--exposure", "auto", 0, 1e9)) r.exposure = float(*e);
     if (p.has("--aovs")) {
         r.aovs = parse_aov_list_of(p.get("--aovs"), r);

@@ -51,6 +51,7 @@ struct RenderRequest {
     std::optional<SampleRange> sample_range;
     double time_limit = 0;                  // seconds; 0: none
     std::string checkpoint, resume, reference;
+    std::string dump_rays;  // --dump-rays DIR (render/ray_dump.h)
     double checkpoint_every = 60;
     std::optional<float> exposure;          // nullopt: auto
     std::vector<std::string> aovs;          // --aovs, in the order given (render/aovs.h names)

@@ -15,6 +15,7 @@
 #include "render/features.h"
 #include "render/memory_plan.h"
 #include "render/path_buffers.h"
+#include "render/ray_dump.h"
 #include "render/stage_args.h"
 #include "kernels/surface/texture.h"
 
@@ -70,6 +71,7 @@ struct Renderer::Impl {
     cl::Kernel k_shadow_afs, k_resolve_afs;
     RenderStats stats;
     cl::Buffer film_buf, film_aov;  // film_aov: --aovs only
+    RayDump* dump = nullptr;        // --dump-rays
 
     // per-pass buffers (render/path_buffers.h), sized for max paths per pass
     PathBufferSet buffer_set;
@@ -338,6 +340,10 @@ Renderer::~Renderer() { delete impl_; }
 const std::string& Renderer::kernel_options() const { return impl_->options; }
 const KernelFeatures& Renderer::features() const { return impl_->features; }
 const RenderStats& Renderer::stats() const { return impl_->stats; }
+void Renderer::set_ray_dump(RayDump* dump) {
+    impl_->dump = dump;
+    if (dump) dump->bind(impl_->prepared.geometry);
+}
 
 void Renderer::upload_film(const Film& film) {
     Impl& r = *impl_;
@@ -400,12 +406,14 @@ void Renderer::render_sample(uint32_t sample) {
             for (uint32_t bounce = 0; n > 0 && bounce < traced; ++bounce) {
                 const auto t_bounce = std::chrono::steady_clock::now();
                 r.intersect_closest(q, n);
+                if (r.dump) r.dump->closest(r.cl.queue(), r.queue_rays(q), r.buffer(PathBuffer::Hits), n, bounce);
                 r.shade(q, n, sample, bounce);
                 if (bounce + 1 == vertices && s.indirect == RenderSettings::Indirect::Afs) {
                     r.intersect_shadow_afs(n);
                     r.resolve_shadows_afs(n);
                 } else if (bounce < vertices) {
                     r.intersect_shadow(n);
+                    if (r.dump) r.dump->shadow(r.cl.queue(), r.buffer(PathBuffer::ShadowRays), r.buffer(PathBuffer::Occluded), n, bounce);
                     r.resolve_shadows(n);
                 }
                 if (bounce + 1 < traced) r.compact(1 - q, n);  // else no path continues

@@ -49,6 +49,8 @@ struct RenderStats {
 // stops the render after that sample (time limits, interrupts).
 using ProgressFn = std::function<bool(int, int)>;
 
+class RayDump;
+
 class Renderer {
 public:
     // Uploads `prepared` (which must outlive the renderer) and builds the kernels for this device.
@@ -73,6 +75,10 @@ public:
     // How the scene's geometry was cut into device buffers on this device.
     // What the render program was compiled with (paging included: it depends on the device).
     const KernelFeatures& features() const;
+
+    // --dump-rays: every later render copies its traced rays into `dump` (render/ray_dump.h);
+    // nullptr stops.  The dump must outlive the renders.
+    void set_ray_dump(RayDump* dump);
 
 private:
     struct Impl;

@@ -1,19 +1,20 @@
-/* Binary BVH traversal over HtBvhNode ("SoA in node" layout, docs/POCL.md §1), shared by the
+/* 4-wide BVH traversal over HtBvhNode (children's bounds as SoA, kernels/types.h), shared by the
  * stage kernels (float) and the host tests / microbenchmarks (double).
  *
- * Node 0 is the root; each node holds both children's boxes.  Child slot i: count_i > 0 is a
- * leaf = segments [child_i, child_i + count_i) of the leaf segment array; count_i == 0 is an inner
- * node index.  A slot with child == 0 and count == 0 is empty (node 0 is the root, never a child):
- * that is how a scene of 0 or 1 segments is stored.
+ * Node 0 is the root; each node holds its (up to) four children's boxes.  Child slot k:
+ * count[k] > 0 is a leaf = segments [child[k], child[k] + count[k]) of the leaf segment array;
+ * count[k] == 0 is an inner node index.  A slot with child == 0 and count == 0 is empty (node 0
+ * is the root, never a child): that is how a scene of 0 or 1 segments is stored.
  *
- * Why it looks like this (measured on PoCL 3.1 CPU, docs/POCL.md §1):
- *   - one 8-wide slab test for both children (float8 in OpenCL; lanes 6,7 carry the child/count
- *     bits and are ignored);
+ * Why it looks like this (measured on PoCL 3.1 CPU, docs/POCL.md §1, host/bvh/NOTES.md):
+ *   - one float8 slab step per axis covers the four children's lower and upper planes (the
+ *     binary tree it replaced did both children in one float8);
  *   - compare-select min/max, not fmin/fmax (13-24 % slower);
  *   - no always_inline;
  *   - no inf in comparisons: tmax is clamped to HT_T_FAR and reciprocal directions are bounded,
  *     so -cl-fast-relaxed-math (finite-math) is safe;
- *   - private stack of (node, entry distance), near child first, culled on pop.
+ *   - private stack of (node, entry distance), nearest inner child visited next and the others
+ *     pushed farthest first, culled on pop.
  * Leaves are intersected as soon as their box is hit, before descending, so a close leaf
  * shrinks t_best before the inner children are ordered.
  */
@@ -26,8 +27,9 @@
 #include "fiber_frame.h"
 #include "pages.h"
 
-/* Stack entries; the builder caps the tree depth below this (host/bvh/bvh.h kMaxDepth). */
-#define HT_STACK_SIZE 64
+/* Stack entries: a 4-wide node pushes at most 3, and the builder keeps the 4-wide depth at most
+ * half the binary depth cap (host/bvh/build.cpp asserts 3 * (kMaxBvhDepth / 2 + 1) fits). */
+#define HT_STACK_SIZE 96
 #define HT_T_FAR HT_R(1e30)
 /* |d| components below this are replaced so 1/d stays finite (|1/d| <= 1e20; box extents
  * ~1e3 keep products far below float max). */
@@ -75,66 +77,54 @@ HT_FN int ht_intersect_leaf(HT_SEGS_PARAM, HT_POINTS_PARAM, uint first, uint cou
     return found;
 }
 
-/* The ray's constants for the slab test of a node's two child boxes (HtBvhNode stores them
- * interleaved: lo/hi = x0 x1 y0 y1 z0 z1 + child fields), 1/d and o/d per axis, twice. */
+/* The ray's constants for the slab test: 1/d and o/d per axis. */
 typedef struct {
-#ifdef HT_OPENCL
-    /* The only OpenCL-specific code: the 8-wide slab test PoCL compiles to one vector op. */
-    float8 inv, oi;
-#else
-    real inv[6], oi[6];
-#endif
+    real ix, iy, iz, ox, oy, oz;
 } HtSlabRay;
 
 HT_FN HtSlabRay ht_slab_ray(real3 o, real3 d) {
-    const real ix = ht_safe_inv(d.x), iy = ht_safe_inv(d.y), iz = ht_safe_inv(d.z);
     HtSlabRay r;
-#ifdef HT_OPENCL
-    r.inv = (float8)(ix, ix, iy, iy, iz, iz, 0.0f, 0.0f);
-    r.oi = (float8)(o.x * ix, o.x * ix, o.y * iy, o.y * iy, o.z * iz, o.z * iz, 0.0f, 0.0f);
-#else
-    const real inv[6] = {ix, ix, iy, iy, iz, iz};
-    const real oi[6] = {o.x * ix, o.x * ix, o.y * iy, o.y * iy, o.z * iz, o.z * iz};
-    for (int k = 0; k < 6; ++k) r.inv[k] = inv[k], r.oi[k] = oi[k];
-#endif
+    r.ix = ht_safe_inv(d.x);
+    r.iy = ht_safe_inv(d.y);
+    r.iz = ht_safe_inv(d.z);
+    r.ox = o.x * r.ix;
+    r.oy = o.y * r.iy;
+    r.oz = o.z * r.iz;
     return r;
 }
 
-/* Node n's two children against the ray segment [tmin, tfar]: entry distances near0/1, whether
- * each child is hit (h0/1: boxes overlap the segment and the child exists) and the children's
- * fields (c = first index, n = leaf count, 0 for an inner node). */
-HT_FN void ht_node_slabs(HT_CONST_GLOBAL HtBvhNode* n, const HtSlabRay* r, real tmin, real tfar, real* near0,
-                         real* near1, int* h0, int* h1, uint* c0, uint* c1, uint* n0, uint* n1) {
+/* Node n's four children against the ray segment [tmin, tfar]: entry distances near[k] and
+ * whether each child is hit (hit[k]: its box overlaps the segment and the slot is not empty). */
+HT_FN void ht_node_slabs(HT_CONST_GLOBAL HtBvhNode* n, const HtSlabRay* r, real tmin, real tfar, real* near,
+                         int* hit) {
 #ifdef HT_OPENCL
-    const float8 lo = vload8(0, n->lo);
-    const float8 hi = vload8(0, n->hi);
-    const float8 ta = lo * r->inv - r->oi;
-    const float8 tb = hi * r->inv - r->oi;
-    const float8 tn = ta < tb ? ta : tb;
-    const float8 tf = ta < tb ? tb : ta;
-    *near0 = ht_max(ht_max(tn.s0, tn.s2), ht_max(tn.s4, tmin));
-    *near1 = ht_max(ht_max(tn.s1, tn.s3), ht_max(tn.s5, tmin));
-    const real far0 = ht_min(ht_min(tf.s0, tf.s2), ht_min(tf.s4, tfar));
-    const real far1 = ht_min(ht_min(tf.s1, tf.s3), ht_min(tf.s5, tfar));
-    *c0 = as_uint(lo.s6), *c1 = as_uint(lo.s7);
-    *n0 = as_uint(hi.s6), *n1 = as_uint(hi.s7);
+    /* The only OpenCL-specific code: three float8 steps, lanes 0-3 lower planes, 4-7 upper. */
+    const float8 tx = vload8(0, n->x) * r->ix - r->ox;
+    const float8 ty = vload8(0, n->y) * r->iy - r->oy;
+    const float8 tz = vload8(0, n->z) * r->iz - r->oz;
+    const float4 nx = tx.lo < tx.hi ? tx.lo : tx.hi, fx = tx.lo < tx.hi ? tx.hi : tx.lo;
+    const float4 ny = ty.lo < ty.hi ? ty.lo : ty.hi, fy = ty.lo < ty.hi ? ty.hi : ty.lo;
+    const float4 nz = tz.lo < tz.hi ? tz.lo : tz.hi, fz = tz.lo < tz.hi ? tz.hi : tz.lo;
+    const float4 t0 = (float4)(tmin), t1 = (float4)(tfar);
+    const float4 nxy = nx < ny ? ny : nx, nzt = nz < t0 ? t0 : nz;
+    const float4 fxy = fx < fy ? fx : fy, fzt = fz < t1 ? fz : t1;
+    const float4 tn = nxy < nzt ? nzt : nxy;
+    const float4 tf = fxy < fzt ? fxy : fzt;
+    const int4 h = tn <= tf;
+    near[0] = tn.s0, near[1] = tn.s1, near[2] = tn.s2, near[3] = tn.s3;
+    hit[0] = h.s0, hit[1] = h.s1, hit[2] = h.s2, hit[3] = h.s3;
 #else
-    real tn[6], tf[6];
-    for (int k = 0; k < 6; ++k) {
-        const real ta = (real)n->lo[k] * r->inv[k] - r->oi[k];
-        const real tb = (real)n->hi[k] * r->inv[k] - r->oi[k];
-        tn[k] = ta < tb ? ta : tb;
-        tf[k] = ta < tb ? tb : ta;
+    for (int k = 0; k < 4; ++k) {
+        const real ax = (real)n->x[k] * r->ix - r->ox, bx = (real)n->x[k + 4] * r->ix - r->ox;
+        const real ay = (real)n->y[k] * r->iy - r->oy, by = (real)n->y[k + 4] * r->iy - r->oy;
+        const real az = (real)n->z[k] * r->iz - r->oz, bz = (real)n->z[k + 4] * r->iz - r->oz;
+        const real tn = ht_max(ht_max(ht_min(ax, bx), ht_min(ay, by)), ht_max(ht_min(az, bz), tmin));
+        const real tf = ht_min(ht_min(ht_max(ax, bx), ht_max(ay, by)), ht_min(ht_max(az, bz), tfar));
+        near[k] = tn;
+        hit[k] = tn <= tf;
     }
-    *near0 = ht_max(ht_max(tn[0], tn[2]), ht_max(tn[4], tmin));
-    *near1 = ht_max(ht_max(tn[1], tn[3]), ht_max(tn[5], tmin));
-    const real far0 = ht_min(ht_min(tf[0], tf[2]), ht_min(tf[4], tfar));
-    const real far1 = ht_min(ht_min(tf[1], tf[3]), ht_min(tf[5], tfar));
-    *c0 = ht_as_uint(n->lo[6]), *c1 = ht_as_uint(n->lo[7]);
-    *n0 = ht_as_uint(n->hi[6]), *n1 = ht_as_uint(n->hi[7]);
 #endif
-    *h0 = *near0 <= far0 && (*c0 | *n0) != 0u;
-    *h1 = *near1 <= far1 && (*c1 | *n1) != 0u;
+    for (int k = 0; k < 4; ++k) hit[k] = hit[k] && (n->child[k] | n->count[k]) != 0u;
 }
 
 /* Core traversal.  any_hit: stop at the first intersection in (tmin, tmax).  Returns the leaf
@@ -156,42 +146,44 @@ HT_FN uint ht_traverse(HT_GEOMETRY_PARAMS, HtRay ray, int any_hit, real* t_out) 
 
     for (;;) {
         HT_CONST_GLOBAL HtBvhNode* n = HT_NODE_PTR(cur);
-        real near0, near1;
-        uint c0, c1, n0, n1;
-        int h0, h1;
-        ht_node_slabs(n, &slab, tmin, tbest, &near0, &near1, &h0, &h1, &c0, &c1, &n0, &n1);
+        real near[4];
+        int hit[4];
+        ht_node_slabs(n, &slab, tmin, tbest, near, hit);
 
-        /* Leaves now, the nearer one first. */
-        if (h0 && n0 != 0u && h1 && n1 != 0u && near1 < near0) {
-            if (ht_intersect_leaf(HT_SEGS_ARG, HT_POINTS_ARG, c1, n1, o, d, tmin, &tbest, &best) && any_hit) break;
-            h1 = 0;
+        /* Leaves now: they may shorten the ray before the inner children are ordered. */
+        int stop = 0;
+        for (int k = 0; k < 4; ++k) {
+            if (!hit[k] || n->count[k] == 0u) continue;
+            hit[k] = 0;
+            if (ht_intersect_leaf(HT_SEGS_ARG, HT_POINTS_ARG, n->child[k], n->count[k], o, d, tmin, &tbest, &best) &&
+                any_hit) {
+                stop = 1;
+                break;
+            }
         }
-        if (h0 && n0 != 0u) {
-            if (ht_intersect_leaf(HT_SEGS_ARG, HT_POINTS_ARG, c0, n0, o, d, tmin, &tbest, &best) && any_hit) break;
-            h0 = 0;
-        }
-        if (h1 && n1 != 0u) {
-            if (ht_intersect_leaf(HT_SEGS_ARG, HT_POINTS_ARG, c1, n1, o, d, tmin, &tbest, &best) && any_hit) break;
-            h1 = 0;
-        }
-        /* A leaf may have shortened the ray. */
-        h0 = h0 && near0 <= tbest;
-        h1 = h1 && near1 <= tbest;
+        if (stop) break;
 
-        if (h0 && h1) {
-            const int first1 = near1 < near0;
-            cur = first1 ? c1 : c0;
-            stack_node[sp] = first1 ? c0 : c1;
-            stack_t[sp] = first1 ? near0 : near1;
-            ++sp;
-            continue;
+        /* Inner children in front of the closest hit, sorted by entry distance (insertion). */
+        uint sc[4];
+        real st[4];
+        int m = 0;
+        for (int k = 0; k < 4; ++k) {
+            if (!hit[k] || near[k] > tbest) continue;
+            int j = m++;
+            for (; j > 0 && st[j - 1] > near[k]; --j) {
+                st[j] = st[j - 1];
+                sc[j] = sc[j - 1];
+            }
+            st[j] = near[k];
+            sc[j] = n->child[k];
         }
-        if (h0) {
-            cur = c0;
-            continue;
-        }
-        if (h1) {
-            cur = c1;
+        if (m > 0) {
+            cur = sc[0];
+            for (int j = m - 1; j > 0; --j) {
+                stack_node[sp] = sc[j];
+                stack_t[sp] = st[j];
+                ++sp;
+            }
             continue;
         }
         /* Pop, skipping entries that start beyond the current closest hit. */

@@ -22,7 +22,7 @@
 #include "../types.h"
 
 /* log2 of each paged record's size; host/core/kernel_layouts.cpp asserts them against sizeof. */
-#define HT_NODE_BYTES_LOG2 6      /* HtBvhNode */
+#define HT_NODE_BYTES_LOG2 7      /* HtBvhNode */
 #define HT_SEGMENT_BYTES_LOG2 4   /* HtSegment */
 #define HT_POINT_BYTES_LOG2 4     /* HtPoint */
 #define HT_TRIANGLE_BYTES_LOG2 7  /* HtTriangleShading */

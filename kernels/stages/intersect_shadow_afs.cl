@@ -98,26 +98,19 @@ __kernel void intersect_shadow_afs(HT_GEOMETRY_PARAMS, __global const uint* stra
     uint cur = 0;
     for (;;) {
         HT_CONST_GLOBAL HtBvhNode* n = HT_NODE_PTR(cur);
-        float near0, near1;
-        uint c0, c1, n0, n1;
-        int h0, h1;
-        ht_node_slabs(n, &slab, tmin, tmax, &near0, &near1, &h0, &h1, &c0, &c1, &n0, &n1);
-        if (h0 && n0 != 0u) {
-            if (ht_afs_leaf(HT_SEGS_ARG, HT_POINTS_ARG, strand_material, afs_tt_table, c0, n0, o, d, tmin, tmax, &T)) break;
-            h0 = 0;
+        float near[4];
+        int hit[4];
+        ht_node_slabs(n, &slab, tmin, tmax, near, hit);
+        int stop = 0;
+        for (int k = 0; k < 4 && !stop; ++k) {
+            if (!hit[k]) continue;
+            if (n->count[k] != 0u)
+                stop = ht_afs_leaf(HT_SEGS_ARG, HT_POINTS_ARG, strand_material, afs_tt_table, n->child[k], n->count[k], o, d,
+                                   tmin, tmax, &T);
+            else
+                stack[sp++] = n->child[k];
         }
-        if (h1 && n1 != 0u) {
-            if (ht_afs_leaf(HT_SEGS_ARG, HT_POINTS_ARG, strand_material, afs_tt_table, c1, n1, o, d, tmin, tmax, &T)) break;
-            h1 = 0;
-        }
-        if (h0 && h1) {
-            cur = c0;
-            stack[sp++] = c1;
-            continue;
-        }
-        if (h0) { cur = c0; continue; }
-        if (h1) { cur = c1; continue; }
-        if (sp == 0) break;
+        if (stop || sp == 0) break;
         cur = stack[--sp];
     }
     if (!(ht_isfinite(T.x) && ht_isfinite(T.y) && ht_isfinite(T.z))) T = (float3)(0.0f);

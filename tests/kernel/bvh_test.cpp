@@ -142,8 +142,9 @@ TEST(Bvh, StructureIsConsistent) {
     for (int c : seen) EXPECT_EQ(c, 1);
     size_t leaf_refs = 0;
     for (const HtBvhNode& n : g.nodes)
-        for (int k = 0; k < 2; ++k) {
-            const uint32_t child = ht_as_uint(n.lo[6 + k]), count = ht_as_uint(n.hi[6 + k]);
+        for (int k = 0; k < 4; ++k) {
+            const uint32_t child = n.child[k], count = n.count[k];
+            if (!child && !count) continue;  // empty slot
             if (count) {
                 EXPECT_LE(child + count, g.segments.size());
                 leaf_refs += count;

@@ -1,0 +1,56 @@
+// `hairtrace render --dump-rays DIR`: the rays a render actually traces, per bounce, closest-hit
+// and shadow, written as the Embree anchor's .rays files (the layout host/bench/rays_file.cpp
+// reads) with this tracer's answers as the stored results.  `hairtrace bench --rays` then times
+// exactly those rays and, with --embree, checks every answer against Embree in the same process
+// (issue #15: measure the rays paths trace, not only camera rays).
+#pragma once
+
+#include "bvh/bvh.h"
+#include "cl/device.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace ht {
+
+class RayDump {
+public:
+    // Rays per file; the anchor's sets hold 1024 x 1024.
+    static constexpr size_t kDefaultMaxRays = size_t(1) << 20;
+
+    // `scene` names the files: DIR/<scene>.b<bounce>.{closest,shadow}.rays.
+    RayDump(std::string dir, std::string scene, size_t max_rays = kDefaultMaxRays);
+
+    // The renderer's geometry (leaf order -> global segment id, capsule normals); set by
+    // Renderer::set_ray_dump.
+    void bind(const SceneGeometry& geometry) { geo_ = &geometry; }
+
+    // Hooks of the render loop, after the stage kernel ran on `queue`: copy the first `count`
+    // rays and answers of this bounce while the bounce's files are not full.  Shadow slots
+    // without a ray (tmax <= tmin, kernels/stages/shade.cl) are skipped.
+    void closest(cl::CommandQueue& queue, const cl::Buffer& rays, const cl::Buffer& hits, uint32_t count,
+                 uint32_t bounce);
+    void shadow(cl::CommandQueue& queue, const cl::Buffer& rays, const cl::Buffer& occluded, uint32_t count,
+                uint32_t bounce);
+
+    // Writes every non-empty set; returns the paths written.  Throws std::runtime_error.
+    std::vector<std::string> write() const;
+
+private:
+    struct Set {
+        std::vector<HtRay> rays;
+        std::vector<uint32_t> answers;  // closest: leaf index (HT_NO_HIT) with t/u below; shadow: 0/1
+        std::vector<float> t, u;
+        std::vector<float> ng;          // closest: 3 per ray
+    };
+    Set& set(std::vector<Set>& sets, uint32_t bounce) const;
+    void write_set(const std::string& path, const Set& s, bool shadow, uint32_t bounce) const;
+
+    std::string dir_, scene_;
+    size_t max_rays_;
+    const SceneGeometry* geo_ = nullptr;
+    std::vector<Set> closest_, shadow_;
+};
+
+}  // namespace ht
