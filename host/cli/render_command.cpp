@@ -284,11 +284,12 @@ void write_outputs(const PreparedRender& job, const RenderRequest& request, cons
     const Film film = job.acc->compose();
     ImageMetadata meta = metadata_of(job, request, out);
     const float exposure = request.exposure ? *request.exposure : auto_exposure(film);
-    if (!request.exposure) meta.floats["hairtrace:exposure"] = exposure;
+    meta.floats["hairtrace:exposure"] = exposure;
+    meta.text["hairtrace:tonemap"] = tone_map_name(request.tone_map);
     for (auto& o : request.outputs) {
         // A part's .exr keeps the raw sums for the merge; other formats show its mean.
         if (request.sample_range && keeps_raw_sums(o)) write_partial_exr(o, partial_image_of(job, request), meta);
-        else write_image(o, film, meta, exposure);
+        else write_image(o, film, meta, exposure, request.tone_map);
         if (!quiet) std::fprintf(stderr, "wrote %s\n", o.c_str());
     }
     if (job.reference.empty()) return;

@@ -31,7 +31,8 @@ struct OptionRow {
 // them.  A new option is one row here and one line in parse_image_request/parse_render_request.
 const OptionRow kOptions[] = {
     {"output", "-o", "OUT", "output image; the extension picks the format (.exr/.hdr/.tif linear float, .png/.jpg sRGB 8-bit)", "", Kind::Images, kRender},
-    {"output", "--exposure", "E|auto", "multiplier applied before tone mapping 8-bit outputs; auto maps the 95th percentile of lit pixels to 0.8 (linear outputs are never scaled)", "auto", Kind::Value, kRender},
+    {"output", "--exposure", "E|auto", kExposureHelp, "auto", Kind::Value, kRender},
+    {"output", "--tonemap", "filmic|clip", kToneMapHelp, "filmic", Kind::Value, kRender},
 
     {"sampling", "--width", "W", "image width in pixels", "512", Kind::Value, kRender},
     {"sampling", "--height", "H", "image height in pixels", "512", Kind::Value, kRender},
@@ -188,6 +189,7 @@ RenderRequest parse_render_request(const ArgParser& p) {
     r.resume = p.get("--resume");
     r.reference = p.get("--reference");
     if (auto e = p.get_double_or("--exposure", "auto", 0, 1e9)) r.exposure = float(*e);
+    r.tone_map = tone_map_from_name(p.get_choice("--tonemap", tone_map_names()));
     r.verbose = p.has("--verbose");
     r.profile = r.image.settings.profile_stages = p.has("--profile");
     r.quiet = p.has("--quiet");

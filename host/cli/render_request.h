@@ -6,6 +6,7 @@
 
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "io/image_io.h"
 #include "split/accumulation.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
@@ -53,6 +54,7 @@ struct RenderRequest {
     std::string checkpoint, resume, reference;
     double checkpoint_every = 60;
     std::optional<float> exposure;          // nullopt: auto
+    ToneMap tone_map = ToneMap::Filmic;     // --tonemap, for 8-bit outputs
     bool verbose = false, profile = false, quiet = false;
 };
 

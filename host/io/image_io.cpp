@@ -20,11 +20,63 @@ std::string lower_ext(const std::string& path) {
     return e;
 }
 
+float clean(float x) {
+    if (!(x > 0)) return 0.0f;  // NaN and negatives
+    return std::min(x, 1e30f);  // +inf: very bright but finite, so that ratios stay defined
+}
+
 float srgb_encode(float x) {
     x = std::clamp(x, 0.0f, 1.0f);
     return x <= 0.0031308f ? 12.92f * x : 1.055f * std::pow(x, 1.0f / 2.4f) - 0.055f;
 }
 }  // namespace
+
+const std::vector<std::string>& tone_map_names() {
+    static const std::vector<std::string> names = {"filmic", "clip"};
+    return names;
+}
+
+ToneMap tone_map_from_name(const std::string& name) { return name == "clip" ? ToneMap::Clip : ToneMap::Filmic; }
+
+const std::string& tone_map_name(ToneMap t) { return tone_map_names()[t == ToneMap::Clip ? 1 : 0]; }
+
+const char* const kToneMapHelp =
+    "how 8-bit outputs map radiance to display values: filmic = a curve on luminance with the colour scaled by "
+    "the same ratio (keeps hue; bright saturated colours are desaturated only as far as they must to fit, "
+    "near white), clip = each channel clipped at 1 (the old behaviour; highlights shift towards white-yellow)";
+const char* const kExposureHelp =
+    "multiplier applied before tone mapping 8-bit outputs; auto maps the 95th percentile of lit pixels' "
+    "luminance to 0.8 (linear outputs are never scaled)";
+
+float filmic_curve(float x) {
+    constexpr float knee = 0.6f, room = 1.0f - knee;
+    x = clean(x);
+    if (x <= knee) return x;
+    return knee + room * (1.0f - std::exp(-(x - knee) / room));
+}
+
+void tone_map_pixel(const float in[3], float out[3], ToneMap mode) {
+    const float c[3] = {clean(in[0]), clean(in[1]), clean(in[2])};
+    if (mode == ToneMap::Clip) {
+        for (int k = 0; k < 3; ++k) out[k] = std::min(c[k], 1.0f);
+        return;
+    }
+    const float lum = 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2];
+    if (!(lum > 0)) {  // black, or a colour with no luminance at all: nothing to show
+        out[0] = out[1] = out[2] = 0.0f;
+        return;
+    }
+    const float display = filmic_curve(lum);
+    const float scale = display / lum;
+    float top = 0.0f;
+    for (int k = 0; k < 3; ++k) top = std::max(top, out[k] = c[k] * scale);
+    // Out of gamut: mix towards grey of the same luminance until the top channel is 1.  Hue (the
+    // direction away from grey) and luminance stay; display < 1 so the mix factor is in (0, 1].
+    if (top > 1.0f) {
+        const float keep = (1.0f - display) / (top - display);
+        for (int k = 0; k < 3; ++k) out[k] = std::clamp(display + keep * (out[k] - display), 0.0f, 1.0f);
+    }
+}
 
 bool is_float_format(const std::string& path) {
     std::string e = lower_ext(path);
@@ -56,7 +108,8 @@ float auto_exposure(const Film& film) {
     return lum[k] > 0 ? 0.8f / lum[k] : 1.0f;
 }
 
-void write_image(const std::string& path, const Film& film, const ImageMetadata& meta, float exposure) {
+void write_image(const std::string& path, const Film& film, const ImageMetadata& meta, float exposure,
+                 ToneMap tone_map) {
     std::string ext = lower_ext(path);
     if (ext.empty()) throw ImageError(path + ": no file extension to choose an image format from");
     bool linear = is_float_format(path);
@@ -73,8 +126,12 @@ void write_image(const std::string& path, const Film& film, const ImageMetadata&
     const void* data = rgb.data();
     if (!linear) {
         bytes.resize(rgb.size());
-        for (size_t i = 0; i < rgb.size(); ++i)
-            bytes[i] = (unsigned char)std::lround(255.0f * srgb_encode(rgb[i] * exposure));
+        for (size_t i = 0; i < rgb.size(); i += 3) {
+            const float exposed[3] = {rgb[i] * exposure, rgb[i + 1] * exposure, rgb[i + 2] * exposure};
+            float display[3];
+            tone_map_pixel(exposed, display, tone_map);
+            for (int k = 0; k < 3; ++k) bytes[i + k] = (unsigned char)std::lround(255.0f * srgb_encode(display[k]));
+        }
         data = bytes.data();
     }
 
