@@ -56,6 +56,7 @@ struct RenderRequest {
     std::optional<float> exposure;          // nullopt: auto
     ToneMap tone_map = ToneMap::Filmic;     // --tonemap, for 8-bit outputs
     bool verbose = false, profile = false, quiet = false;
+    std::vector<std::string> command_line;  // every word, for the images' metadata (set by the command)
 };
 
 // The words --model and --indirect accept (converge's --configs keys take the same).

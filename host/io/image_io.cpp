@@ -116,9 +116,24 @@ void write_image(const std::string& path, const Film& film, const ImageMetadata&
     std::vector<float> rgb = film_to_rgb(film);
     ImageSpec spec(film.width, film.height, 3, linear ? TypeDesc::FLOAT : TypeDesc::UINT8);
     if (ext == ".exr") spec.attribute("compression", "zip");
-    for (auto& [k, v] : meta.text) spec.attribute(k, v);
-    for (auto& [k, v] : meta.ints) spec.attribute(k, v);
-    for (auto& [k, v] : meta.floats) spec.attribute(k, v);
+    // EXR keeps typed attributes; OIIO's PNG writer keeps only text ones (tEXt chunks) and drops
+    // numbers silently, and its JPEG and TIFF writers keep neither, only standard tags.  So
+    // other formats get the numbers as text, and every entry once more as "key: value" lines in
+    // the standard ImageDescription (a JPEG comment, a TIFF tag).
+    const bool typed = ext == ".exr";
+    std::string description;
+    auto put_text = [&](const std::string& k, const std::string& v) {
+        spec.attribute(k, v);
+        description += k + ": " + v + "\n";
+    };
+    for (auto& [k, v] : meta.text) put_text(k, v);
+    for (auto& [k, v] : meta.ints) typed ? spec.attribute(k, v) : put_text(k, std::to_string(v));
+    for (auto& [k, v] : meta.floats) {
+        char text[32];
+        std::snprintf(text, sizeof text, "%.9g", double(v));
+        typed ? spec.attribute(k, v) : put_text(k, text);
+    }
+    if (!typed && !description.empty()) spec.attribute("ImageDescription", description);
     spec.attribute("oiio:ColorSpace", linear ? "Linear" : "sRGB");
     spec.attribute("Software", std::string("hairtrace ") + HT_VERSION);
 
