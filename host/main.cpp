@@ -26,6 +26,7 @@ const char* kTopHelp =
     "commands:\n"
     "  render SCENE -o OUT ...   render a scene to images (.exr linear, .png sRGB; -o repeatable)\n"
     "  merge PARTS... -o OUT     combine `render --sample-range A:B` parts exactly (render farms)\n"
+    "  tonemap IN.exr -o OUT.png exposure and tone mapping of render's PNG output, for any linear image\n"
     "  info SCENE [--json]       strands, points, segments, bounds, materials, BVH statistics\n"
     "  devices [--json]          list OpenCL platforms and devices (indices for --device)\n"
     "  bench [...]               BVH build and ray throughput benchmark (validated hits)\n"
@@ -53,6 +54,7 @@ int fiber_command(const std::vector<std::string>& args) { return fiber_main(args
 const std::vector<std::pair<std::string, Command>> kCommands = {
     {"render", cmd_render}, {"merge", cmd_merge},     {"info", cmd_info},   {"devices", cmd_devices},
     {"bench", bench_command}, {"converge", cmd_converge}, {"fiber", fiber_command},
+    {"tonemap", cmd_tonemap},
 };
 
 Command find_command(const std::string& name) {

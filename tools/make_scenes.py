@@ -54,12 +54,16 @@ def distance2(a, b):
     return sum((x - y) ** 2 for x, y in zip(a, b))
 
 
-# Warm blond: little eumelanin, so absorption is low and rises towards blue (per unit radius).
+# Blond from the melanin of real hair: eumelanin 0.3, the `blond` preset of
+# host/scene/hair_presets.cpp (sigma_a = (0.126, 0.209, 0.411) per unit radius through the
+# Chiang et al. 2016 coefficients of host/fiber/material.cpp), the concentration of pbrt-v4's lock
+# in ../shared/anchors/pbrt/ that reads golden.  Its absorption rises towards blue twice as steeply
+# as the sigma_a = (0.07, 0.12, 0.26) these scenes had, which rendered grey-white.
 WARM_BLOND = {
     "name": "warm_blond",
     "extras": {
         "model": "marschner",
-        "sigma_a": [0.07, 0.12, 0.26],
+        "eumelanin": 0.3,
         "eta": 1.55,
         "alpha_r_deg": -7.5,
         "beta_r_deg": 7.5,
@@ -156,6 +160,17 @@ def scene(builtin, eye, target, yfov_deg, aspect, lights, comment, material=None
     }
 
 
+def with_hair_file(doc, uri, rotation):
+    """Replaces a scene()'s built-in hair by a node that loads the hair file `uri` (relative to the
+    scene's folder) through its extras.hairtrace_hair, rotated by `rotation` (glTF x, y, z, w),
+    with the scene's hair material."""
+    del doc["scenes"][0]["extras"]
+    doc["nodes"].append({"name": "hair", "rotation": rotation,
+                         "extras": {"hairtrace_hair": {"uri": uri, "material": doc["materials"][0]["name"]}}})
+    doc["scenes"][0]["nodes"].append(len(doc["nodes"]) - 1)
+    return doc
+
+
 # Fig. 5 lighting: a key spot from behind and to the side (light through the fibres makes blond
 # hair glow: the TT and TRT lobes) and a weak fill from the front-left for the surface (R) look.
 BACK_KEY = {"name": "back_key", "type": "spot", "color": [1.0, 0.96, 0.9],
@@ -210,6 +225,19 @@ SCENES = {
 # Marschner 2003 with w_c = 15 deg, k_G = 2.5, delta eta' = 0.3 (Fig. 4 caption).  A slight warm
 # tint: green is exactly 0.1, red a little lower, blue a little higher.  The model is the
 # near-field one; tools/reproduce-paper switches models with --model / --fiber-field.
+# Cem Yuksel's straight.hair (z-up, tips down to z = -22.8) from ../shared/data beside the
+# checkout, turned y-up (-90 deg about x: z -> y, y -> -z) onto a floor just below its tips; front
+# (+z after the turn) from the 3/4 view of host/scene/default_view.cpp, the floor scene's lights.
+SCENES["straight_on_floor.gltf"] = with_hair_file(add_floor(scene(
+    "straight", eye=[95.0, 55.0, 165.0], target=[0.0, 18.0, 3.0], yfov_deg=35.0, aspect=1.0,
+    lights=[(TOP_KEY, [-50.0, 170.0, 110.0], [0.0, -23.0, 0.0], 2.0),
+            (BACK_KEY, [80.0, 110.0, -120.0], [0.0, 20.0, 0.0], 1.0),
+            (FRONT_FILL, [-110.0, 50.0, 150.0], [0.0, 20.0, 0.0], 0.2)],
+    comment="Cem Yuksel's straight.hair (../shared/data) loaded by a node's extras.hairtrace_hair, on a "
+            "grey diffuse floor."), height=-23.0, half=150.0, albedo=(0.6, 0.6, 0.6)),
+    "../../shared/data/straight.hair", [-0.707107, 0.0, 0.0, 0.707107])
+
+
 def paper_blond(scale=1.0, name="paper_blond"):
     return {
         "name": name,

@@ -16,6 +16,7 @@ int cmd_info(const std::vector<std::string>& args);
 int cmd_devices(const std::vector<std::string>& args);
 int cmd_converge(const std::vector<std::string>& args);
 int cmd_merge(const std::vector<std::string>& args);
+int cmd_tonemap(const std::vector<std::string>& args);
 
 // Scene-loading options shared by every command that reads a scene.
 void add_scene_options(ArgParser& p);

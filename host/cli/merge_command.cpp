@@ -29,7 +29,8 @@ int cmd_merge(const std::vector<std::string>& args) {
                          "bit for bit the image one render of all the samples would have written.");
     p.positional("PART", "a part's .exr, as render --sample-range wrote it", Arity::Many)
         .path("-o", "OUT", "merged image; the extension picks the format (.exr linear float, .png sRGB 8-bit)", PathKind::Image, "", true)
-        .option("--exposure", "E|auto", "multiplier applied before tone mapping 8-bit outputs; auto maps the 95th percentile of lit pixels to 0.8", "auto")
+        .option("--exposure", "E|auto", kExposureHelp, "auto")
+        .option("--tonemap", "filmic|clip", kToneMapHelp, "filmic")
         .flag("--quiet", "no report on stderr")
         .epilog("exit codes: 0 ok, 2 parts missing, overlapping or from different renders, 3 write failure");
     p.parse(args);
@@ -42,6 +43,7 @@ int cmd_merge(const std::vector<std::string>& args) {
     const auto outputs = p.all("-o");
     if (outputs.empty()) throw UsageError("merge: no output given (-o OUT.exr and/or -o OUT.png)");
     const std::optional<double> fixed_exposure = p.get_double_or("--exposure", "auto", 0, 1e9);
+    const ToneMap tone_map = tone_map_from_name(p.get_choice("--tonemap", tone_map_names()));
     const bool quiet = p.has("--quiet");
 
     std::vector<Located> all;
@@ -103,8 +105,10 @@ int cmd_merge(const std::vector<std::string>& args) {
     meta.text["hairtrace:scene"] = first.scene;
     meta.text["hairtrace:render_key"] = hex64(first.identity.key());
     const float exposure = fixed_exposure ? float(*fixed_exposure) : auto_exposure(film);
+    meta.floats["hairtrace:exposure"] = exposure;
+    meta.text["hairtrace:tonemap"] = tone_map_name(tone_map);
     for (auto& o : outputs) {
-        write_image(o, film, meta, exposure);
+        write_image(o, film, meta, exposure, tone_map);
         if (!quiet) std::fprintf(stderr, "wrote %s (%zu parts, %d spp)\n", o.c_str(), parts.size(), grid.spp);
     }
     return kExitOk;

@@ -6,6 +6,7 @@
 #include "cli/progress.h"
 #include "cli/render_request.h"
 #include "core/errors.h"
+#include "core/hash.h"
 #include "io/image_io.h"
 #include "render/aovs.h"
 #include "render/error_metrics.h"
@@ -22,6 +23,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
@@ -258,9 +260,57 @@ void report(const PreparedRender& job, const RenderRequest& request, const RunOu
                      (unsigned long long)st.nonfinite_caught);
 }
 
+// The command line as a shell would take it back: words with spaces or quotes single-quoted.
+std::string shell_words(const std::vector<std::string>& words) {
+    std::string line;
+    for (const std::string& w : words) {
+        if (!line.empty()) line += ' ';
+        const bool plain = !w.empty() && w.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                                             "0123456789-_.,:/=+@%") == std::string::npos;
+        if (plain) {
+            line += w;
+            continue;
+        }
+        line += '\'';
+        for (char c : w) line += c == '\'' ? std::string("'\\''") : std::string(1, c);
+        line += '\'';
+    }
+    return line;
+}
+
+std::string utc_now(const char* format) {
+    const std::time_t t = std::time(nullptr);
+    std::tm tm{};
+    gmtime_r(&t, &tm);
+    char buf[64];
+    std::strftime(buf, sizeof buf, format, &tm);
+    return buf;
+}
+
+// What the image was made from, for anyone who finds the file later: command line, the render
+// identity (render/render_identity.h: geometry, materials, lights, camera and settings digests),
+// fibre models, light transport, the kernel features compiled in, and where and when.
 ImageMetadata metadata_of(const PreparedRender& job, const RenderRequest& request, const RunOutcome& out) {
     const DeviceInfo& device = job.contexts.front()->info();
     ImageMetadata meta;
+    meta.text["hairtrace:command_line"] = shell_words(request.command_line);
+    meta.text["hairtrace:render_key"] = hex64(job.identity.key());
+    meta.text["hairtrace:identity"] = job.identity.to_text();
+    std::string models;
+    for (const HairMaterialDesc& m : job.scene.materials) models += (models.empty() ? "" : ", ") + m.name + "=" + m.model;
+    meta.text["hairtrace:fiber_model"] = models;
+    const char* const field_names[] = {"material", "near", "far", "auto"};  // HT_FIELD_* order (kernels/types.h)
+    meta.text["hairtrace:fiber_field"] = field_names[std::min<uint32_t>(job.settings.fiber_field, 3)];
+    meta.text["hairtrace:indirect"] = request.image.indirect;
+    std::string features = job.settings.features == FeatureMode::All        ? "all:"
+                           : job.settings.features == FeatureMode::AllLobes ? "all-lobes:"
+                                                                            : "scene:";
+    const KernelFeatures& on = job.renderers.front()->features();
+    for (size_t f = 0; f < kFeatureCount; ++f)
+        if (on.on[f]) features += std::string(" ") + feature_define(Feature(f));
+    meta.text["hairtrace:features"] = features;
+    meta.text["hairtrace:date"] = utc_now("%Y-%m-%dT%H:%M:%SZ");
+    meta.text["DateTime"] = utc_now("%Y:%m:%d %H:%M:%S");  // the TIFF/EXIF form OIIO maps to each format's own tag
     meta.ints["hairtrace:spp"] = job.acc->samples();
     meta.ints["hairtrace:seed"] = int(job.settings.seed);
     meta.ints["hairtrace:max_depth"] = job.settings.max_depth;
@@ -292,11 +342,13 @@ void write_outputs(const PreparedRender& job, const RenderRequest& request, cons
     const Film film = job.acc->compose();
     ImageMetadata meta = metadata_of(job, request, out);
     const float exposure = request.exposure ? *request.exposure : auto_exposure(film);
-    if (!request.exposure) meta.floats["hairtrace:exposure"] = exposure;
+    meta.floats["hairtrace:exposure"] = exposure;
+    meta.text["hairtrace:tonemap"] = tone_map_name(request.tone_map);
     for (auto& o : request.outputs) {
         // A part's .exr keeps the raw sums for the merge; other formats show its mean.
         if (request.sample_range && keeps_raw_sums(o)) write_partial_exr(o, partial_image_of(job, request), meta);
-        else write_image(o, film, meta, exposure, request.aovs.empty() ? std::vector<ImageChannel>{} : aov_channels(film, request.aovs));
+        else write_image(o, film, meta, exposure, request.tone_map,
+                         request.aovs.empty() ? std::vector<ImageChannel>{} : aov_channels(film, request.aovs));
         if (!quiet) std::fprintf(stderr, "wrote %s\n", o.c_str());
     }
     if (job.reference.empty()) return;
@@ -331,7 +383,9 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
         std::cout << p.help();
         return kExitOk;
     }
-    const RenderRequest request = parse_render_request(p);
+    RenderRequest request = parse_render_request(p);
+    request.command_line = {"hairtrace", "render"};
+    request.command_line.insert(request.command_line.end(), args.begin(), args.end());
     const bool root = dist.rank == 0;
     const bool quiet = request.quiet || !root;  // one progress report per job, from rank 0
     PreparedRender job;

@@ -33,7 +33,8 @@ struct OptionRow {
 const OptionRow kOptions[] = {
     {"output", "-o", "OUT", "output image; the extension picks the format (.exr/.hdr/.tif linear float, .png/.jpg sRGB 8-bit)", "", Kind::Images, kRender},
     {"output", "--aovs", "LIST", "comma-separated output values, written as extra channels of the .exr/.hdr/.tif outputs: alpha (A: coverage), depth (Z: mean hit distance), tangent (first hit's fibre tangent), albedo (first vertex's directional albedo), direct, indirect (light scattered at most once / more; direct + indirect = the beauty), R, TT, TRT, residual (the hair's share split by the lobes of the first hair vertex); not with --checkpoint, --resume, --sample-range or MPI yet", "", Kind::Value, kRender},
-    {"output", "--exposure", "E|auto", "multiplier applied before tone mapping 8-bit outputs; auto maps the 95th percentile of lit pixels to 0.8 (linear outputs are never scaled)", "auto", Kind::Value, kRender},
+    {"output", "--exposure", "E|auto", kExposureHelp, "auto", Kind::Value, kRender},
+    {"output", "--tonemap", "filmic|clip", kToneMapHelp, "filmic", Kind::Value, kRender},
 
     {"sampling", "--width", "W", "image width in pixels", "512", Kind::Value, kRender},
     {"sampling", "--height", "H", "image height in pixels", "512", Kind::Value, kRender},
@@ -222,6 +223,7 @@ RenderRequest parse_render_request(const ArgParser& p) {
         r.aovs = parse_aov_list_of(p.get("--aovs"), r);
         r.image.settings.aovs = true;
     }
+    r.tone_map = tone_map_from_name(p.get_choice("--tonemap", tone_map_names()));
     r.verbose = p.has("--verbose");
     r.profile = r.image.settings.profile_stages = p.has("--profile");
     r.quiet = p.has("--quiet");

@@ -6,6 +6,7 @@
 
 #include "cli/args.h"
 #include "cli/commands.h"
+#include "io/image_io.h"
 #include "split/accumulation.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
@@ -55,7 +56,9 @@ struct RenderRequest {
     double checkpoint_every = 60;
     std::optional<float> exposure;          // nullopt: auto
     std::vector<std::string> aovs;          // --aovs, in the order given (render/aovs.h names)
+    ToneMap tone_map = ToneMap::Filmic;     // --tonemap, for 8-bit outputs
     bool verbose = false, profile = false, quiet = false;
+    std::vector<std::string> command_line;  // every word, for the images' metadata (set by the command)
 };
 
 // The words --model and --indirect accept (converge's --configs keys take the same).

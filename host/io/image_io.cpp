@@ -20,11 +20,63 @@ std::string lower_ext(const std::string& path) {
     return e;
 }
 
+float clean(float x) {
+    if (!(x > 0)) return 0.0f;  // NaN and negatives
+    return std::min(x, 1e30f);  // +inf: very bright but finite, so that ratios stay defined
+}
+
 float srgb_encode(float x) {
     x = std::clamp(x, 0.0f, 1.0f);
     return x <= 0.0031308f ? 12.92f * x : 1.055f * std::pow(x, 1.0f / 2.4f) - 0.055f;
 }
 }  // namespace
+
+const std::vector<std::string>& tone_map_names() {
+    static const std::vector<std::string> names = {"filmic", "clip"};
+    return names;
+}
+
+ToneMap tone_map_from_name(const std::string& name) { return name == "clip" ? ToneMap::Clip : ToneMap::Filmic; }
+
+const std::string& tone_map_name(ToneMap t) { return tone_map_names()[t == ToneMap::Clip ? 1 : 0]; }
+
+const char* const kToneMapHelp =
+    "how 8-bit outputs map radiance to display values: filmic = a curve on luminance with the colour scaled by "
+    "the same ratio (keeps hue; bright saturated colours are desaturated only as far as they must to fit, "
+    "near white), clip = each channel clipped at 1 (the old behaviour; highlights shift towards white-yellow)";
+const char* const kExposureHelp =
+    "multiplier applied before tone mapping 8-bit outputs; auto maps the 95th percentile of lit pixels' "
+    "luminance to 0.8 (linear outputs are never scaled)";
+
+float filmic_curve(float x) {
+    constexpr float knee = 0.6f, room = 1.0f - knee;
+    x = clean(x);
+    if (x <= knee) return x;
+    return knee + room * (1.0f - std::exp(-(x - knee) / room));
+}
+
+void tone_map_pixel(const float in[3], float out[3], ToneMap mode) {
+    const float c[3] = {clean(in[0]), clean(in[1]), clean(in[2])};
+    if (mode == ToneMap::Clip) {
+        for (int k = 0; k < 3; ++k) out[k] = std::min(c[k], 1.0f);
+        return;
+    }
+    const float lum = 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2];
+    if (!(lum > 0)) {  // black, or a colour with no luminance at all: nothing to show
+        out[0] = out[1] = out[2] = 0.0f;
+        return;
+    }
+    const float display = filmic_curve(lum);
+    const float scale = display / lum;
+    float top = 0.0f;
+    for (int k = 0; k < 3; ++k) top = std::max(top, out[k] = c[k] * scale);
+    // Out of gamut: mix towards grey of the same luminance until the top channel is 1.  Hue (the
+    // direction away from grey) and luminance stay; display < 1 so the mix factor is in (0, 1].
+    if (top > 1.0f) {
+        const float keep = (1.0f - display) / (top - display);
+        for (int k = 0; k < 3; ++k) out[k] = std::clamp(display + keep * (out[k] - display), 0.0f, 1.0f);
+    }
+}
 
 bool is_float_format(const std::string& path) {
     std::string e = lower_ext(path);
@@ -57,7 +109,7 @@ float auto_exposure(const Film& film) {
 }
 
 void write_image(const std::string& path, const Film& film, const ImageMetadata& meta, float exposure,
-                 const std::vector<ImageChannel>& extra) {
+                 ToneMap tone_map, const std::vector<ImageChannel>& extra) {
     std::string ext = lower_ext(path);
     if (ext.empty()) throw ImageError(path + ": no file extension to choose an image format from");
     bool linear = is_float_format(path);
@@ -79,9 +131,24 @@ void write_image(const std::string& path, const Film& film, const ImageMetadata&
             else if (extra[e].name == "Z") spec.z_channel = int(3 + e);
     }
     if (ext == ".exr") spec.attribute("compression", "zip");
-    for (auto& [k, v] : meta.text) spec.attribute(k, v);
-    for (auto& [k, v] : meta.ints) spec.attribute(k, v);
-    for (auto& [k, v] : meta.floats) spec.attribute(k, v);
+    // EXR keeps typed attributes; OIIO's PNG writer keeps only text ones (tEXt chunks) and drops
+    // numbers silently, and its JPEG and TIFF writers keep neither, only standard tags.  So
+    // other formats get the numbers as text, and every entry once more as "key: value" lines in
+    // the standard ImageDescription (a JPEG comment, a TIFF tag).
+    const bool typed = ext == ".exr";
+    std::string description;
+    auto put_text = [&](const std::string& k, const std::string& v) {
+        spec.attribute(k, v);
+        description += k + ": " + v + "\n";
+    };
+    for (auto& [k, v] : meta.text) put_text(k, v);
+    for (auto& [k, v] : meta.ints) typed ? spec.attribute(k, v) : put_text(k, std::to_string(v));
+    for (auto& [k, v] : meta.floats) {
+        char text[32];
+        std::snprintf(text, sizeof text, "%.9g", double(v));
+        typed ? spec.attribute(k, v) : put_text(k, text);
+    }
+    if (!typed && !description.empty()) spec.attribute("ImageDescription", description);
     spec.attribute("oiio:ColorSpace", linear ? "Linear" : "sRGB");
     spec.attribute("Software", std::string("hairtrace ") + HT_VERSION);
 
@@ -89,8 +156,12 @@ void write_image(const std::string& path, const Film& film, const ImageMetadata&
     const void* data = rgb.data();
     if (!linear) {
         bytes.resize(rgb.size());
-        for (size_t i = 0; i < rgb.size(); ++i)
-            bytes[i] = (unsigned char)std::lround(255.0f * srgb_encode(rgb[i] * exposure));
+        for (size_t i = 0; i < rgb.size(); i += 3) {
+            const float exposed[3] = {rgb[i] * exposure, rgb[i + 1] * exposure, rgb[i + 2] * exposure};
+            float display[3];
+            tone_map_pixel(exposed, display, tone_map);
+            for (int k = 0; k < 3; ++k) bytes[i + k] = (unsigned char)std::lround(255.0f * srgb_encode(display[k]));
+        }
         data = bytes.data();
     }
 

@@ -28,10 +28,39 @@ struct ImageChannel {
 // Mean radiance per pixel, RGB, row 0 at the top.
 std::vector<float> film_to_rgb(const Film& film);
 
-// Throws ImageError naming the file on failure.  `extra` channels go into float formats only
-// (8-bit images hold the tone-mapped beauty).
+// How 8-bit outputs map radiance (after --exposure) to display values in [0, 1].
+//  * Filmic (the default) keeps hue: the curve filmic_curve() is applied to the luminance
+//    (Rec. 709 weights) and all three channels are scaled by the same ratio, so a blond lock keeps
+//    its hue in the highlights instead of going grey-white as channels clip one by one.  Where the
+//    scaled colour would leave the display gamut (a channel above 1: bright saturated colours
+//    only), it is mixed towards the grey of the same luminance just enough to fit: luminance and
+//    hue stay, saturation drops, and only near white.
+//  * Clip: the colour times the exposure, each channel clipped to [0, 1] (the behaviour before
+//    the filmic mapping; saturated highlights turn white-yellow, hue shifts channel by channel).
+enum class ToneMap { Filmic, Clip };
+const std::vector<std::string>& tone_map_names();  // "filmic", "clip": --tonemap's words
+ToneMap tone_map_from_name(const std::string& name);  // a name of tone_map_names()
+const std::string& tone_map_name(ToneMap t);
+// --tonemap's help and --exposure's, shared by every command that writes 8-bit images.
+extern const char* const kToneMapHelp;
+extern const char* const kExposureHelp;
+
+// The filmic curve on luminance: the identity up to the knee 0.6 (auto exposure puts the 95th
+// percentile at 0.8, just above it), then an exponential shoulder that meets it with slope 1
+// and approaches 1 without reaching it: f(0.8) = 0.757, f(1) = 0.853, f(2) = 0.988.  Monotone;
+// 0 for NaN and anything <= 0, 1 for +infinity.
+float filmic_curve(float luminance);
+
+// One pixel: linear rgb (already multiplied by the exposure) to display-linear rgb in [0, 1]
+// (sRGB encoding comes after).  NaN and negative channels count as 0, +infinity as very bright.
+void tone_map_pixel(const float in[3], float out[3], ToneMap mode);
+
+// Throws ImageError naming the file on failure.  `exposure` and `tone_map` shape 8-bit outputs
+// only; float formats get the radiance unchanged, and the `extra` channels after R, G, B
+// (8-bit images hold the tone-mapped beauty only).
 void write_image(const std::string& path, const Film& film, const ImageMetadata& meta,
-                 float exposure = 1.0f, const std::vector<ImageChannel>& extra = {});
+                 float exposure = 1.0f, ToneMap tone_map = ToneMap::Filmic,
+                 const std::vector<ImageChannel>& extra = {});
 
 // Reads a float RGB(A) image (reference images): width, height, rgb (3 per pixel).
 std::vector<float> read_rgb_image(const std::string& path, int& width, int& height);

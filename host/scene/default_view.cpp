@@ -1,5 +1,5 @@
 // The view a scene gets when its file says nothing: which way is up, a camera that looks at the
-// hair from the side, and a light rig.  README "Scenes" documents the same rules for users.
+// hair from the side, and a light rig.  docs/CLI.md "Scenes" documents the same rules for users.
 //
 // Up axis (detect_up_axis).  Hair grows from its root (a strand's first point) to its tip (the
 // last), and on a head or a lock gravity pulls tips below roots; so, in order:

@@ -29,6 +29,11 @@
 //     scene's or the asset's extras adds that built-in hair; `"hairtrace_material"` (a material
 //     index or name) gives it a glTF material, otherwise it keeps its own.  The built-in's camera
 //     and light are used only when the file has none.
+//   * `"hairtrace_hair": {"uri": "straight.hair", "material": 0}` in a node's extras loads that
+//     hair file (any format load_scene reads but glTF; the uri relative to this file's folder),
+//     transformed by the node's world transform (radii by its uniform scale, as for LINES), with
+//     the glTF material given by index or name, else the file's own.  Schema and errors in
+//     scenes/README.md; an example is scenes/straight_on_floor.gltf.
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -234,6 +239,8 @@ private:
             const auto light_ext = node.extensions.find("KHR_lights_punctual");
             if (light_ext != node.extensions.end()) add_light(light_ext->second, world, index);
             if (node.mesh >= 0) add_mesh(node.mesh, world, index);
+            if (node.extras.IsObject() && node.extras.Has("hairtrace_hair"))
+                add_hair_file(node.extras.Get("hairtrace_hair"), world, index);
             // reversed, so children are visited in file order
             for (auto c = node.children.rbegin(); c != node.children.rend(); ++c) todo.push_back({*c, world});
         }
@@ -593,24 +600,9 @@ private:
         } catch (const SceneError& e) {
             scene_fail(file_, "extras.hairtrace_builtin: ", e.what());
         }
-        uint32_t material;
-        if (const tinygltf::Value* m = scene_extras_value("hairtrace_material")) {
-            material = material_index(find_material(*m));
-        } else {
-            material = static_cast<uint32_t>(scene_.materials.size());
-            scene_.materials.push_back(builtin.materials.at(0));
-        }
-        Strands& s = scene_.strands;
-        const Strands& b = builtin.strands;
-        check_scene_size(file_, "with the built-in hair the scene has",
-                         s.strand_count() + b.strand_count(), s.point_count() + b.point_count(), opt_);
-        if (s.first_point.empty()) s.first_point.push_back(0);
-        labels_.push_back({s.strand_count(), "builtin:" + spec->Get<std::string>()});
-        const uint32_t offset = static_cast<uint32_t>(s.points.size());
-        s.points.insert(s.points.end(), b.points.begin(), b.points.end());
-        s.radius.insert(s.radius.end(), b.radius.begin(), b.radius.end());
-        for (size_t i = 1; i < b.first_point.size(); ++i) s.first_point.push_back(offset + b.first_point[i]);
-        s.material.insert(s.material.end(), b.strand_count(), material);
+        const tinygltf::Value* m = scene_extras_value("hairtrace_material");
+        append_hair(builtin, "builtin:" + spec->Get<std::string>(), "the built-in hair",
+                    m ? find_material(*m, "extras.hairtrace_material") : -1, nullptr);
         // The file's own camera and lights win; the built-in's frame its hair otherwise.
         if (!scene_.has_camera && builtin.has_camera) {
             scene_.camera = builtin.camera;
@@ -619,19 +611,85 @@ private:
         if (scene_.lights.empty()) scene_.lights = builtin.lights;
     }
 
-    int find_material(const tinygltf::Value& v) const {
+    // `what` names the key in messages, e.g. "extras.hairtrace_material".
+    int find_material(const tinygltf::Value& v, const std::string& what) const {
         if (v.IsInt()) {
             const int index = v.Get<int>();
             if (index < 0 || static_cast<size_t>(index) >= model_.materials.size())
-                scene_fail(file_, "extras.hairtrace_material: material ", index, " does not exist");
+                scene_fail(file_, what, ": material ", index, " does not exist");
             return index;
         }
         if (v.IsString()) {
             for (size_t i = 0; i < model_.materials.size(); ++i)
                 if (model_.materials[i].name == v.Get<std::string>()) return static_cast<int>(i);
-            scene_fail(file_, "extras.hairtrace_material: no material named \"", v.Get<std::string>(), "\"");
+            scene_fail(file_, what, ": no material named \"", v.Get<std::string>(), "\"");
         }
-        scene_fail(file_, "extras.hairtrace_material must be a material index or name");
+        scene_fail(file_, what, " must be a material index or name");
+    }
+
+    // Adds the strands of `other` (a built-in or a loaded hair file) under `label`: with the glTF
+    // material `gltf_material` for all of them, else (-1) with `other`'s own materials; points moved by
+    // `*world` when given, radii scaled by its uniform scale (as add_hair_primitive does).
+    void append_hair(const Scene& other, const std::string& label, const std::string& what,
+                     int gltf_material, const glm::dmat4* world) {
+        std::vector<uint32_t> material_of(other.materials.size());
+        for (size_t i = 0; i < material_of.size(); ++i) {
+            if (gltf_material >= 0) {
+                material_of[i] = material_index(gltf_material);
+            } else {
+                material_of[i] = static_cast<uint32_t>(scene_.materials.size());
+                scene_.materials.push_back(other.materials[i]);
+            }
+        }
+        Strands& s = scene_.strands;
+        const Strands& b = other.strands;
+        check_scene_size(file_, str_cat("with ", what, " the scene has"), s.strand_count() + b.strand_count(),
+                         s.point_count() + b.point_count(), opt_);
+        if (s.first_point.empty()) s.first_point.push_back(0);
+        labels_.push_back({s.strand_count(), label});
+        const uint32_t offset = static_cast<uint32_t>(s.points.size());
+        if (world) {
+            const double scale = std::cbrt(std::abs(glm::determinant(glm::dmat3(*world))));
+            if (!is_uniform_scale(glm::dmat3(*world), scale)) ++nonuniform_hair_nodes_;
+            for (const Vec3f& p : b.points)
+                s.points.push_back(to_vec3f(glm::dvec3(*world * glm::dvec4(p[0], p[1], p[2], 1.0))));
+            for (float r : b.radius) s.radius.push_back(static_cast<float>(r * scale));
+        } else {
+            s.points.insert(s.points.end(), b.points.begin(), b.points.end());
+            s.radius.insert(s.radius.end(), b.radius.begin(), b.radius.end());
+        }
+        for (size_t i = 1; i < b.first_point.size(); ++i) s.first_point.push_back(offset + b.first_point[i]);
+        for (uint32_t m : b.material) s.material.push_back(material_of.at(m));
+    }
+
+    // A node's extras.hairtrace_hair: {"uri": FILE, "material": INDEX|NAME (optional)}.
+    void add_hair_file(const tinygltf::Value& v, const glm::dmat4& world, int node) {
+        const std::string what = str_cat("node ", node, " extras.hairtrace_hair");
+        if (!v.IsObject())
+            scene_fail(file_, what, " must be an object like {\"uri\": \"straight.hair\", \"material\": 0}");
+        for (const std::string& key : v.Keys())
+            if (key != "uri" && key != "material")
+                scene_fail(file_, what, ": unknown key \"", key, "\" (known: uri, material)");
+        if (!v.Has("uri") || !v.Get("uri").IsString() || v.Get("uri").Get<std::string>().empty())
+            scene_fail(file_, what, ": \"uri\" must name a hair file (a non-empty string)");
+        const std::string uri = v.Get("uri").Get<std::string>();
+        std::string ext = uri.substr(std::min(uri.size(), uri.find_last_of('.')));
+        for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        // A glTF here could reference itself; and "builtin:" is the scene extras' job.
+        if (ext == ".gltf" || ext == ".glb" || uri.rfind("builtin:", 0) == 0)
+            scene_fail(file_, what, ": \"", uri, "\" is not a hair file (.hair, .data, .ply, .obj, .pbrt, .pbrt.gz)");
+        const int material = v.Has("material") ? find_material(v.Get("material"), what + ".material") : -1;
+        const double det = glm::determinant(glm::dmat3(world));
+        if (!(std::abs(det) > 0.0)) scene_fail(file_, "node ", node, ": transform has zero scale");
+        const std::string path = uri[0] == '/' ? uri : directory_of(file_) + "/" + uri;
+        Scene hair;
+        try {
+            hair = load_scene(path, opt_);
+        } catch (const SceneError& e) {
+            scene_fail(file_, what, ": ", e.what());
+        }
+        for (const std::string& w : hair.warnings) scene_.warnings.push_back(w);
+        append_hair(hair, uri, what, material, &world);
     }
 
     void fill_missing_radii() {

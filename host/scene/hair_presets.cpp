@@ -1,6 +1,6 @@
 // Melanin concentrations of real hair colours, turned into absorption by sigma_a_from_melanin
 // (host/fiber/material.cpp).  Blond, brown and black are the concentrations the Chiang model is
-// usually given for them (README "Hair colour" has the sources); red is ours: a blond base plus
+// usually given for them (docs/CLI.md "Scenes", hair colour, has the sources); red is ours: a blond base plus
 // enough pheomelanin that red clearly dominates (sigma_a ~ 0.41, 0.81, 1.99 per unit radius).
 #include "scene/hair_presets.h"
 

@@ -27,7 +27,7 @@ double seconds_of(const std::string& cmd, int* code) {
 TEST(Cli, EveryCommandPrintsItsHelpWithExit0) {
     TempDir d("ht_cli_");
     for (const std::string c : {"render --help", "merge --help", "info --help", "devices --help", "bench --help",
-                                "converge --help", "fiber --help", "fiber eval --help", "fiber sample -h",
+                                "converge --help", "tonemap --help", "fiber --help", "fiber eval --help", "fiber sample -h",
                                 "fiber furnace -h", "fiber afs -h", "render -h", "bench -h"}) {
         EXPECT_EQ(run(kBin + " " + c + " >" + (d / "help.txt") + " 2>&1"), 0) << c;
         EXPECT_NE(slurp(d / "help.txt").find("usage: hairtrace " + c.substr(0, c.find(' '))), std::string::npos)
@@ -128,7 +128,11 @@ TEST(Cli, MissingInputsExit2) {
     EXPECT_EQ(run(small + " --resume " + (d / "missing.ckpt") + " 2>/dev/null"), 2);
     EXPECT_EQ(run(kBin + " render " + (d / "missing.hair") + " -o " + (d / "x.exr") + " 2>/dev/null"), 2);
     EXPECT_EQ(run(kBin + " bench --hair " + (d / "missing.hair") + " 2>/dev/null"), 2);
+    EXPECT_EQ(run(kBin + " tonemap " + (d / "missing.exr") + " -o " + (d / "x.png") + " 2>/dev/null"), 2);
+    EXPECT_EQ(run(kBin + " tonemap " + (d / "junk.exr") + " -o " + (d / "x.png") + " 2>/dev/null"), 2);
+    EXPECT_EQ(run(small + " --tonemap aces 2>/dev/null"), 2);
     EXPECT_FALSE(fs::exists(d / "x.exr"));
+    EXPECT_FALSE(fs::exists(d / "x.png"));
 }
 
 // In a log, progress is whole lines (a terminal gets \r updates instead).

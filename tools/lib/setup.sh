@@ -1,10 +1,16 @@
 # Shared set-up for tools/demo and tools/test: Debian packages, configure, build.
 # Sourced, not run.  Respects BUILD_DIR (default build) and BUILD_TYPE (default Release).
 
-HT_PACKAGES=(build-essential cmake pkg-config git pocl-opencl-icd ocl-icd-opencl-dev opencl-clhpp-headers
-             clinfo libopenimageio-dev libglm-dev libtinygltf-dev libtinyobjloader-dev zlib1g-dev nlohmann-json3-dev libgtest-dev
-             libgmock-dev libbenchmark-dev clang libclang-rt-14-dev fonts-dejavu-core
-             libopenmpi-dev openmpi-bin)
+# What building and rendering need (tools/demo): compiler, CMake, an OpenCL runtime (PoCL) and
+# headers, and the libraries CMakeLists.txt requires.
+HT_RUNTIME_PACKAGES=(build-essential cmake pkg-config pocl-opencl-icd ocl-icd-opencl-dev opencl-clhpp-headers
+                     libopenimageio-dev libglm-dev libtinygltf-dev libtinyobjloader-dev zlib1g-dev nlohmann-json3-dev)
+# Everything the tests use besides (tools/test, CI): GoogleTest and Benchmark, clang for the
+# kernel portability check and the sanitizers, the converge plot's font, Open MPI for the MPI
+# equality tests, clinfo and git.
+HT_TEST_PACKAGES=(git clinfo libgtest-dev libgmock-dev libbenchmark-dev clang libclang-rt-14-dev fonts-dejavu-core
+                  libopenmpi-dev openmpi-bin)
+HT_PACKAGES=("${HT_RUNTIME_PACKAGES[@]}" "${HT_TEST_PACKAGES[@]}")
 
 ht_missing_packages() {
     local missing=()
@@ -14,7 +20,9 @@ ht_missing_packages() {
     echo "${missing[@]:-}"
 }
 
+# ht_install_packages [runtime]: every package, or with `runtime` only HT_RUNTIME_PACKAGES.
 ht_install_packages() {
+    if [ "${1:-}" = runtime ]; then HT_PACKAGES=("${HT_RUNTIME_PACKAGES[@]}"); fi
     local missing
     missing=$(ht_missing_packages)
     [ -z "$missing" ] && return 0
