@@ -231,24 +231,30 @@ double parse_double(const std::string& what, const std::string& text, double lo,
     return v;
 }
 
+std::vector<std::string> split_fields(const std::string& text, char sep) {
+    std::vector<std::string> fields;
+    size_t start = 0;
+    for (;;) {
+        const size_t end = text.find(sep, start);
+        fields.push_back(text.substr(start, end == std::string::npos ? std::string::npos : end - start));
+        if (end == std::string::npos) return fields;
+        start = end + 1;
+    }
+}
+
 std::vector<double> parse_number_list(const std::string& what, const std::string& text, size_t count,
                                       const char* form) {
     const UsageError error(what + " expects " + form + " numbers, got '" + text + "'");
+    const std::vector<std::string> items = split_fields(text, ',');
+    if (items.size() != count) throw error;
     std::vector<double> v;
-    size_t start = 0;
-    for (;;) {
-        const size_t comma = text.find(',', start);
-        const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-        if (v.size() == count) throw error;
+    for (const std::string& item : items) {
         try {
             v.push_back(parse_double(what, item, -HUGE_VAL, HUGE_VAL));
         } catch (const UsageError&) {
             throw error;
         }
-        if (comma == std::string::npos) break;
-        start = comma + 1;
     }
-    if (v.size() != count) throw error;
     return v;
 }
 

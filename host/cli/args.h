@@ -36,6 +36,9 @@ std::string did_you_mean(const std::string& word, const std::vector<std::string>
 // Each throws a UsageError naming `what` and the expected form.
 int parse_int(const std::string& what, const std::string& text, long lo, long hi);
 double parse_double(const std::string& what, const std::string& text, double lo, double hi);
+// "a,,b," -> "a", "", "b", "": every field between separators, empty ones included (so that a
+// stray separator is reported by whoever checks the fields).
+std::vector<std::string> split_fields(const std::string& text, char sep);
 // "a,b,c": exactly `count` finite numbers; `form` names them in the message ("x,y,z").
 std::vector<double> parse_number_list(const std::string& what, const std::string& text, size_t count,
                                       const char* form);

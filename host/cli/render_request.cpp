@@ -178,14 +178,9 @@ namespace {
 // --aovs: known names, each once, and somewhere to write them.
 std::vector<std::string> parse_aov_list_of(const std::string& text, const RenderRequest& r) {
     std::vector<std::string> names;
-    size_t start = 0;
-    for (;;) {
-        const size_t comma = text.find(',', start);
-        const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    for (const std::string& item : split_fields(text, ',')) {
         const std::string& name = require_choice("--aovs", item, aov_names());
         if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
-        if (comma == std::string::npos) break;
-        start = comma + 1;
     }
     if (std::none_of(r.outputs.begin(), r.outputs.end(), [](const std::string& o) { return is_float_format(o); }))
         throw UsageError("--aovs needs an .exr, .hdr or .tif output: 8-bit images hold the tone-mapped beauty only");

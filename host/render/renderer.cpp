@@ -200,12 +200,12 @@ struct Renderer::Impl {
         a = set_paged_args(k_shade, a, device_geometry.segments);
         a = set_paged_args(k_shade, a, device_geometry.points);
         a = set_paged_args(k_shade, a, device_geometry.triangles);
-        a = set_scene_args(k_shade, a, scene);
+        a = set_bundle_args(k_shade, a, scene);
         const ShadeQueue queue{queue_rays(q), buffer(PathBuffer::Hits), queue_paths(q), count,
                                buffer(PathBuffer::Paths), buffer(PathBuffer::ShadowRays),
                                buffer(PathBuffer::ShadowContrib), buffer(PathBuffer::StageRays),
                                buffer(PathBuffer::StagePath), counters};
-        a = set_shade_queue_args(k_shade, a, queue);
+        a = set_bundle_args(k_shade, a, queue);
         const HtBounce b{settings.seed, sample, bounce, uint32_t(settings.max_depth), settings.fiber_field,
                          prepared.pixel_angle, 0, 0};
         k_shade.setArg(a++, b);

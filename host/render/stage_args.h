@@ -1,6 +1,6 @@
 // The host side of the stage kernels' argument bundles (kernels/stages/stage_args.h): one struct
-// per bundle and one function that sets it, with the names in the kernels' order declared once
-// here (tests/render/stage_args_test.cpp compares them with the compiled kernels').
+// per bundle, the names in the kernels' order declared once here, and one template that sets any
+// bundle (tests/render/stage_args_test.cpp compares the names with the compiled kernels').
 #pragma once
 
 #include "kernels/types.h"
@@ -24,7 +24,7 @@ struct SceneBuffers {
 
 // Calls f(name, value) for each argument of the bundle, in the kernels' order.
 template <typename F>
-void for_each_scene_arg(const SceneBuffers& s, F&& f) {
+void for_each_arg(const SceneBuffers& s, F&& f) {
     f("textures", s.textures);
     f("texture_count", s.texture_count);
     f("texels", s.texels);
@@ -46,7 +46,7 @@ struct ShadeQueue {
 };
 
 template <typename F>
-void for_each_shade_queue_arg(const ShadeQueue& q, F&& f) {
+void for_each_arg(const ShadeQueue& q, F&& f) {
     f("rays", q.rays);
     f("hits", q.hits);
     f("ray_path", q.ray_path);
@@ -59,12 +59,19 @@ void for_each_shade_queue_arg(const ShadeQueue& q, F&& f) {
     f("counters", q.counters);
 }
 
-// Sets a bundle from argument index a on; returns the next free index.
-cl_uint set_scene_args(cl::Kernel& k, cl_uint a, const SceneBuffers& s);
-cl_uint set_shade_queue_args(cl::Kernel& k, cl_uint a, const ShadeQueue& q);
+// Sets a bundle (either struct above) from argument index a on; returns the next free index.
+template <typename Bundle>
+cl_uint set_bundle_args(cl::Kernel& k, cl_uint a, const Bundle& b) {
+    for_each_arg(b, [&](const char*, const auto& value) { k.setArg(a++, value); });
+    return a;
+}
 
-// The bundles' argument names, in order.
-std::vector<std::string> scene_arg_names();
-std::vector<std::string> shade_queue_arg_names();
+// A bundle's argument names, in order.
+template <typename Bundle>
+std::vector<std::string> bundle_arg_names() {
+    std::vector<std::string> names;
+    for_each_arg(Bundle{}, [&](const char* name, const auto&) { names.push_back(name); });
+    return names;
+}
 
 }  // namespace ht

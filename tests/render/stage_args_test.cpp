@@ -25,8 +25,8 @@ TEST(StageArgs, ShadeTakesGeometrySceneQueueAndBounceInTheHostsOrder) {
     const std::string options = ht::kernel_build_options(ht::KernelFeatures{}) + " -cl-kernel-arg-info";
     cl::Program prog = cl.build("stages/wavefront.cl", options);
     std::vector<std::string> expected = {"segs", "points", "tri_shading"};  // unpaged geometry
-    for (const std::string& n : ht::scene_arg_names()) expected.push_back(n);
-    for (const std::string& n : ht::shade_queue_arg_names()) expected.push_back(n);
+    for (const std::string& n : ht::bundle_arg_names<ht::SceneBuffers>()) expected.push_back(n);
+    for (const std::string& n : ht::bundle_arg_names<ht::ShadeQueue>()) expected.push_back(n);
     expected.push_back("b");
     EXPECT_EQ(kernel_arg_names(cl::Kernel(prog, "shade")), expected);
 }
