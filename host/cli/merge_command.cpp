@@ -2,12 +2,14 @@
 //
 // The parts' segments are folded in the canonical chunk order (split/accumulation.h), so the
 // result is bit for bit the image one `hairtrace render` with the same --spp/--chunk/--seed would
-// have written.  The parts must come from the same render (same render identity, size, seed, spp,
-// chunk), be disjoint and together cover [0, spp); anything else is reported and exits 2.
+// have written, AOV channels (render --aovs) included.  The parts must come from the same render
+// (same render identity, size, seed, spp, chunk), be disjoint and together cover [0, spp);
+// anything else is reported and exits 2.
 #include "cli/commands.h"
 #include "cli/path_checks.h"
 #include "core/hash.h"
 #include "io/image_io.h"
+#include "render/aovs.h"
 #include "split/accumulation.h"
 #include "split/partial_image.h"
 
@@ -92,7 +94,8 @@ int cmd_merge(const std::vector<std::string>& args) {
         throw SceneError(msg);
     }
 
-    SampleAccumulator acc(grid, first.width, first.height);
+    // equal identities mean equal AOV lists (render/render_identity.h)
+    SampleAccumulator acc(grid, first.width, first.height, aov_sums_per_pixel(first.aovs));
     for (auto& l : all) acc.add(std::move(l.seg));
     const Film film = acc.compose();
     ImageMetadata meta;
@@ -107,8 +110,9 @@ int cmd_merge(const std::vector<std::string>& args) {
     const float exposure = fixed_exposure ? float(*fixed_exposure) : auto_exposure(film);
     meta.floats["hairtrace:exposure"] = exposure;
     meta.text["hairtrace:tonemap"] = tone_map_name(tone_map);
+    const std::vector<ImageChannel> aovs = aov_channels(film, first.aovs);
     for (auto& o : outputs) {
-        write_image(o, film, meta, exposure, tone_map);
+        write_image(o, film, meta, exposure, tone_map, aovs);
         if (!quiet) std::fprintf(stderr, "wrote %s (%zu parts, %d spp)\n", o.c_str(), parts.size(), grid.spp);
     }
     return kExitOk;

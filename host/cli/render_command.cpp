@@ -136,8 +136,6 @@ void prepare(PreparedRender& job, const RenderRequest& request, const DistContex
     job.range = request.sample_range.value_or(SampleRange{0, request.grid.spp});
     job.my_range = rank_range(job.range, request.grid, dist.rank, dist.ranks);
     job.rank_suffix = dist.ranks > 1 ? ".rank" + std::to_string(dist.rank) : "";
-    if (!request.aovs.empty() && dist.ranks > 1)
-        throw UsageError("--aovs cannot be combined with MPI ranks yet: the reduction keeps the beauty only");
     if (!request.image.kernel_dir.empty()) set_kernel_dir(request.image.kernel_dir);
     load_inputs(job, request, quiet);
     if (!quiet && dist.mpi) {
@@ -145,8 +143,9 @@ void prepare(PreparedRender& job, const RenderRequest& request, const DistContex
         if (!w.empty()) std::fprintf(stderr, "warning: %s\n", w.c_str());
     }
     open_devices(job, request, quiet);
-    job.identity = render_identity(job.scene, *job.prepared, request.grid.chunk);
-    job.acc = std::make_unique<SampleAccumulator>(request.grid, job.settings.width, job.settings.height);
+    job.identity = render_identity(job.scene, *job.prepared, request.grid.chunk, request.aovs);
+    job.acc = std::make_unique<SampleAccumulator>(request.grid, job.settings.width, job.settings.height,
+                                                  aov_sums_per_pixel(request.aovs));
     if (!request.resume.empty()) resume_samples(job, request, dist, quiet);
 }
 
@@ -164,6 +163,7 @@ void save_state(const PreparedRender& job, const RenderRequest& request, const D
     c.range_end = uint32_t(job.my_range.end);
     c.rank = uint32_t(dist.rank);
     c.ranks = uint32_t(dist.ranks);
+    c.aov_sums = uint32_t(job.acc->aov_sums());
     c.identity = job.identity;
     c.segments = job.acc->segments();
     save_checkpoint(request.checkpoint + job.rank_suffix, c);
@@ -334,6 +334,7 @@ PartialImage partial_image_of(const PreparedRender& job, const RenderRequest& re
     part.seed = job.settings.seed;
     part.identity = job.identity;
     part.scene = job.scene.source;
+    part.aovs = request.aovs;
     part.segments = job.acc->segments();
     return part;
 }
@@ -344,11 +345,11 @@ void write_outputs(const PreparedRender& job, const RenderRequest& request, cons
     const float exposure = request.exposure ? *request.exposure : auto_exposure(film);
     meta.floats["hairtrace:exposure"] = exposure;
     meta.text["hairtrace:tonemap"] = tone_map_name(request.tone_map);
+    const std::vector<ImageChannel> aovs = aov_channels(film, request.aovs);
     for (auto& o : request.outputs) {
         // A part's .exr keeps the raw sums for the merge; other formats show its mean.
         if (request.sample_range && keeps_raw_sums(o)) write_partial_exr(o, partial_image_of(job, request), meta);
-        else write_image(o, film, meta, exposure, request.tone_map,
-                         request.aovs.empty() ? std::vector<ImageChannel>{} : aov_channels(film, request.aovs));
+        else write_image(o, film, meta, exposure, request.tone_map, aovs);
         if (!quiet) std::fprintf(stderr, "wrote %s\n", o.c_str());
     }
     if (job.reference.empty()) return;

@@ -32,7 +32,7 @@ struct OptionRow {
 // them.  A new option is one row here and one line in parse_image_request/parse_render_request.
 const OptionRow kOptions[] = {
     {"output", "-o", "OUT", "output image; the extension picks the format (.exr/.hdr/.tif linear float, .png/.jpg sRGB 8-bit)", "", Kind::Images, kRender},
-    {"output", "--aovs", "LIST", "comma-separated output values, written as extra channels of the .exr/.hdr/.tif outputs: alpha (A: coverage), depth (Z: mean hit distance), tangent (first hit's fibre tangent), albedo (first vertex's directional albedo), direct, indirect (light scattered at most once / more; direct + indirect = the beauty), R, TT, TRT, residual (the hair's share split by the lobes of the first hair vertex); not with --checkpoint, --resume, --sample-range or MPI yet", "", Kind::Value, kRender},
+    {"output", "--aovs", "LIST", "comma-separated output values, written as extra channels of the .exr/.hdr/.tif outputs: alpha (A: coverage), depth (Z: mean hit distance), tangent (first hit's fibre tangent), albedo (first vertex's directional albedo), direct, indirect (light scattered at most once / more; direct + indirect = the beauty), R, TT, TRT, residual (the hair's share split by the lobes of the first hair vertex)", "", Kind::Value, kRender},
     {"output", "--exposure", "E|auto", kExposureHelp, "auto", Kind::Value, kRender},
     {"output", "--tonemap", "filmic|clip", kToneMapHelp, "filmic", Kind::Value, kRender},
 
@@ -184,13 +184,6 @@ std::vector<std::string> parse_aov_list_of(const std::string& text, const Render
     }
     if (std::none_of(r.outputs.begin(), r.outputs.end(), [](const std::string& o) { return is_float_format(o); }))
         throw UsageError("--aovs needs an .exr, .hdr or .tif output: 8-bit images hold the tone-mapped beauty only");
-    const char* conflict = !r.checkpoint.empty() ? "--checkpoint"
-                           : !r.resume.empty()   ? "--resume"
-                           : r.sample_range      ? "--sample-range"
-                                                 : nullptr;
-    if (conflict)
-        throw UsageError(std::string("--aovs cannot be combined with ") + conflict +
-                         " yet: checkpoints and render-farm parts keep the beauty only");
     return names;
 }
 }  // namespace

@@ -44,7 +44,20 @@ const std::vector<std::string>& aov_names() {
     return names;
 }
 
+int aov_sums_per_pixel(const std::vector<std::string>& names) { return names.empty() ? 0 : HT_AOV_OUT; }
+
+const std::vector<std::string>& aov_sum_names() {
+    static const std::vector<std::string> names = [] {
+        std::vector<std::string> n(HT_AOV_OUT);
+        for (const AovLayout& l : layouts())
+            for (size_t c = 0; c < l.channels.size(); ++c) n[l.first + c] = l.channels[c];
+        return n;
+    }();
+    return names;
+}
+
 std::vector<ImageChannel> aov_channels(const Film& film, const std::vector<std::string>& names) {
+    if (names.empty()) return {};
     const size_t pixels = size_t(film.width) * size_t(film.height);
     if (film.aov.size() != pixels * HT_AOV_OUT) throw std::invalid_argument("the film was rendered without --aovs");
     for (const std::string& n : names)

@@ -1,7 +1,9 @@
 #include "render/render_identity.h"
 
 #include "core/hash.h"
+#include "render/aovs.h"
 
+#include <algorithm>
 #include <stdexcept>
 #include <type_traits>
 
@@ -9,7 +11,8 @@ namespace ht {
 
 namespace {
 
-const char* const kPartNames[RenderIdentity::kPartCount] = {"geometry", "materials", "lights", "camera", "settings"};
+const char* const kPartNames[RenderIdentity::kPartCount] = {"geometry", "materials", "lights",
+                                                            "camera",   "settings",  "aovs"};
 // What each part covers, in the words of the options and scene contents a user changes.
 const char* const kPartMessages[RenderIdentity::kPartCount] = {
     "different geometry (strand points, radii or materials per strand; meshes)",
@@ -19,6 +22,7 @@ const char* const kPartMessages[RenderIdentity::kPartCount] = {
     "a different camera (the scene's camera or the default framing, image aspect)",
     "different settings (--width, --height, --seed, --max-depth, --chunk, --indirect, --fiber-field, "
     "--features, --clamp-indirect, --regularize, --spawn-offset, --sampler)",
+    "different AOVs (--aovs: which output values are recorded, if any)",
 };
 
 // Hashes values one after another: plain values by their bytes, vectors by their elements'.
@@ -89,6 +93,14 @@ uint64_t settings_digest(const RenderSettings& s, int chunk) {
     return d.h;
 }
 
+// Which of aov_names() are asked for: the same set in another order is the same render.
+uint64_t aovs_digest(const std::vector<std::string>& aovs) {
+    Digest d;
+    for (const std::string& name : aov_names())
+        d.add(uint8_t(std::find(aovs.begin(), aovs.end(), name) != aovs.end()));
+    return d.h;
+}
+
 }  // namespace
 
 uint64_t RenderIdentity::key() const { return fnv1a(digests.data(), sizeof digests); }
@@ -123,18 +135,21 @@ RenderIdentity RenderIdentity::from_text(const std::string& text) {
     return id;
 }
 
-RenderIdentity render_identity(const Scene& scene, const PreparedScene& prepared, int chunk) {
+RenderIdentity render_identity(const Scene& scene, const PreparedScene& prepared, int chunk,
+                               const std::vector<std::string>& aovs) {
     RenderIdentity id;
     id.digests[RenderIdentity::Geometry] = geometry_digest(scene);
     id.digests[RenderIdentity::Materials] = materials_digest(scene, prepared);
     id.digests[RenderIdentity::Lights] = lights_digest(prepared);
     id.digests[RenderIdentity::Camera] = camera_digest(prepared);
     id.digests[RenderIdentity::Settings] = settings_digest(prepared.settings, chunk);
+    id.digests[RenderIdentity::Aovs] = aovs_digest(aovs);
     return id;
 }
 
-RenderIdentity render_identity(const Scene& scene, const RenderSettings& settings, int chunk) {
-    return render_identity(scene, prepare_scene(scene, settings), chunk);
+RenderIdentity render_identity(const Scene& scene, const RenderSettings& settings, int chunk,
+                               const std::vector<std::string>& aovs) {
+    return render_identity(scene, prepare_scene(scene, settings), chunk, aovs);
 }
 
 }  // namespace ht

@@ -1,4 +1,4 @@
-// The identity of a render: digests of the bytes of everything that shapes its image, in five
+// The identity of a render: digests of the bytes of everything that shapes its image, in six
 // parts so that a mismatch can say WHAT differs.  A checkpoint, a render-farm part and `merge`
 // continue or combine only films whose identities are equal; the sample count is not part of it
 // (a resume may raise --spp), nor is anything that never changes a bit (devices, pass size,
@@ -11,11 +11,12 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace ht {
 
 struct RenderIdentity {
-    enum Part { Geometry, Materials, Lights, Camera, Settings, kPartCount };
+    enum Part { Geometry, Materials, Lights, Camera, Settings, Aovs, kPartCount };
     std::array<uint64_t, kPartCount> digests{};
 
     bool operator==(const RenderIdentity& o) const { return digests == o.digests; }
@@ -33,10 +34,14 @@ struct RenderIdentity {
 };
 
 // `scene` after every command-line override (materials, environment, default camera and
-// light), `prepared` = prepare_scene(scene, settings) as the devices get it, and the chunk size
-// of the canonical summation order (split/accumulation.h).
-RenderIdentity render_identity(const Scene& scene, const PreparedScene& prepared, int chunk);
+// light), `prepared` = prepare_scene(scene, settings) as the devices get it, the chunk size of
+// the canonical summation order (split/accumulation.h) and the --aovs names (render/aovs.h; the
+// set counts, not the order).  The AOV list is part of it because checkpoints and parts carry
+// the AOV sums only when it is not empty, and merge writes the channels it names.
+RenderIdentity render_identity(const Scene& scene, const PreparedScene& prepared, int chunk,
+                               const std::vector<std::string>& aovs);
 // The same, preparing the scene first (tests and tools that render nothing).
-RenderIdentity render_identity(const Scene& scene, const RenderSettings& settings, int chunk);
+RenderIdentity render_identity(const Scene& scene, const RenderSettings& settings, int chunk,
+                               const std::vector<std::string>& aovs = {});
 
 }  // namespace ht

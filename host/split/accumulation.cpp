@@ -39,8 +39,8 @@ void add_film(Film& a, const Film& b) {
     for (size_t i = 0; i < a.aov.size(); ++i) a.aov[i] += b.aov[i];
 }
 
-SampleAccumulator::SampleAccumulator(ChunkGrid grid, int width, int height)
-    : grid_(grid), width_(width), height_(height) {
+SampleAccumulator::SampleAccumulator(ChunkGrid grid, int width, int height, int aov_sums)
+    : grid_(grid), width_(width), height_(height), aov_sums_(aov_sums) {
     if (grid.chunk < 1 || grid.spp < 1) throw std::invalid_argument("chunk grid needs spp >= 1 and chunk >= 1");
 }
 
@@ -63,9 +63,12 @@ void SampleAccumulator::add(FilmSegment s) {
     if (s.count > K && (s.first != 0 || s.count % K != 0))
         throw std::invalid_argument("segment [" + std::to_string(s.first) + ", " + std::to_string(s.first + s.count) +
                                     ") spans several chunks but is not a prefix of whole chunks");
-    if (s.film.width != width_ || s.film.height != height_ ||
-        s.film.rgba.size() != 4 * size_t(width_) * size_t(height_))
+    const size_t pixels = size_t(width_) * size_t(height_);
+    if (s.film.width != width_ || s.film.height != height_ || s.film.rgba.size() != 4 * pixels)
         throw std::invalid_argument("segment film size does not match the image");
+    if (s.film.aov.size() != size_t(aov_sums_) * pixels)
+        throw std::invalid_argument("segment film has " + std::to_string(s.film.aov.size() / pixels) +
+                                    " AOV sums per pixel, the render " + std::to_string(aov_sums_));
     auto it = std::lower_bound(segments_.begin(), segments_.end(), s.first,
                                [](const FilmSegment& a, int f) { return a.first < f; });
     if ((it != segments_.end() && it->first < s.first + s.count) ||
@@ -127,6 +130,7 @@ Film SampleAccumulator::compose() const {
     f.height = height_;
     if (segments_.empty()) {
         f.rgba.assign(4 * size_t(width_) * size_t(height_), 0.0f);
+        f.aov.assign(size_t(aov_sums_) * size_t(width_) * size_t(height_), 0.0f);
         return f;
     }
     f = segments_[0].film;

@@ -56,7 +56,7 @@ SampleRange parse_sample_range(const std::string& text, const ChunkGrid& grid);
 
 struct FilmSegment {
     int first = 0, count = 0;  // samples [first, first + count)
-    Film film;                 // raw sums (r, g, b, n) of those samples in the canonical order
+    Film film;                 // raw sums (r, g, b, n; AOVs) of those samples in the canonical order
 };
 
 // Elementwise a += b: the one addition the canonical fold is made of.
@@ -67,13 +67,16 @@ void add_film(Film& a, const Film& b);
 // so a render that starts at sample 0 holds one film plus the chunks that finished out of order.
 class SampleAccumulator {
 public:
-    SampleAccumulator(ChunkGrid grid, int width, int height);
+    // aov_sums: the AOV sums per pixel every segment's film carries (HT_AOV_OUT with --aovs, else
+    // 0), fixed for the render so that films with and without them are never mixed.
+    SampleAccumulator(ChunkGrid grid, int width, int height, int aov_sums = 0);
 
     const ChunkGrid& grid() const { return grid_; }
     int width() const { return width_; }
     int height() const { return height_; }
+    int aov_sums() const { return aov_sums_; }
     // Adds a chunk (complete or not) or a prefix.  Throws std::invalid_argument for a segment
-    // off the grid, of the wrong size, or overlapping one already held.
+    // off the grid, of the wrong size or AOV sums, or overlapping one already held.
     void add(FilmSegment s);
     const std::vector<FilmSegment>& segments() const { return segments_; }
     // Hands the segments over (sorted), leaving the accumulator empty.
@@ -95,7 +98,7 @@ private:
     void fold_prefix();
     bool complete(const FilmSegment& s) const;
     ChunkGrid grid_;
-    int width_, height_;
+    int width_, height_, aov_sums_;
     std::vector<FilmSegment> segments_;  // sorted by first, disjoint
 };
 

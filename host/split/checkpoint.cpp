@@ -2,10 +2,12 @@
 
 #include "core/errors.h"
 #include "core/hash.h"
+#include "kernels/aovs.h"
 
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <stdexcept>
 #include <unistd.h>
 
 namespace ht {
@@ -16,19 +18,38 @@ constexpr char kMagic[4] = {'H', 'T', 'C', 'K'};
 // the plain sequential sum, which is not the chunked order once a render exceeds one chunk.
 // 3: the render identity's five part digests instead of one key that left out the materials.
 // 4: the lights digest hashes the environment as loaded (header and texels), not its file.
-constexpr uint32_t kVersion = 4;
+// 5: the AOV sums of render --aovs after each segment's film, and a sixth identity digest (the
+// AOV list).
+constexpr uint32_t kVersion = 5;
 constexpr uint32_t kMaxSegments = 1u << 20;
 
 struct Header {
     char magic[4];
     uint32_t version, width, height, seed, max_depth, samples_done, spp_target;
     uint32_t chunk, range_first, range_end, rank, ranks, segment_count;
+    uint32_t aov_sums, unused;  // `unused` keeps the digests 8-byte aligned without hidden padding
     uint64_t identity[RenderIdentity::kPartCount], payload_hash;
 };
 
 struct SegmentHeader {
     uint32_t first, count;
 };
+
+// The payload checksum continued over one segment: its header, then its film's floats in file
+// order, the (r, g, b, n) sums and the AOV sums.
+uint64_t hash_segment(uint64_t hash, const SegmentHeader& sh, const Film& film) {
+    hash = fnv1a(&sh, sizeof sh, hash);
+    return fnv1a(film.aov, fnv1a(film.rgba, hash));
+}
+
+bool write_floats(const std::vector<float>& v, FILE* f) {
+    return std::fwrite(v.data(), sizeof(float), v.size(), f) == v.size();
+}
+
+bool read_floats(std::vector<float>& v, size_t count, std::ifstream& f) {
+    v.resize(count);
+    return count == 0 || f.read(reinterpret_cast<char*>(v.data()), std::streamsize(count * sizeof(float)));
+}
 }  // namespace
 
 void save_checkpoint(const std::string& path, const Checkpoint& c) {
@@ -47,12 +68,14 @@ void save_checkpoint(const std::string& path, const Checkpoint& c) {
     h.rank = c.rank;
     h.ranks = c.ranks;
     h.segment_count = uint32_t(c.segments.size());
+    h.aov_sums = c.aov_sums;
     for (int p = 0; p < RenderIdentity::kPartCount; ++p) h.identity[p] = c.identity.digests[p];
+    const size_t pixels = size_t(c.width) * c.height;
     uint64_t hash = fnv1a(nullptr, 0);
     for (auto& s : c.segments) {
-        SegmentHeader sh{uint32_t(s.first), uint32_t(s.count)};
-        hash = fnv1a(&sh, sizeof sh, hash);
-        hash = fnv1a(s.film.rgba.data(), s.film.rgba.size() * sizeof(float), hash);
+        if (s.film.rgba.size() != 4 * pixels || s.film.aov.size() != c.aov_sums * pixels)
+            throw std::invalid_argument("checkpoint segment film does not match the image size and AOV sums");
+        hash = hash_segment(hash, SegmentHeader{uint32_t(s.first), uint32_t(s.count)}, s.film);
     }
     h.payload_hash = hash;
     std::string tmp = path + ".tmp";
@@ -61,8 +84,8 @@ void save_checkpoint(const std::string& path, const Checkpoint& c) {
     bool ok = std::fwrite(&h, sizeof h, 1, f) == 1;
     for (auto& s : c.segments) {
         SegmentHeader sh{uint32_t(s.first), uint32_t(s.count)};
-        ok = ok && std::fwrite(&sh, sizeof sh, 1, f) == 1 &&
-             std::fwrite(s.film.rgba.data(), sizeof(float), s.film.rgba.size(), f) == s.film.rgba.size();
+        ok = ok && std::fwrite(&sh, sizeof sh, 1, f) == 1 && write_floats(s.film.rgba, f) &&
+             write_floats(s.film.aov, f);
     }
     ok = std::fflush(f) == 0 && ok;
     ok = ::fsync(fileno(f)) == 0 && ok;
@@ -89,7 +112,8 @@ Checkpoint load_checkpoint(const std::string& path) {
     if (!f.read(reinterpret_cast<char*>(&h) + 8, sizeof h - 8)) throw SceneError(path + ": truncated checkpoint header");
     if (h.width == 0 || h.height == 0 || h.width > 65536 || h.height > 65536)
         throw SceneError(path + ": checkpoint has an impossible image size");
-    if (h.chunk == 0 || h.segment_count > kMaxSegments || h.ranks == 0 || h.rank >= h.ranks)
+    if (h.chunk == 0 || h.segment_count > kMaxSegments || h.ranks == 0 || h.rank >= h.ranks ||
+        (h.aov_sums != 0 && h.aov_sums != HT_AOV_OUT))
         throw SceneError(path + ": checkpoint header is corrupt");
     Checkpoint c;
     c.width = h.width;
@@ -103,9 +127,10 @@ Checkpoint load_checkpoint(const std::string& path) {
     c.range_end = h.range_end;
     c.rank = h.rank;
     c.ranks = h.ranks;
+    c.aov_sums = h.aov_sums;
     for (int p = 0; p < RenderIdentity::kPartCount; ++p) c.identity.digests[p] = h.identity[p];
     uint64_t hash = fnv1a(nullptr, 0);
-    const size_t floats = 4 * size_t(h.width) * h.height;
+    const size_t pixels = size_t(h.width) * h.height;
     for (uint32_t i = 0; i < h.segment_count; ++i) {
         SegmentHeader sh{};
         if (!f.read(reinterpret_cast<char*>(&sh), sizeof sh))
@@ -115,11 +140,9 @@ Checkpoint load_checkpoint(const std::string& path) {
         s.count = int(sh.count);
         s.film.width = int(h.width);
         s.film.height = int(h.height);
-        s.film.rgba.resize(floats);
-        if (!f.read(reinterpret_cast<char*>(s.film.rgba.data()), floats * sizeof(float)))
+        if (!read_floats(s.film.rgba, 4 * pixels, f) || !read_floats(s.film.aov, h.aov_sums * pixels, f))
             throw SceneError(path + ": truncated checkpoint (film data missing)");
-        hash = fnv1a(&sh, sizeof sh, hash);
-        hash = fnv1a(s.film.rgba.data(), floats * sizeof(float), hash);
+        hash = hash_segment(hash, sh, s.film);
         c.segments.push_back(std::move(s));
     }
     if (hash != h.payload_hash) throw SceneError(path + ": checkpoint is corrupt (film checksum mismatch)");

@@ -1,5 +1,6 @@
-// Checkpoints of a progressive render: the raw float films (sums, not means) of the samples done
-// so far, in the canonical chunked order of split/accumulation.h, plus what is needed to continue.
+// Checkpoints of a progressive render: the raw float films (sums, not means; with --aovs the AOV
+// sums too) of the samples done so far, in the canonical chunked order of split/accumulation.h,
+// plus what is needed to continue.
 // Because every sample's random numbers are a pure function of (seed, pixel, sample), continuing
 // from a checkpoint gives the same bits as never stopping.
 #pragma once
@@ -19,6 +20,7 @@ struct Checkpoint {
     uint32_t chunk = 0;                          // K of the chunk grid
     uint32_t range_first = 0, range_end = 0;     // the samples this process was asked for
     uint32_t rank = 0, ranks = 1;                // MPI: which rank wrote it, out of how many
+    uint32_t aov_sums = 0;                       // per pixel in every segment's film (--aovs), or 0
     RenderIdentity identity;  // everything else that shapes the image (scene, options)
     std::vector<FilmSegment> segments;  // sorted, disjoint; see SampleAccumulator
 };

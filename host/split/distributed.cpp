@@ -91,22 +91,31 @@ void dist_abort(const DistContext& d, int code) {
 }
 
 namespace {
-constexpr int kTagCount = 17, kTagHeader = 18, kTagFilm = 19;
+constexpr int kTagCount = 17, kTagHeader = 18, kTagFilm = 19, kTagAovs = 20;
 
+double payload(const std::vector<FilmSegment>& segs) {
+    double b = 0;
+    for (auto& s : segs) b += double(s.film.rgba.size() + s.film.aov.size()) * sizeof(float);
+    return b;
+}
+
+// Every rank runs the same command line, so sender and receiver agree on the AOV sums per pixel
+// (the accumulator's): only the floats travel.
 double send_segments(const std::vector<FilmSegment>& segs, int to) {
     int n = int(segs.size());
-    double bytes = 0;
     MPI_Send(&n, 1, MPI_INT, to, kTagCount, MPI_COMM_WORLD);
     for (auto& s : segs) {
         int h[2] = {s.first, s.count};
         MPI_Send(h, 2, MPI_INT, to, kTagHeader, MPI_COMM_WORLD);
         MPI_Send(s.film.rgba.data(), int(s.film.rgba.size()), MPI_FLOAT, to, kTagFilm, MPI_COMM_WORLD);
-        bytes += double(s.film.rgba.size()) * sizeof(float);
+        if (!s.film.aov.empty())
+            MPI_Send(s.film.aov.data(), int(s.film.aov.size()), MPI_FLOAT, to, kTagAovs, MPI_COMM_WORLD);
     }
-    return bytes;
+    return payload(segs);
 }
 
-std::vector<FilmSegment> recv_segments(int from, int width, int height) {
+std::vector<FilmSegment> recv_segments(int from, const SampleAccumulator& acc) {
+    const size_t pixels = size_t(acc.width()) * size_t(acc.height());
     int n = 0;
     MPI_Recv(&n, 1, MPI_INT, from, kTagCount, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
     std::vector<FilmSegment> out(size_t(std::max(n, 0)));
@@ -115,19 +124,17 @@ std::vector<FilmSegment> recv_segments(int from, int width, int height) {
         MPI_Recv(h, 2, MPI_INT, from, kTagHeader, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
         s.first = h[0];
         s.count = h[1];
-        s.film.width = width;
-        s.film.height = height;
-        s.film.rgba.resize(4 * size_t(width) * size_t(height));
+        s.film.width = acc.width();
+        s.film.height = acc.height();
+        s.film.rgba.resize(4 * pixels);
         MPI_Recv(s.film.rgba.data(), int(s.film.rgba.size()), MPI_FLOAT, from, kTagFilm, MPI_COMM_WORLD,
                  MPI_STATUS_IGNORE);
+        s.film.aov.resize(size_t(acc.aov_sums()) * pixels);
+        if (!s.film.aov.empty())
+            MPI_Recv(s.film.aov.data(), int(s.film.aov.size()), MPI_FLOAT, from, kTagAovs, MPI_COMM_WORLD,
+                     MPI_STATUS_IGNORE);
     }
     return out;
-}
-
-double payload(const std::vector<FilmSegment>& segs) {
-    double b = 0;
-    for (auto& s : segs) b += double(s.film.rgba.size()) * sizeof(float);
-    return b;
 }
 }  // namespace
 
@@ -137,7 +144,6 @@ void reduce_to_rank0(const DistContext& d, SampleAccumulator& acc, RankReport* r
     // load imbalance of the render (which the caller sees in its own render time).
     MPI_Barrier(MPI_COMM_WORLD);
     const auto t0 = std::chrono::steady_clock::now();
-    const int w = acc.width(), h = acc.height();
     // A chain rather than a tree: folding chunk films onto a prefix is only exact in sample
     // order, so rank r can add its chunks only after ranks 0..r-1 have added theirs.  Each rank
     // still sends a single film when the render starts at sample 0 (its prefix), and the
@@ -145,14 +151,14 @@ void reduce_to_rank0(const DistContext& d, SampleAccumulator& acc, RankReport* r
     double sent = 0, received = 0;
     if (d.rank == 0) {
         sent = send_segments(acc.segments(), 1);
-        SampleAccumulator all(acc.grid(), w, h);
-        auto in = recv_segments(d.ranks - 1, w, h);
+        SampleAccumulator all(acc.grid(), acc.width(), acc.height(), acc.aov_sums());
+        auto in = recv_segments(d.ranks - 1, acc);
         received = payload(in);
         for (auto& s : in) all.add(std::move(s));
         acc = std::move(all);
     } else {
-        SampleAccumulator merged(acc.grid(), w, h);
-        auto in = recv_segments(d.rank - 1, w, h);
+        SampleAccumulator merged(acc.grid(), acc.width(), acc.height(), acc.aov_sums());
+        auto in = recv_segments(d.rank - 1, acc);
         received = payload(in);
         for (auto& s : in) merged.add(std::move(s));
         for (auto& s : acc.release()) merged.add(std::move(s));

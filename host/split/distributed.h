@@ -3,7 +3,8 @@
 // render's chunks; afterwards the films travel once along the ranks in order (0 -> 1 -> ... ->
 // N-1 -> 0), each rank folding its chunks onto the prefix it received.  That is the canonical
 // chunk order of split/accumulation.h, so the image equals the one-process render bit for bit,
-// and each rank sends one film (16 B per pixel) when the render starts at sample 0.
+// and each rank sends one film (16 B per pixel; 120 B with --aovs, whose sums travel with it)
+// when the render starts at sample 0.
 #pragma once
 
 #include "split/accumulation.h"

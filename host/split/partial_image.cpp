@@ -1,9 +1,11 @@
 #include "split/partial_image.h"
 
 #include "core/hash.h"
+#include "render/aovs.h"
 
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <sstream>
@@ -13,28 +15,76 @@ namespace ht {
 namespace fs = std::filesystem;
 using namespace OIIO;
 
+namespace {
+constexpr int kFormat = 2;  // hairtrace:partial; see partial_image.h
+
+// The channels of segment i's raw sums, in the order film_sum() numbers them: (r, g, b, n), then
+// the `aov_sums` AOV sums.
+std::vector<std::string> segment_channels(int i, int aov_sums) {
+    const std::string seg = "seg" + std::to_string(i) + ".";
+    std::vector<std::string> names;
+    for (const char* c : {"R", "G", "B", "N"}) names.push_back(seg + c);
+    for (int k = 0; k < aov_sums; ++k) names.push_back(seg + "aov." + aov_sum_names()[k]);
+    return names;
+}
+
+// Sum j of pixel p of a film with `aov_sums` AOV sums per pixel (numbered as segment_channels).
+template <typename F>
+auto& film_sum(F& film, size_t p, int j, int aov_sums) {
+    return j < 4 ? film.rgba[4 * p + j] : film.aov[size_t(aov_sums) * p + (j - 4)];
+}
+
+std::string joined(const std::vector<std::string>& items) {
+    std::string out;
+    for (const std::string& s : items) out += (out.empty() ? "" : ",") + s;
+    return out;
+}
+
+// hairtrace:aovs back into names, each one of aov_names().
+std::vector<std::string> aov_list(const std::string& text, const std::string& path) {
+    std::vector<std::string> names;
+    std::stringstream ss(text);
+    for (std::string name; std::getline(ss, name, ',');) {
+        if (std::find(aov_names().begin(), aov_names().end(), name) == aov_names().end())
+            throw SceneError(path + ": corrupt hairtrace:aovs '" + text + "'");
+        names.push_back(name);
+    }
+    return names;
+}
+}  // namespace
+
 void write_partial_exr(const std::string& path, const PartialImage& part, const ImageMetadata& extra) {
     if (fs::path(path).extension() != ".exr")
         throw ImageError(path + ": a partial render (--sample-range) is written as .exr only");
     const size_t pixels = size_t(part.width) * size_t(part.height);
     const int nseg = int(part.segments.size());
-    const int nc = 3 + 4 * nseg;
-    ImageSpec spec(part.width, part.height, nc, TypeDesc::FLOAT);
+    const int aov_sums = aov_sums_per_pixel(part.aovs);
+    const int per_segment = 4 + aov_sums;
+
+    SampleAccumulator acc(ChunkGrid{part.spp_target, part.chunk}, part.width, part.height, aov_sums);
+    for (auto& s : part.segments) acc.add(s);
+    const Film preview = acc.compose();
+    const std::vector<ImageChannel> preview_aovs = aov_channels(preview, part.aovs);
+
     std::vector<std::string> names = {"R", "G", "B"};
+    for (const ImageChannel& c : preview_aovs) names.push_back(c.name);
+    const int first_sum = int(names.size());
     std::string seg_list;
     int held = 0;
     for (int i = 0; i < nseg; ++i) {
-        for (const char* c : {".R", ".G", ".B", ".N"}) names.push_back("seg" + std::to_string(i) + c);
+        for (std::string& c : segment_channels(i, aov_sums)) names.push_back(std::move(c));
         auto& s = part.segments[i];
         seg_list += (i ? "," : "") + std::to_string(s.first) + "+" + std::to_string(s.count);
         held += s.count;
     }
+    const int nc = int(names.size());
+    ImageSpec spec(part.width, part.height, nc, TypeDesc::FLOAT);
     spec.channelnames = names;
     spec.attribute("compression", "zip");  // lossless: the sums must come back bit for bit
     for (auto& [k, v] : extra.text) spec.attribute(k, v);
     for (auto& [k, v] : extra.ints) spec.attribute(k, v);
     for (auto& [k, v] : extra.floats) spec.attribute(k, v);
-    spec.attribute("hairtrace:partial", 1);
+    spec.attribute("hairtrace:partial", kFormat);
     spec.attribute("hairtrace:sample_first", nseg ? part.segments[0].first : 0);
     spec.attribute("hairtrace:sample_count", held);
     spec.attribute("hairtrace:spp_target", part.spp_target);
@@ -45,18 +95,18 @@ void write_partial_exr(const std::string& path, const PartialImage& part, const 
     spec.attribute("hairtrace:render_key", hex64(part.identity.key()));
     spec.attribute("hairtrace:segments", seg_list);
     spec.attribute("hairtrace:scene", part.scene);
+    spec.attribute("hairtrace:aovs", joined(part.aovs));
     spec.attribute("oiio:ColorSpace", "Linear");
     spec.attribute("Software", std::string("hairtrace ") + HT_VERSION);
 
-    SampleAccumulator acc(ChunkGrid{part.spp_target, part.chunk}, part.width, part.height);
-    for (auto& s : part.segments) acc.add(s);
-    const Film preview = acc.compose();
     std::vector<float> data(pixels * nc);
     for (size_t p = 0; p < pixels; ++p) {
         float* px = &data[p * nc];
         for (int c = 0; c < 3; ++c) px[c] = preview.mean(p, c);
+        for (size_t a = 0; a < preview_aovs.size(); ++a) px[3 + a] = preview_aovs[a].values[p];
         for (int i = 0; i < nseg; ++i)
-            for (int c = 0; c < 4; ++c) px[3 + 4 * i + c] = part.segments[i].film.rgba[4 * p + c];
+            for (int j = 0; j < per_segment; ++j)
+                px[first_sum + per_segment * i + j] = film_sum(part.segments[i].film, p, j, aov_sums);
     }
 
     fs::path target(path);
@@ -79,8 +129,11 @@ PartialImage read_partial_exr(const std::string& path) {
     auto in = ImageInput::open(path);
     if (!in) throw SceneError(path + ": cannot read: " + OIIO::geterror());
     const ImageSpec spec = in->spec();
-    if (spec.get_int_attribute("hairtrace:partial", 0) != 1)
-        throw SceneError(path + ": not a partial render (render it with --sample-range A:B)");
+    const int format = spec.get_int_attribute("hairtrace:partial", 0);
+    if (format == 1)
+        throw SceneError(path + ": a partial render of an older hairtrace (format 1, without AOV sums); render it "
+                                "again with this one");
+    if (format != kFormat) throw SceneError(path + ": not a partial render (render it with --sample-range A:B)");
     PartialImage p;
     p.width = spec.width;
     p.height = spec.height;
@@ -89,6 +142,8 @@ PartialImage read_partial_exr(const std::string& path) {
     p.max_depth = spec.get_int_attribute("hairtrace:max_depth", 0);
     p.seed = uint32_t(spec.get_int_attribute("hairtrace:seed", 0));
     p.scene = spec.get_string_attribute("hairtrace:scene");
+    p.aovs = aov_list(spec.get_string_attribute("hairtrace:aovs"), path);
+    const int aov_sums = aov_sums_per_pixel(p.aovs);
     const std::string identity = spec.get_string_attribute("hairtrace:render_identity");
     const std::string segs = spec.get_string_attribute("hairtrace:segments");
     if (p.spp_target < 1 || p.chunk < 1)
@@ -123,15 +178,16 @@ PartialImage read_partial_exr(const std::string& path) {
         } catch (const std::exception&) {
             throw SceneError(path + ": corrupt hairtrace:segments '" + segs + "'");
         }
-        int ch[4];
-        const char* suffix[4] = {".R", ".G", ".B", ".N"};
-        for (int c = 0; c < 4; ++c) ch[c] = channel("seg" + std::to_string(i) + suffix[c]);
+        std::vector<int> ch;
+        for (const std::string& name : segment_channels(i, aov_sums)) ch.push_back(channel(name));
         s.film.width = p.width;
         s.film.height = p.height;
         const size_t pixels = size_t(p.width) * p.height;
         s.film.rgba.resize(4 * pixels);
+        s.film.aov.resize(size_t(aov_sums) * pixels);
         for (size_t px = 0; px < pixels; ++px)
-            for (int c = 0; c < 4; ++c) s.film.rgba[4 * px + c] = all[px * spec.nchannels + ch[c]];
+            for (size_t j = 0; j < ch.size(); ++j)
+                film_sum(s.film, px, int(j), aov_sums) = all[px * spec.nchannels + ch[j]];
         p.segments.push_back(std::move(s));
     }
     if (p.segments.empty()) throw SceneError(path + ": the partial render holds no samples");

@@ -1,5 +1,6 @@
 // Long renders: checkpoints, resume, interrupts.  Driven through the CLI like a user would.
 #include "io/image_io.h"
+#include "kernels/aovs.h"
 #include "split/checkpoint.h"
 #include "scene/scene.h"
 
@@ -38,6 +39,27 @@ TEST(Checkpoint, ResumedRenderEqualsUninterruptedBitForBit) {
     EXPECT_EQ(c.samples_done, 2u);
     ASSERT_EQ(run(kRender + " --spp 6 --resume " + (d / "c.ckpt") + " -o " + (d / "resumed.exr")), 0);
     EXPECT_EQ(image(d / "full.exr"), image(d / "resumed.exr"));
+}
+
+// With --aovs every channel keeps its bits: a checkpoint that ends inside a chunk (6 of 8 samples,
+// chunks of 4: the continued chunk gets its AOV sums back on the device) and one that a time
+// limit cut wherever it fell (possibly before the first sample).
+TEST(Checkpoint, ResumedAovsEqualUninterruptedBitForBit) {
+    TempDir d("ht_ckpt_");
+    const std::string aovs = kRender + clitest::kEveryAov + " --chunk 4";
+    ASSERT_EQ(run(aovs + " --spp 8 -o " + (d / "full.exr")), 0);
+    ASSERT_EQ(run(aovs + " --spp 6 --checkpoint " + (d / "c.ckpt") + " -o " + (d / "part.exr")), 0);
+    const Checkpoint c = load_checkpoint(d / "c.ckpt");
+    EXPECT_EQ(c.samples_done, 6u);
+    EXPECT_EQ(c.aov_sums, uint32_t(HT_AOV_OUT));
+    ASSERT_EQ(c.segments.size(), 2u);  // the prefix [0, 4) and the short chunk [4, 6)
+    EXPECT_EQ(c.segments[1].film.aov.size(), size_t(HT_AOV_OUT) * 40 * 32);
+    ASSERT_EQ(run(aovs + " --spp 8 --resume " + (d / "c.ckpt") + " -o " + (d / "resumed.exr")), 0);
+    clitest::expect_same_channel_bits(d / "full.exr", d / "resumed.exr");
+
+    ASSERT_EQ(run(aovs + " --spp 8 --time-limit 0.001 --checkpoint " + (d / "t.ckpt") + " -o " + (d / "early.exr")), 0);
+    ASSERT_EQ(run(aovs + " --spp 8 --resume " + (d / "t.ckpt") + " -o " + (d / "resumed_t.exr")), 0);
+    clitest::expect_same_channel_bits(d / "full.exr", d / "resumed_t.exr");
 }
 
 TEST(Checkpoint, ResumeOfADifferentRenderIsRefused) {

@@ -1,10 +1,14 @@
 // Shared helpers of the tests that run the hairtrace binary (header only: the test globs take
-// *.cpp): a scratch directory, a command's exit status, a file's bytes.
+// *.cpp): a scratch directory, a command's exit status, a file's bytes, an image's channels.
 #pragma once
 
+#include <algorithm>
+#include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <sys/wait.h>
@@ -12,6 +16,9 @@
 #include <vector>
 
 #include "io/image_io.h"
+
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
 
 namespace clitest {
 
@@ -41,6 +48,51 @@ inline std::string slurp(const std::string& p) {
 inline std::vector<float> image(const std::string& p) {
     int w, h;
     return ht::read_rgb_image(p, w, h);
+}
+
+// Every channel of an image by name, each value as its bits: equal maps are the same channels
+// with the same bits (float == would call -0 and 0 equal and a NaN unequal to itself).
+using ChannelBits = std::map<std::string, std::vector<uint32_t>>;
+inline ChannelBits channel_bits(const std::string& p) {
+    auto in = OIIO::ImageInput::open(p);
+    if (!in) return {};
+    const OIIO::ImageSpec spec = in->spec();
+    const size_t pixels = size_t(spec.width) * size_t(spec.height), nc = size_t(spec.nchannels);
+    std::vector<float> all(pixels * nc);
+    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, all.data())) return {};
+    ChannelBits out;
+    for (size_t c = 0; c < nc; ++c) {
+        std::vector<uint32_t>& bits = out[spec.channelnames[c]];
+        bits.resize(pixels);
+        for (size_t i = 0; i < pixels; ++i) std::memcpy(&bits[i], &all[i * nc + c], sizeof(float));
+    }
+    return out;
+}
+
+// render --aovs with every name (render/aovs.h).
+const std::string kEveryAov = " --aovs alpha,depth,tangent,albedo,direct,indirect,R,TT,TRT,residual";
+
+// Expects `actual` to hold the channels of `expected` with the same bits, where `expected` is a
+// render with kEveryAov whose coverage, depth and direct light are not all zero (so that the
+// equality says something about the AOVs).
+inline void expect_same_channel_bits(const std::string& expected, const std::string& actual) {
+    const ChannelBits e = channel_bits(expected), a = channel_bits(actual);
+    for (const char* name : {"A", "Z", "tangent.X", "albedo.G", "direct.G", "indirect.G", "TRT.B", "residual.R"})
+        ASSERT_EQ(e.count(name), 1u) << expected << " lacks the AOV channel " << name;
+    for (const char* name : {"A", "Z", "direct.G"}) {
+        const std::vector<uint32_t>& bits = e.at(name);
+        EXPECT_TRUE(std::any_of(bits.begin(), bits.end(), [](uint32_t b) { return b != 0; }))
+            << expected << ": " << name << " is zero everywhere";
+    }
+    for (const auto& [name, bits] : e) {
+        ASSERT_EQ(a.count(name), 1u) << actual << " lacks the channel " << name;
+        ASSERT_EQ(a.at(name).size(), bits.size()) << actual << " has another size";
+        size_t differ = 0;
+        for (size_t i = 0; i < bits.size(); ++i) differ += bits[i] != a.at(name)[i];
+        EXPECT_EQ(differ, 0u) << actual << ", channel " << name << ": " << differ << " pixels differ from "
+                              << expected;
+    }
+    EXPECT_EQ(a.size(), e.size()) << actual << " has other channels";
 }
 
 }  // namespace clitest

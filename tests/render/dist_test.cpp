@@ -75,6 +75,24 @@ TEST(Accumulation, RejectsSegmentsOffTheGridOrOverlapping) {
     EXPECT_EQ(acc.take_unfinished(2).count, 3);
 }
 
+TEST(Accumulation, AovSumsFoldLikeTheBeautyAndAreNeverMixed) {
+    std::mt19937 rng(5);
+    const ChunkGrid grid{8, 4};
+    SampleAccumulator acc(grid, 3, 2, 2);  // two AOV sums per pixel
+    EXPECT_EQ(acc.compose().aov, std::vector<float>(12, 0.0f));  // no samples yet: zeros, not none
+    Film a = random_film(rng, 3, 2, 4), b = random_film(rng, 3, 2, 4);
+    EXPECT_THROW(acc.add({0, 4, a}), std::invalid_argument);  // a film without them
+    std::uniform_real_distribution<float> u(0.0f, 100.0f);
+    for (Film* f : {&a, &b})
+        for (int i = 0; i < 12; ++i) f->aov.push_back(u(rng));
+    std::vector<float> expect(12);
+    for (size_t i = 0; i < expect.size(); ++i) expect[i] = a.aov[i] + b.aov[i];
+    acc.add({4, 4, b});
+    acc.add({0, 4, a});
+    ASSERT_EQ(acc.segments().size(), 1u);  // folded into one prefix
+    EXPECT_EQ(acc.compose().aov, expect);
+}
+
 TEST(Accumulation, SampleRangeValidation) {
     const ChunkGrid grid{16, 4};
     EXPECT_EQ(parse_sample_range("4:12", grid).count(), 8);
@@ -129,6 +147,27 @@ TEST(RenderFarm, MergeOfFourPartsEqualsTheFullRender) {
     ASSERT_EQ(run(kRender + " --spp 40 --sample-range 32:40 -o " + (d / "b.exr")), 0);
     ASSERT_EQ(run(std::string(HT_BINARY) + " merge " + (d / "b.exr") + " " + (d / "a.exr") + " -o " + (d / "m40.exr") + " --quiet"), 0);
     EXPECT_EQ(image(d / "full40.exr"), image(d / "m40.exr"));
+}
+
+// The parts carry the AOV sums segment by segment (4:12 holds two chunks apart) and the merge
+// folds them like the beauty; a part rendered without AOVs belongs to another render.
+TEST(RenderFarm, MergeOfPartsWithAovsEqualsTheFullRenderInEveryChannel) {
+    TempDir d("ht_dist_");
+    const std::string opts = " --spp 16 --chunk 4";
+    const std::string aovs = kRender + clitest::kEveryAov + opts;
+    ASSERT_EQ(run(aovs + " -o " + (d / "full.exr")), 0);
+    ASSERT_EQ(run(aovs + " --sample-range 0:4 -o " + (d / "p0.exr")), 0);
+    ASSERT_EQ(run(aovs + " --sample-range 4:12 -o " + (d / "p1.exr")), 0);
+    ASSERT_EQ(run(aovs + " --sample-range 12:16 -o " + (d / "p2.exr")), 0);
+    const std::string merge = std::string(HT_BINARY) + " merge ";
+    ASSERT_EQ(run(merge + (d / "p2.exr") + " " + (d / "p0.exr") + " " + (d / "p1.exr") + " -o " + (d / "merged.exr") +
+                  " --quiet"), 0);
+    clitest::expect_same_channel_bits(d / "full.exr", d / "merged.exr");
+
+    ASSERT_EQ(run(kRender + opts + " --sample-range 12:16 -o " + (d / "plain.exr")), 0);
+    EXPECT_EQ(run(merge + (d / "p0.exr") + " " + (d / "p1.exr") + " " + (d / "plain.exr") + " -o " +
+                  (d / "m.exr") + " 2>" + (d / "err.txt")), 2);
+    EXPECT_NE(slurp(d / "err.txt").find("different AOVs"), std::string::npos) << slurp(d / "err.txt");
 }
 
 TEST(RenderFarm, MergeReportsGapsOverlapsAndForeignParts) {
@@ -256,6 +295,21 @@ TEST(Mpi, PerRankCheckpointsResumeTogether) {
     ASSERT_EQ(run_logged(mpirun(2) + kRender + " --spp 12 --chunk 2 --resume " + (d / "c") + " -o " + (d / "resumed.exr"),
                          d / "log.txt", log), 0) << log;
     EXPECT_EQ(image(d / "one.exr"), image(d / "resumed.exr"));
+}
+
+// The reduction carries the AOV sums with the films, and each rank's checkpoint keeps them.
+TEST(Mpi, AovsSurviveTheReductionAndPerRankCheckpoints) {
+    TempDir d("ht_dist_");
+    std::string log;
+    const std::string aovs = kRender + clitest::kEveryAov + " --spp 12 --chunk 2";
+    ASSERT_EQ(run(aovs + " -o " + (d / "one.exr")), 0);
+    ASSERT_EQ(run_logged(mpirun(2) + aovs + " -o " + (d / "np2.exr"), d / "log.txt", log), 0) << log;
+    clitest::expect_same_channel_bits(d / "one.exr", d / "np2.exr");
+    ASSERT_EQ(run_logged(mpirun(2) + aovs + " --time-limit 0.001 --checkpoint " + (d / "c") + " -o " + (d / "early.exr"),
+                         d / "log.txt", log), 0) << log;
+    ASSERT_EQ(run_logged(mpirun(2) + aovs + " --resume " + (d / "c") + " -o " + (d / "resumed.exr"), d / "log.txt", log),
+              0) << log;
+    clitest::expect_same_channel_bits(d / "one.exr", d / "resumed.exr");
 }
 #endif
 #endif

@@ -58,6 +58,11 @@ TEST(RenderIdentity, EachPartFollowsItsInputs) {
     other.clamp_indirect = 3;
     only(render_identity(s, other, 16), RenderIdentity::Settings);
     only(render_identity(s, rs, 8), RenderIdentity::Settings);
+    // the set of AOVs asked for, in whatever order
+    const RenderIdentity aovs = render_identity(s, rs, 16, {"alpha", "depth"});
+    only(aovs, RenderIdentity::Aovs);
+    EXPECT_EQ(render_identity(s, rs, 16, {"depth", "alpha"}), aovs);
+    EXPECT_NE(render_identity(s, rs, 16, {"alpha"}), aovs);
 }
 
 #ifdef HT_BINARY
@@ -92,7 +97,7 @@ int resume_with(const TempDir& d, const std::string& first, const std::string& r
 
 // The message names `part` ("materials", "camera", ...) as different and no other part.
 void expect_only_difference(const std::string& err, const std::string& part) {
-    for (const char* p : {"geometry", "materials", "lights", "camera", "settings"})
+    for (const char* p : {"geometry", "materials", "lights", "camera", "settings", "AOVs"})
         EXPECT_EQ(err.find(std::string("different ") + p) != std::string::npos, p == part) << p << ": " << err;
 }
 
@@ -126,6 +131,22 @@ TEST(RenderIdentity, ResumeRefusesAChangedCamera) {
     expect_only_difference(refused_scene_change("\"yfov\": 0.523599", "\"yfov\": 0.5"), "camera");
 }
 
+// A checkpoint holds the AOV sums only when its render recorded them, and then for the names it
+// was asked for: resuming with another list, or with AOVs where there were none, is refused.
+TEST(RenderIdentity, ResumeRefusesAChangedAovList) {
+    TempDir d("ht_ident_");
+    const std::string scene = scene_variant(d, "s.gltf");
+    std::string err;
+    EXPECT_EQ(resume_with(d, scene + " --aovs alpha", scene, &err), 2);
+    expect_only_difference(err, "AOVs");
+    EXPECT_NE(err.find("--aovs"), std::string::npos) << err;
+    EXPECT_EQ(resume_with(d, scene, scene + " --aovs alpha", &err), 2);
+    expect_only_difference(err, "AOVs");
+    EXPECT_EQ(resume_with(d, scene + " --aovs alpha", scene + " --aovs alpha,depth", &err), 2);
+    expect_only_difference(err, "AOVs");
+    EXPECT_EQ(resume_with(d, scene + " --aovs alpha,depth", scene + " --aovs depth,alpha", &err), 0) << err;
+}
+
 TEST(RenderIdentity, MergeRefusesPartsWithDifferentMaterials) {
     TempDir d("ht_ident_");
     const std::string scene = scene_variant(d, "s.gltf");
@@ -140,6 +161,7 @@ TEST(RenderIdentity, MergeRefusesPartsWithDifferentMaterials) {
                   (d / "m.exr") + " --quiet"), 0);
 }
 
+// Version 4, the last one before the AOV sums, stands for every older format.
 TEST(RenderIdentity, CheckpointOfAnOlderVersionIsRefusedClearly) {
     TempDir d("ht_ident_");
     const std::string scene = scene_variant(d, "s.gltf");
@@ -147,15 +169,18 @@ TEST(RenderIdentity, CheckpointOfAnOlderVersionIsRefusedClearly) {
                   " -o " + (d / "a.exr")), 0);
     {
         std::fstream f(d / "c.ckpt", std::ios::in | std::ios::out | std::ios::binary);
-        const uint32_t version2 = 2;
+        const uint32_t version4 = 4;
         f.seekp(4);
-        f.write(reinterpret_cast<const char*>(&version2), sizeof version2);
+        f.write(reinterpret_cast<const char*>(&version4), sizeof version4);
     }
     try {
         load_checkpoint(d / "c.ckpt");
-        FAIL() << "a version 2 checkpoint was accepted";
+        FAIL() << "a version 4 checkpoint was accepted";
     } catch (const SceneError& e) {
         EXPECT_NE(std::string(e.what()).find("older hairtrace"), std::string::npos) << e.what();
     }
+    EXPECT_EQ(run(std::string(HT_BINARY) + " render " + scene + kOptions + " --spp 2 --resume " + (d / "c.ckpt") +
+                  " -o " + (d / "b.exr") + " 2>" + (d / "err.txt")), 2);
+    EXPECT_NE(slurp(d / "err.txt").find("older hairtrace"), std::string::npos) << slurp(d / "err.txt");
 }
 #endif
