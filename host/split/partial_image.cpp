@@ -89,6 +89,7 @@ PartialImage read_partial_exr(const std::string& path) {
     p.max_depth = spec.get_int_attribute("hairtrace:max_depth", 0);
     p.seed = uint32_t(spec.get_int_attribute("hairtrace:seed", 0));
     p.scene = spec.get_string_attribute("hairtrace:scene");
+    p.command_line = spec.get_string_attribute("hairtrace:command_line");
     const std::string identity = spec.get_string_attribute("hairtrace:render_identity");
     const std::string segs = spec.get_string_attribute("hairtrace:segments");
     if (p.spp_target < 1 || p.chunk < 1)

@@ -26,6 +26,7 @@ struct PartialImage {
     uint32_t seed = 0;
     RenderIdentity identity;
     std::string scene;
+    std::string command_line;  // read back: the hairtrace:command_line the render wrote ("" if none)
     std::vector<FilmSegment> segments;  // sorted, disjoint
 };
 
