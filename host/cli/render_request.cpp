@@ -235,11 +235,7 @@ RenderRequest parse_render_request(const ArgParser& p) {
 void apply_scene_overrides(Scene& scene, const ImageRequest& r) {
     if (r.model) apply_model_override(scene, *r.model);
     if (r.sigma_a)
-        for (auto& mat : scene.materials) {
-            mat.has_sigma_a = true;
-            mat.has_melanin = mat.has_color = false;
-            mat.sigma_a = *r.sigma_a;
-        }
+        for (auto& mat : scene.materials) mat.set_sigma_a(*r.sigma_a);
     if (r.background) scene.environment = Environment{"", *r.background, 1.0f};
     if (!r.environment.empty()) scene.environment.map_path = r.environment;
     scene.environment.intensity *= r.environment_intensity;

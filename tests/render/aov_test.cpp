@@ -137,9 +137,7 @@ TEST(Aovs, AlbedoOfANonAbsorbingFibreIsOne) {
     Scene s = lock();
     for (auto& m : s.materials) {
         m.model = "chiang";
-        m.has_sigma_a = true;
-        m.has_melanin = m.has_color = false;
-        m.sigma_a = {0, 0, 0};
+        m.set_sigma_a({0, 0, 0});
     }
     const Film f = render(s, small(1), true);
     const std::vector<ImageChannel> chs = aov_channels(f, {"alpha", "albedo"});
