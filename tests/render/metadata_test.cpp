@@ -66,17 +66,16 @@ TEST(Metadata, EveryImageCarriesTheCommandLineIdentityAndSettings) {
 // ("FILE: COMMAND LINE" a line, in the order the parts were given).
 TEST(Metadata, MergedImageCarriesEveryPartsCommandLine) {
     TempDir d("ht_meta_merge_");
-    const std::string render = "hairtrace render 'builtin:strand?hairs=40&segments=4' --width 16 --height 12 "
-                               "--spp 4 --chunk 2 --quiet";
+    // The words after the program's name, run by the binary and recorded after "hairtrace".
+    const std::string render = " render 'builtin:strand?hairs=40&segments=4' --width 16 --height 12 --spp 4 "
+                               "--chunk 2 --quiet";
     const std::string part0 = render + " --sample-range 0:2 -o " + (d / "p0.exr");
     const std::string part1 = render + " --sample-range 2:4 -o " + (d / "p1.exr");
-    const std::string bin = HT_BINARY;
-    ASSERT_EQ(run(bin + part0.substr(9)), 0);  // the binary's path in place of the word "hairtrace"
-    ASSERT_EQ(run(bin + part1.substr(9)), 0);
     const std::string merge = " merge " + (d / "p1.exr") + " " + (d / "p0.exr") + " -o " + (d / "m.exr") + " -o " +
                               (d / "m.png") + " --quiet";
-    ASSERT_EQ(run(bin + merge), 0);
-    const std::string parts = (d / "p1.exr") + ": " + part1 + "\n" + (d / "p0.exr") + ": " + part0;
+    for (const std::string& words : {part0, part1, merge}) ASSERT_EQ(run(HT_BINARY + words), 0) << words;
+    const std::string parts =
+        (d / "p1.exr") + ": hairtrace" + part1 + "\n" + (d / "p0.exr") + ": hairtrace" + part0;
     for (const char* image : {"m.exr", "m.png"}) {
         const OIIO::ImageSpec spec = spec_of(d / image);
         EXPECT_EQ(spec.get_string_attribute("hairtrace:parts"), parts) << image;
