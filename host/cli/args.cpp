@@ -242,6 +242,23 @@ std::vector<std::string> split_fields(const std::string& text, char sep) {
     }
 }
 
+std::string shell_words(const std::vector<std::string>& words) {
+    std::string line;
+    for (const std::string& w : words) {
+        if (!line.empty()) line += ' ';
+        const bool plain = !w.empty() && w.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                                             "0123456789-_.,:/=+@%") == std::string::npos;
+        if (plain) {
+            line += w;
+            continue;
+        }
+        line += '\'';
+        for (char c : w) line += c == '\'' ? std::string("'\\''") : std::string(1, c);
+        line += '\'';
+    }
+    return line;
+}
+
 std::vector<double> parse_number_list(const std::string& what, const std::string& text, size_t count,
                                       const char* form) {
     const UsageError error(what + " expects " + form + " numbers, got '" + text + "'");

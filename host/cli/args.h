@@ -39,6 +39,9 @@ double parse_double(const std::string& what, const std::string& text, double lo,
 // "a,,b," -> "a", "", "b", "": every field between separators, empty ones included (so that a
 // stray separator is reported by whoever checks the fields).
 std::vector<std::string> split_fields(const std::string& text, char sep);
+// The words of a command line as a shell would take them back: words with spaces, quotes or
+// other special characters single-quoted (the images' hairtrace:command_line).
+std::string shell_words(const std::vector<std::string>& words);
 // "a,b,c": exactly `count` finite numbers; `form` names them in the message ("x,y,z").
 std::vector<double> parse_number_list(const std::string& what, const std::string& text, size_t count,
                                       const char* form);

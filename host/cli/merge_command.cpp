@@ -4,7 +4,9 @@
 // result is bit for bit the image one `hairtrace render` with the same --spp/--chunk/--seed would
 // have written, AOV channels (render --aovs) included.  The parts must come from the same render
 // (same render identity, size, seed, spp, chunk), be disjoint and together cover [0, spp);
-// anything else is reported and exits 2.
+// anything else is reported and exits 2.  The merged image records its own command line and, in
+// hairtrace:parts, every part's ("FILE: COMMAND" a line, in the order given), so that the render
+// behind it can be told and run again.
 #include "cli/commands.h"
 #include "cli/path_checks.h"
 #include "core/hash.h"
@@ -50,9 +52,12 @@ int cmd_merge(const std::vector<std::string>& args) {
 
     std::vector<Located> all;
     PartialImage first;
+    std::string part_commands;  // "FILE: COMMAND LINE", one line per part
     for (size_t i = 0; i < parts.size(); ++i) {
         PartialImage part = read_partial_exr(parts[i]);
         if (i == 0) first = part;
+        part_commands += (i ? "\n" : "") + parts[i] + ": " +
+                         (part.command_line.empty() ? "(no command line recorded)" : part.command_line);
         auto differ = [&](const std::string& what, long long a, long long b) {
             if (a != b)
                 throw SceneError("merge: " + parts[i] + " has " + what + " " + std::to_string(b) + ", but " + parts[0] +
@@ -99,6 +104,10 @@ int cmd_merge(const std::vector<std::string>& args) {
     for (auto& l : all) acc.add(std::move(l.seg));
     const Film film = acc.compose();
     ImageMetadata meta;
+    std::vector<std::string> command_line = {"hairtrace", "merge"};
+    command_line.insert(command_line.end(), args.begin(), args.end());
+    meta.text["hairtrace:command_line"] = shell_words(command_line);
+    meta.text["hairtrace:parts"] = part_commands;
     meta.ints["hairtrace:spp"] = grid.spp;
     meta.ints["hairtrace:seed"] = int(first.seed);
     meta.ints["hairtrace:max_depth"] = first.max_depth;

@@ -260,24 +260,6 @@ void report(const PreparedRender& job, const RenderRequest& request, const RunOu
                      (unsigned long long)st.nonfinite_caught);
 }
 
-// The command line as a shell would take it back: words with spaces or quotes single-quoted.
-std::string shell_words(const std::vector<std::string>& words) {
-    std::string line;
-    for (const std::string& w : words) {
-        if (!line.empty()) line += ' ';
-        const bool plain = !w.empty() && w.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
-                                                             "0123456789-_.,:/=+@%") == std::string::npos;
-        if (plain) {
-            line += w;
-            continue;
-        }
-        line += '\'';
-        for (char c : w) line += c == '\'' ? std::string("'\\''") : std::string(1, c);
-        line += '\'';
-    }
-    return line;
-}
-
 std::string utc_now(const char* format) {
     const std::time_t t = std::time(nullptr);
     std::tm tm{};

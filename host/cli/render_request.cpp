@@ -32,7 +32,7 @@ struct OptionRow {
 // them.  A new option is one row here and one line in parse_image_request/parse_render_request.
 const OptionRow kOptions[] = {
     {"output", "-o", "OUT", "output image; the extension picks the format (.exr/.hdr/.tif linear float, .png/.jpg sRGB 8-bit)", "", Kind::Images, kRender},
-    {"output", "--aovs", "LIST", "comma-separated output values, written as extra channels of the .exr/.hdr/.tif outputs: alpha (A: coverage), depth (Z: mean hit distance), tangent (first hit's fibre tangent), albedo (first vertex's directional albedo), direct, indirect (light scattered at most once / more; direct + indirect = the beauty), R, TT, TRT, residual (the hair's share split by the lobes of the first hair vertex)", "", Kind::Value, kRender},
+    {"output", "--aovs", "LIST", "comma-separated output values, written as extra channels of the .exr/.hdr/.tif outputs: alpha (A: coverage, premultiplied; it also makes .png outputs RGBA, with straight alpha), depth (Z: mean hit distance), tangent (first hit's fibre tangent), albedo (first vertex's directional albedo), direct, indirect (light scattered at most once / more; direct + indirect = the beauty), R, TT, TRT, residual (the hair's share split by the lobes of the first hair vertex)", "", Kind::Value, kRender},
     {"output", "--exposure", "E|auto", kExposureHelp, "auto", Kind::Value, kRender},
     {"output", "--tonemap", "filmic|clip", kToneMapHelp, "filmic", Kind::Value, kRender},
 
@@ -182,8 +182,15 @@ std::vector<std::string> parse_aov_list_of(const std::string& text, const Render
         const std::string& name = require_choice("--aovs", item, aov_names());
         if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
     }
-    if (std::none_of(r.outputs.begin(), r.outputs.end(), [](const std::string& o) { return is_float_format(o); }))
-        throw UsageError("--aovs needs an .exr, .hdr or .tif output: 8-bit images hold the tone-mapped beauty only");
+    // Alpha alone fits a .png too (RGBA); every other value needs a float format.
+    const bool alpha_only = names == std::vector<std::string>{"alpha"};
+    const auto holds_them = [&](const std::string& o) {
+        return is_float_format(o) || (alpha_only && is_8bit_alpha_format(o));
+    };
+    if (std::none_of(r.outputs.begin(), r.outputs.end(), holds_them))
+        throw UsageError(alpha_only ? "--aovs alpha needs an .exr, .hdr, .tif or .png output: other 8-bit formats hold no alpha"
+                                    : "--aovs " + text + " needs an .exr, .hdr or .tif output: 8-bit images hold the "
+                                      "tone-mapped beauty only (and alpha, in .png)");
     return names;
 }
 }  // namespace
@@ -221,11 +228,7 @@ RenderRequest parse_render_request(const ArgParser& p) {
 void apply_scene_overrides(Scene& scene, const ImageRequest& r) {
     if (r.model) apply_model_override(scene, *r.model);
     if (r.sigma_a)
-        for (auto& mat : scene.materials) {
-            mat.has_sigma_a = true;
-            mat.has_melanin = mat.has_color = false;
-            mat.sigma_a = *r.sigma_a;
-        }
+        for (auto& mat : scene.materials) mat.set_sigma_a(*r.sigma_a);
     if (r.background) scene.environment = Environment{"", *r.background, 1.0f};
     if (!r.environment.empty()) scene.environment.map_path = r.environment;
     scene.environment.intensity *= r.environment_intensity;

@@ -29,6 +29,8 @@ float srgb_encode(float x) {
     x = std::clamp(x, 0.0f, 1.0f);
     return x <= 0.0031308f ? 12.92f * x : 1.055f * std::pow(x, 1.0f / 2.4f) - 0.055f;
 }
+
+unsigned char to_byte(float x) { return (unsigned char)std::lround(255.0f * std::clamp(x, 0.0f, 1.0f)); }
 }  // namespace
 
 const std::vector<std::string>& tone_map_names() {
@@ -83,6 +85,32 @@ bool is_float_format(const std::string& path) {
     return e == ".exr" || e == ".hdr" || e == ".pfm" || e == ".tif" || e == ".tiff";
 }
 
+bool is_8bit_alpha_format(const std::string& path) { return lower_ext(path) == ".png"; }
+
+namespace {
+// The bytes of an 8-bit image of the mean radiance `rgb` (3 per pixel): exposure, tone map, sRGB.
+// With `coverage` (one per pixel, in [0, 1]) RGBA with straight alpha: the colour is the
+// radiance divided by the coverage before the tone mapping (write_image says why), 0 where
+// nothing covers the pixel.
+std::vector<unsigned char> display_bytes(const std::vector<float>& rgb, const float* coverage, float exposure,
+                                         ToneMap tone_map) {
+    const size_t pixels = rgb.size() / 3;
+    const int channels = coverage ? 4 : 3;
+    std::vector<unsigned char> bytes(pixels * size_t(channels));
+    for (size_t i = 0; i < pixels; ++i) {
+        const float alpha = coverage ? coverage[i] : 1.0f;
+        const float scale = alpha > 0 ? exposure / std::min(alpha, 1.0f) : 0.0f;
+        const float exposed[3] = {rgb[3 * i] * scale, rgb[3 * i + 1] * scale, rgb[3 * i + 2] * scale};
+        float display[3];
+        tone_map_pixel(exposed, display, tone_map);
+        unsigned char* px = &bytes[i * size_t(channels)];
+        for (int k = 0; k < 3; ++k) px[k] = to_byte(srgb_encode(display[k]));
+        if (coverage) px[3] = to_byte(alpha);
+    }
+    return bytes;
+}
+}  // namespace
+
 std::vector<float> film_to_rgb(const Film& film) {
     size_t n = size_t(film.width) * size_t(film.height);
     std::vector<float> rgb(3 * n);
@@ -113,11 +141,20 @@ void write_image(const std::string& path, const Film& film, const ImageMetadata&
     std::string ext = lower_ext(path);
     if (ext.empty()) throw ImageError(path + ": no file extension to choose an image format from");
     bool linear = is_float_format(path);
+    const ImageChannel* alpha_8bit = nullptr;
+    if (!linear && is_8bit_alpha_format(path))
+        for (const ImageChannel& e : extra)
+            if (e.name == "A") alpha_8bit = &e;
     std::vector<float> rgb = film_to_rgb(film);
     const size_t pixels = size_t(film.width) * size_t(film.height);
-    const int channels = 3 + (linear ? int(extra.size()) : 0);
+    const int channels = linear ? 3 + int(extra.size()) : alpha_8bit ? 4 : 3;
     ImageSpec spec(film.width, film.height, channels, linear ? TypeDesc::FLOAT : TypeDesc::UINT8);
-    if (channels > 3) {
+    if (alpha_8bit) {
+        spec.channelnames = {"R", "G", "B", "A"};
+        spec.alpha_channel = 3;
+        // The bytes are straight alpha already; OpenImageIO would otherwise divide them once more.
+        spec.attribute("oiio:UnassociatedAlpha", 1);
+    } else if (linear && channels > 3) {
         std::vector<float> all(pixels * size_t(channels));
         for (size_t i = 0; i < pixels; ++i) {
             for (int c = 0; c < 3; ++c) all[i * channels + c] = rgb[3 * i + c];
@@ -155,13 +192,9 @@ void write_image(const std::string& path, const Film& film, const ImageMetadata&
     std::vector<unsigned char> bytes;
     const void* data = rgb.data();
     if (!linear) {
-        bytes.resize(rgb.size());
-        for (size_t i = 0; i < rgb.size(); i += 3) {
-            const float exposed[3] = {rgb[i] * exposure, rgb[i + 1] * exposure, rgb[i + 2] * exposure};
-            float display[3];
-            tone_map_pixel(exposed, display, tone_map);
-            for (int k = 0; k < 3; ++k) bytes[i + k] = (unsigned char)std::lround(255.0f * srgb_encode(display[k]));
-        }
+        if (alpha_8bit && alpha_8bit->values.size() != pixels)
+            throw ImageError(path + ": the alpha channel does not have one value per pixel");
+        bytes = display_bytes(rgb, alpha_8bit ? alpha_8bit->values.data() : nullptr, exposure, tone_map);
         data = bytes.data();
     }
 

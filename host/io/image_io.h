@@ -56,8 +56,14 @@ float filmic_curve(float luminance);
 void tone_map_pixel(const float in[3], float out[3], ToneMap mode);
 
 // Throws ImageError naming the file on failure.  `exposure` and `tone_map` shape 8-bit outputs
-// only; float formats get the radiance unchanged, and the `extra` channels after R, G, B
-// (8-bit images hold the tone-mapped beauty only).
+// only; float formats get the radiance unchanged, and the `extra` channels after R, G, B (an
+// A channel there is premultiplied alpha, as OpenEXR defines it: the film's radiance already is
+// coverage times the colour of what covers the pixel).  8-bit images hold the tone-mapped
+// beauty, and formats with alpha (is_8bit_alpha_format) an A channel of `extra` as straight
+// alpha, as PNG defines it: each pixel's colour is divided by its coverage before the tone
+// mapping, so an edge pixel shows the colour of the hair and its alpha how much of it there is.
+// Where the camera sees an environment (--background, --environment) the beauty holds it behind
+// the hair: background pixels become transparent, but edge pixels keep its share in their colour.
 void write_image(const std::string& path, const Film& film, const ImageMetadata& meta,
                  float exposure = 1.0f, ToneMap tone_map = ToneMap::Filmic,
                  const std::vector<ImageChannel>& extra = {});
@@ -66,6 +72,8 @@ void write_image(const std::string& path, const Film& film, const ImageMetadata&
 std::vector<float> read_rgb_image(const std::string& path, int& width, int& height);
 
 bool is_float_format(const std::string& path);
+// 8-bit formats whose files can hold an alpha channel: .png.
+bool is_8bit_alpha_format(const std::string& path);
 
 // An exposure that maps the 95th percentile of the non-black pixels' luminance to 0.8: a
 // sensible default for looking at an image whose absolute scale is arbitrary.  A high percentile

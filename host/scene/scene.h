@@ -92,6 +92,12 @@ struct HairMaterialDesc {
     float eumelanin = 0.0f, pheomelanin = 0.0f;
     bool has_color = false;
     Vec3f color{0.8f, 0.6f, 0.4f};
+    // Absorption from sigma_a alone, melanin and colour dropped (--sigma-a).
+    void set_sigma_a(const Vec3f& s) {
+        has_sigma_a = true;
+        has_melanin = has_color = false;
+        sigma_a = s;
+    }
     float eta = 1.55f;
     float beta_m = 0.3f, beta_n = 0.3f, alpha_deg = 2.0f;
     // Marschner / Zinke parameters (degrees)
@@ -161,7 +167,9 @@ Scene make_builtin(const std::string& spec, const LoadOptions& opt = {});
 // radius).  Throws SceneError (unwritable file, strand longer than 65,536 points).
 void save_hair_file(const std::string& path, const Scene& scene);
 
-// The default hair material: light blond, Marschner model, sigma_a ~ (0.06, 0.10, 0.20).
+// The hair material of files that state none (.hair, .data, .ply, .obj, pbrt, glTF without one,
+// the built-ins): golden blond, the `blond` preset's melanin (scene/hair_presets.h), Marschner
+// model.
 HairMaterialDesc blond_hair_material();
 
 // FNV-1a 64 over the strand arrays (first_point, points, radius, material): equal hashes mean

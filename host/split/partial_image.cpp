@@ -144,6 +144,7 @@ PartialImage read_partial_exr(const std::string& path) {
     p.scene = spec.get_string_attribute("hairtrace:scene");
     p.aovs = aov_list(spec.get_string_attribute("hairtrace:aovs"), path);
     const int aov_sums = aov_sums_per_pixel(p.aovs);
+    p.command_line = spec.get_string_attribute("hairtrace:command_line");
     const std::string identity = spec.get_string_attribute("hairtrace:render_identity");
     const std::string segs = spec.get_string_attribute("hairtrace:segments");
     if (p.spp_target < 1 || p.chunk < 1)

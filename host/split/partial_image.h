@@ -32,6 +32,7 @@ struct PartialImage {
     RenderIdentity identity;
     std::string scene;
     std::vector<std::string> aovs;      // --aovs names: the segments' films carry AOV sums when not empty
+    std::string command_line;  // read back: the hairtrace:command_line the render wrote ("" if none)
     std::vector<FilmSegment> segments;  // sorted, disjoint
 };
 

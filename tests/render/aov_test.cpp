@@ -1,7 +1,7 @@
 // render --aovs (kernels/aovs.h, host/render/aovs.h): the beauty keeps its bits, the values add up
 // where they must (direct + indirect = beauty; R + TT + TRT + residual = the hair's share), the
-// albedo of a non-absorbing fibre is 1 (energy conservation, the reference), and the command
-// line refuses what it cannot write before rendering.
+// albedo of a non-absorbing fibre is 1 (energy conservation, the reference), the command line
+// refuses what it cannot write before rendering, and alpha makes a .png RGBA.
 #include "cl/device.h"
 #include "kernels/aovs.h"
 #include "render/aovs.h"
@@ -137,9 +137,7 @@ TEST(Aovs, AlbedoOfANonAbsorbingFibreIsOne) {
     Scene s = lock();
     for (auto& m : s.materials) {
         m.model = "chiang";
-        m.has_sigma_a = true;
-        m.has_melanin = m.has_color = false;
-        m.sigma_a = {0, 0, 0};
+        m.set_sigma_a({0, 0, 0});
     }
     const Film f = render(s, small(1), true);
     const std::vector<ImageChannel> chs = aov_channels(f, {"alpha", "albedo"});
@@ -154,12 +152,14 @@ TEST(Aovs, AlbedoOfANonAbsorbingFibreIsOne) {
 }
 
 #ifdef HT_BINARY
+// A render small enough for the command-line tests; they add --aovs and outputs.
+const std::string kSmallRender =
+    std::string(HT_BINARY) + " render 'builtin:strand?hairs=100&segments=8' --width 24 --height 24 --spp 2 --quiet";
+
 TEST(AovsCli, ChannelsAreNamedAndMistakesExit2BeforeRendering) {
     using namespace clitest;
-    const std::string bin = HT_BINARY;
     TempDir d("ht_aovs_");
-    const std::string small_render = bin + " render 'builtin:strand?hairs=100&segments=8' --width 24 --height 24 --spp 2 --quiet";
-    ASSERT_EQ(run(small_render + " --aovs alpha,depth,direct,indirect,TRT -o " + d / "a.exr"), 0);
+    ASSERT_EQ(run(kSmallRender + " --aovs alpha,depth,direct,indirect,TRT -o " + d / "a.exr"), 0);
     auto in = OIIO::ImageInput::open(d / "a.exr");
     ASSERT_TRUE(in);
     const std::vector<std::string> expected = {"R", "G", "B", "A", "Z", "direct.R", "direct.G", "direct.B",
@@ -173,11 +173,50 @@ TEST(AovsCli, ChannelsAreNamedAndMistakesExit2BeforeRendering) {
     in->close();
 
     const std::string err = d / "err.txt";
-    EXPECT_EQ(run(small_render + " --aovs alpha,drect -o " + d / "b.exr" + " 2>" + err), 2);
+    EXPECT_EQ(run(kSmallRender + " --aovs alpha,drect -o " + d / "b.exr" + " 2>" + err), 2);
     EXPECT_NE(slurp(err).find("did you mean direct"), std::string::npos) << slurp(err);
-    EXPECT_EQ(run(small_render + " --aovs alpha -o " + d / "c.png" + " 2>" + err), 2);
+    EXPECT_EQ(run(kSmallRender + " --aovs alpha,depth -o " + d / "c.png" + " 2>" + err), 2);
     EXPECT_NE(slurp(err).find(".exr"), std::string::npos) << slurp(err);
-    EXPECT_FALSE(std::filesystem::exists(d / "b.exr") || std::filesystem::exists(d / "c.png"));
+    EXPECT_EQ(run(kSmallRender + " --aovs alpha -o " + d / "c.jpg" + " 2>" + err), 2);
+    EXPECT_NE(slurp(err).find(".png"), std::string::npos) << slurp(err);
+    EXPECT_FALSE(std::filesystem::exists(d / "b.exr") || std::filesystem::exists(d / "c.png") ||
+                 std::filesystem::exists(d / "c.jpg"));
+}
+
+// --aovs alpha with a .png: RGBA, the alpha the EXR's A in bytes, the colour of fully covered
+// pixels that of the same render's RGB PNG (write_image's unit tests check the edges).
+TEST(AovsCli, AlphaMakesThePngRgba) {
+    using namespace clitest;
+    TempDir d("ht_aovs_png_");
+    ASSERT_EQ(run(kSmallRender + " -o " + d / "rgb.png"), 0);
+    ASSERT_EQ(run(kSmallRender + " --aovs alpha -o " + d / "rgba.png -o " + d / "rgba.exr"), 0);
+    auto read = [](const std::string& path, OIIO::TypeDesc type, void* data) {
+        OIIO::ImageSpec config;
+        config.attribute("oiio:UnassociatedAlpha", 1);  // the bytes as stored, not premultiplied on reading
+        auto in = OIIO::ImageInput::open(path, &config);
+        EXPECT_TRUE(in) << path;
+        if (!in) return 0;
+        const int channels = in->spec().nchannels;
+        EXPECT_TRUE(in->read_image(0, 0, 0, channels, type, data));
+        return channels;
+    };
+    const size_t n = 24 * 24;
+    std::vector<unsigned char> rgba(n * 4), rgb(n * 3);
+    std::vector<float> exr(n * 4);
+    ASSERT_EQ(read(d / "rgba.png", OIIO::TypeDesc::UINT8, rgba.data()), 4);
+    ASSERT_EQ(read(d / "rgb.png", OIIO::TypeDesc::UINT8, rgb.data()), 3);
+    ASSERT_EQ(read(d / "rgba.exr", OIIO::TypeDesc::FLOAT, exr.data()), 4);
+    size_t empty = 0, covered = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const float a = exr[4 * i + 3];
+        ASSERT_EQ(int(rgba[4 * i + 3]), int(std::lround(255 * a))) << i;
+        if (a == 0) ++empty;
+        if (a < 1) continue;
+        ++covered;
+        for (int c = 0; c < 3; ++c) EXPECT_EQ(rgba[4 * i + c], rgb[3 * i + c]) << i;
+    }
+    EXPECT_GT(empty, n / 10);
+    EXPECT_GT(covered, 0u);
 }
 #endif
 

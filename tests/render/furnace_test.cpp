@@ -26,9 +26,7 @@ Scene furnace_scene(const std::string& source) {
     scene.environment.color = {1, 1, 1};
     for (auto& m : scene.materials) {
         m.model = "chiang";
-        m.has_sigma_a = true;
-        m.has_melanin = m.has_color = false;
-        m.sigma_a = {0, 0, 0};
+        m.set_sigma_a({0, 0, 0});
         m.beta_m = 0.3f;
         m.beta_n = 0.3f;
         m.alpha_deg = 2.0f;

@@ -88,9 +88,7 @@ TEST(Indirect, AfsTailBrightensDirectLightButStaysBelowTheExactPathTracer) {
 TEST(Indirect, AutomaticDepthFollowsAbsorption) {
     Scene s = strand();
     s.materials[0].model = "zinke";
-    s.materials[0].has_sigma_a = true;
-    s.materials[0].has_melanin = s.materials[0].has_color = false;
-    s.materials[0].sigma_a = {0.1f, 0.1f, 0.1f};
+    s.materials[0].set_sigma_a({0.1f, 0.1f, 0.1f});
     DepthChoice blond = choose_max_depth(s);
     EXPECT_EQ(blond.depth, 5) << blond.why;  // 0.7067^5 = 0.176 < 0.2 (the paper's ~5 bounces)
     s.materials[0].sigma_a = {2.0f, 2.0f, 2.0f};

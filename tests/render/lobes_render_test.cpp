@@ -31,8 +31,7 @@ Scene dark_strand(const std::string& model) {
     Scene s = load_scene("builtin:strand?hairs=200&segments=16");
     for (auto& m : s.materials) {
         m.model = model;
-        m.has_sigma_a = true;
-        m.sigma_a = {8.0f, 10.0f, 12.0f};
+        m.set_sigma_a({8.0f, 10.0f, 12.0f});
     }
     // back light too, so that TT (forward scattering) would have something to show
     ensure_camera_and_light(s);

@@ -1,6 +1,6 @@
 // What every output image says about how it was made (host/cli/render_command.cpp metadata_of,
-// host/io/image_io.cpp write_image): read back with OpenImageIO from the PNG (text chunks), the
-// JPEG (ImageDescription) and the EXR (typed attributes).
+// host/cli/merge_command.cpp, host/io/image_io.cpp write_image): read back with OpenImageIO from
+// the PNG (text chunks), the JPEG (ImageDescription) and the EXR (typed attributes).
 #include <gtest/gtest.h>
 
 #include "cli_test_util.h"
@@ -59,6 +59,27 @@ TEST(Metadata, EveryImageCarriesTheCommandLineIdentityAndSettings) {
     EXPECT_FLOAT_EQ(exr.get_float_attribute("hairtrace:exposure"), 2.5f);
     for (const char* key : kTextKeys) {
         EXPECT_EQ(exr.get_string_attribute(key), png.get_string_attribute(key)) << key;
+    }
+}
+
+// A merged render-farm image names its own command line and, in hairtrace:parts, each part's
+// ("FILE: COMMAND LINE" a line, in the order the parts were given).
+TEST(Metadata, MergedImageCarriesEveryPartsCommandLine) {
+    TempDir d("ht_meta_merge_");
+    // The words after the program's name, run by the binary and recorded after "hairtrace".
+    const std::string render = " render 'builtin:strand?hairs=40&segments=4' --width 16 --height 12 --spp 4 "
+                               "--chunk 2 --quiet";
+    const std::string part0 = render + " --sample-range 0:2 -o " + (d / "p0.exr");
+    const std::string part1 = render + " --sample-range 2:4 -o " + (d / "p1.exr");
+    const std::string merge = " merge " + (d / "p1.exr") + " " + (d / "p0.exr") + " -o " + (d / "m.exr") + " -o " +
+                              (d / "m.png") + " --quiet";
+    for (const std::string& words : {part0, part1, merge}) ASSERT_EQ(run(HT_BINARY + words), 0) << words;
+    const std::string parts =
+        (d / "p1.exr") + ": hairtrace" + part1 + "\n" + (d / "p0.exr") + ": hairtrace" + part0;
+    for (const char* image : {"m.exr", "m.png"}) {
+        const OIIO::ImageSpec spec = spec_of(d / image);
+        EXPECT_EQ(spec.get_string_attribute("hairtrace:parts"), parts) << image;
+        EXPECT_EQ(spec.get_string_attribute("hairtrace:command_line"), "hairtrace" + merge) << image;
     }
 }
 #endif
