@@ -96,7 +96,10 @@ void open_devices(PreparedRender& job, const RenderRequest& request, bool quiet)
     if (!quiet)
         std::fprintf(stderr, "scene: %s, %zu strands, %zu segments\n", job.scene.source.c_str(),
                      job.scene.strands.strand_count(), job.scene.strands.segment_count());
-    job.prepared = std::make_unique<PreparedScene>(prepare_scene(job.scene, job.settings));
+    const auto start_builds = [&](const PreparedScene& recipe) {
+        for (auto& c : job.contexts) prefetch_render_program(*c, recipe, job.scene);
+    };
+    job.prepared = std::make_unique<PreparedScene>(prepare_scene(job.scene, job.settings, start_builds));
     for (auto& c : job.contexts) job.renderers.push_back(std::make_unique<Renderer>(*c, *job.prepared));
     const Renderer& renderer = *job.renderers.front();
     if (!quiet && renderer.stats().clamp_indirect > 0)

@@ -42,7 +42,32 @@ cl::Buffer device_array(cl::Context& ctx, const std::vector<T>& v) {
     if (padded.empty()) padded.resize(1);
     return cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes, padded.data());
 }
+
+constexpr const char* kRenderProgram = "stages/wavefront.cl";
+
+// True when every geometry array stays below half the device's allocation limit even with twice
+// as many BVH references and nodes as primitives: upload_geometry then cuts nothing into pages.
+bool surely_unpaged(const Scene& scene, uint64_t max_alloc) {
+    size_t triangles = 0;
+    for (const Mesh& m : scene.meshes) triangles += m.triangle_count();
+    const uint64_t primitives = scene.strands.segment_count() + triangles;
+    const uint64_t largest = std::max({2 * primitives * sizeof(HtBvhNode), 2 * primitives * sizeof(HtSegment),
+                                       (scene.strands.point_count() + 3 * triangles) * sizeof(HtPoint),
+                                       triangles * sizeof(HtTriangleShading)});
+    return largest <= max_alloc / 2;
+}
 }  // namespace
+
+std::string render_program_options(KernelFeatures features, const std::string& estimator_options,
+                                   const GeometryPaging& paging) {
+    features.paging = paging;
+    return kernel_build_options(features) + estimator_options;
+}
+
+void prefetch_render_program(ClContext& cl, const PreparedScene& recipe, const Scene& scene) {
+    if (!surely_unpaged(scene, cl.info().max_alloc)) return;
+    cl.prefetch(kRenderProgram, render_program_options(recipe.features, recipe.estimator_options, GeometryPaging{}));
+}
 
 // Test hook: HAIRTRACE_INJECT_FAULT=alloc|launch makes the device layer fail the way a driver
 // does (CL_MEM_OBJECT_ALLOCATION_FAILURE, CL_OUT_OF_RESOURCES), so the error paths that real
@@ -105,8 +130,8 @@ struct Renderer::Impl {
         features = p.features;
         options = kernel_build_options(features) + p.estimator_options;
         features.paging = device_geometry.paging;
-        const std::string build_options = kernel_build_options(features) + p.estimator_options;
-        program = cl.build("stages/wavefront.cl", build_options);
+        const std::string build_options = render_program_options(p.features, p.estimator_options, features.paging);
+        program = cl.build(kRenderProgram, build_options);
         stats.build_ms = cl.last_build_ms();
         stats.build_cached = cl.last_build_cached();
         stats.kernel_options = build_options;
@@ -328,7 +353,8 @@ Renderer::Renderer(ClContext& cl, const PreparedScene& prepared) {
 }
 
 Renderer::Renderer(ClContext& cl, const Scene& scene, const RenderSettings& settings) {
-    auto own = std::make_unique<PreparedScene>(prepare_scene(scene, settings));
+    auto own = std::make_unique<PreparedScene>(prepare_scene(
+        scene, settings, [&](const PreparedScene& recipe) { prefetch_render_program(cl, recipe, scene); }));
     const PreparedScene& p = *own;
     try {
         impl_ = new Impl(cl, std::move(own), p);
