@@ -183,10 +183,11 @@ cl::Program ClContext::build(const std::string& main_file, const std::string& op
     return b.program;
 }
 
-ProgramBuild ClContext::compile(const std::string& main_file, const std::string& options) {
+ProgramBuild ClContext::compile(const std::string& main_file, const std::string& requested_options) {
     auto t0 = std::chrono::steady_clock::now();
     ++compiles_;
     const std::string source = assemble_kernel_source(main_file);
+    const std::string options = options_read_by(source, requested_options);
     const std::string key_text = source + "\n--options " + options + "\n--device " + info_.name +
                                  "\n--driver " + info_.driver + "\n--platform " +
                                  info_.platform_version;

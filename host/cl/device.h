@@ -50,8 +50,8 @@ public:
     cl::Device& device() { return device_; }
     const DeviceInfo& info() const { return info_; }
 
-    // Builds kernels/<main_file> (assembled with #line markers) with options, through the
-    // binary cache.  Throws DeviceError with the build log on failure.
+    // Builds kernels/<main_file> (assembled with #line markers) with the options its source reads
+    // (options_read_by, cl/kernel_source.h), through the binary cache.  Throws DeviceError with the build log on failure.
     // A build that prefetch() started with the same file and options is waited for instead.
     cl::Program build(const std::string& main_file, const std::string& options);
 

@@ -43,7 +43,12 @@ cl::Buffer device_array(cl::Context& ctx, const std::vector<T>& v) {
     return cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes, padded.data());
 }
 
-constexpr const char* kRenderProgram = "stages/wavefront.cl";
+// The render program in two builds: shade, which holds the fibre models and every scene feature
+// (most of the compile), and the stages around it, which read few features and so are shared by
+// most scenes (options_read_by in cl/kernel_source.h).  PoCL compiles them on two threads.
+constexpr const char* kTraceProgram = "stages/trace.cl";
+constexpr const char* kShadeProgram = "stages/shade.cl";
+constexpr const char* kAfsShadowProgram = "stages/intersect_shadow_afs.cl";  // --indirect afs only
 
 // True when every geometry array stays below half the device's allocation limit even with twice
 // as many BVH references and nodes as primitives: upload_geometry then cuts nothing into pages.
@@ -66,7 +71,10 @@ std::string render_program_options(KernelFeatures features, const std::string& e
 
 void prefetch_render_program(ClContext& cl, const PreparedScene& recipe, const Scene& scene) {
     if (!surely_unpaged(scene, cl.info().max_alloc)) return;
-    cl.prefetch(kRenderProgram, render_program_options(recipe.features, recipe.estimator_options, GeometryPaging{}));
+    const std::string options = render_program_options(recipe.features, recipe.estimator_options, GeometryPaging{});
+    cl.prefetch(kShadeProgram, options);
+    cl.prefetch(kTraceProgram, options);
+    if (recipe.features[Feature::INDIRECT_AFS]) cl.prefetch(kAfsShadowProgram, options);
 }
 
 // Test hook: HAIRTRACE_INJECT_FAULT=alloc|launch makes the device layer fail the way a driver
@@ -90,7 +98,7 @@ struct Renderer::Impl {
     cl::Buffer afs_table;  // --indirect afs: AFS_TT^avg(theta) per material
     std::string options;
     KernelFeatures features;
-    cl::Program program;
+    cl::Program trace_program, shade_program;
     cl::Kernel k_generate, k_closest, k_shade, k_shadow, k_resolve, k_accumulate;
     cl::Kernel k_compact_count, k_compact_scan, k_compact_scatter;
     cl::Kernel k_shadow_afs, k_resolve_afs;
@@ -131,23 +139,29 @@ struct Renderer::Impl {
         options = kernel_build_options(features) + p.estimator_options;
         features.paging = device_geometry.paging;
         const std::string build_options = render_program_options(p.features, p.estimator_options, features.paging);
-        program = cl.build(kRenderProgram, build_options);
+        shade_program = cl.build(kShadeProgram, build_options);
         stats.build_ms = cl.last_build_ms();
         stats.build_cached = cl.last_build_cached();
+        trace_program = cl.build(kTraceProgram, build_options);
+        stats.build_ms += cl.last_build_ms();
+        stats.build_cached = stats.build_cached && cl.last_build_cached();
         stats.kernel_options = build_options;
-        k_generate = cl::Kernel(program, "generate_camera_rays");
-        k_closest = cl::Kernel(program, "intersect_closest");
-        k_shade = cl::Kernel(program, "shade");
-        k_shadow = cl::Kernel(program, "intersect_shadow");
-        k_resolve = cl::Kernel(program, "resolve_shadows");
-        k_accumulate = cl::Kernel(program, "accumulate");
-        k_compact_count = cl::Kernel(program, "compact_count");
-        k_compact_scan = cl::Kernel(program, "compact_scan");
-        k_compact_scatter = cl::Kernel(program, "compact_scatter");
+        k_generate = cl::Kernel(trace_program, "generate_camera_rays");
+        k_closest = cl::Kernel(trace_program, "intersect_closest");
+        k_shade = cl::Kernel(shade_program, "shade");
+        k_shadow = cl::Kernel(trace_program, "intersect_shadow");
+        k_resolve = cl::Kernel(trace_program, "resolve_shadows");
+        k_accumulate = cl::Kernel(trace_program, "accumulate");
+        k_compact_count = cl::Kernel(trace_program, "compact_count");
+        k_compact_scan = cl::Kernel(trace_program, "compact_scan");
+        k_compact_scatter = cl::Kernel(trace_program, "compact_scatter");
         if (afs) {
             afs_table = device_array(cl.context(), p.afs_table);
-            k_shadow_afs = cl::Kernel(program, "intersect_shadow_afs");
-            k_resolve_afs = cl::Kernel(program, "resolve_shadows_afs");
+            const cl::Program afs_program = cl.build(kAfsShadowProgram, build_options);
+            stats.build_ms += cl.last_build_ms();
+            stats.build_cached = stats.build_cached && cl.last_build_cached();
+            k_shadow_afs = cl::Kernel(afs_program, "intersect_shadow_afs");
+            k_resolve_afs = cl::Kernel(afs_program, "resolve_shadows_afs");
         }
 
         const uint64_t scene_bytes = device_geometry.bytes + p.extra_scene_bytes();
