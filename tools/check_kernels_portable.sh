@@ -27,19 +27,21 @@ for f in $(sed -n 's/^ *X(\([A-Z_]*\),.*/\1/p' "$root/kernels/features.h" | grep
     off+=("-DHT_FEATURE_$f=0")
 done
 [ ${#off[@]} -ge 10 ] || { echo "FAILED: could not read the feature list of kernels/features.h"; exit 1; }
+# the render program's three builds (host/render/renderer.cpp)
+render_programs=("$root/kernels/stages/trace.cl" "$root/kernels/stages/shade.cl" "$root/kernels/stages/intersect_shadow_afs.cl")
 extra=()
 [ "$std" = CL3.0 ] && extra=(-Xclang -cl-ext=-all)
 if ! "$clang" -x cl -cl-std="$std" -target spir64-unknown-unknown -Xclang -finclude-default-header \
      -fsyntax-only -cl-single-precision-constant -Werror -Wall -Wno-unused-function -Wno-unused-variable \
-     "${off[@]}" "${extra[@]}" "$root/kernels/stages/wavefront.cl"; then
-    echo "FAILED: kernels/stages/wavefront.cl with scene features off ($std)"
+     "${off[@]}" "${extra[@]}" "${render_programs[@]}"; then
+    echo "FAILED: the render programs with scene features off ($std)"
     status=1
 fi
 # Meshes without textures: the one partial surface configuration.
 if ! "$clang" -x cl -cl-std="$std" -target spir64-unknown-unknown -Xclang -finclude-default-header \
      -fsyntax-only -cl-single-precision-constant -Werror -Wall -Wno-unused-function -Wno-unused-variable \
-     -DHT_FEATURE_MESHES=1 -DHT_FEATURE_TEXTURES=0 "${extra[@]}" "$root/kernels/stages/wavefront.cl"; then
-    echo "FAILED: kernels/stages/wavefront.cl with meshes but no textures ($std)"
+     -DHT_FEATURE_MESHES=1 -DHT_FEATURE_TEXTURES=0 "${extra[@]}" "${render_programs[@]}"; then
+    echo "FAILED: the render programs with meshes but no textures ($std)"
     status=1
 fi
 # Lobes (kernels/fiber/lobes.h): every combination, with every model and the AFS stage in, and with
@@ -50,8 +52,8 @@ for lobes in "0 0" "0 1" "1 0"; do
         # shellcheck disable=SC2086
         if ! "$clang" -x cl -cl-std="$std" -target spir64-unknown-unknown -Xclang -finclude-default-header \
              -fsyntax-only -cl-single-precision-constant -Werror -Wall -Wno-unused-function -Wno-unused-variable \
-             -DHT_FEATURE_LOBE_TT=$1 -DHT_FEATURE_LOBE_TRT=$2 $rest "${extra[@]}" "$root/kernels/stages/wavefront.cl"; then
-            echo "FAILED: kernels/stages/wavefront.cl with LOBE_TT=$1 LOBE_TRT=$2 $rest ($std)"
+             -DHT_FEATURE_LOBE_TT=$1 -DHT_FEATURE_LOBE_TRT=$2 $rest "${extra[@]}" "${render_programs[@]}"; then
+            echo "FAILED: the render programs with LOBE_TT=$1 LOBE_TRT=$2 $rest ($std)"
             status=1
         fi
     done
@@ -59,7 +61,7 @@ done
 # Geometry paged over several buffers (kernels/geometry/pages.h), with the AOV records: the render and tracer programs
 # with 3 pages of 4 KiB and with the maximum of 8, meshes on so every paged array is indexed.
 for pages in 3 8; do
-    for f in wavefront.cl intersect.cl; do
+    for f in trace.cl shade.cl intersect_shadow_afs.cl intersect.cl; do
         if ! "$clang" -x cl -cl-std="$std" -target spir64-unknown-unknown -Xclang -finclude-default-header \
              -fsyntax-only -cl-single-precision-constant -Werror -Wall -Wno-unused-function -Wno-unused-variable \
              -DHT_FEATURE_MESHES=1 -DHT_FEATURE_INDIRECT_AFS=1 -DHT_FEATURE_AOVS=1 -DHT_GEOMETRY_PAGES=$pages -DHT_GEOMETRY_PAGE_LOG2=12 \

@@ -4,6 +4,7 @@
 #include "core/errors.h"
 
 #include "bench/embree_tracer.h"
+#include "bench/startup.h"
 #include "render/renderer.h"
 #include "bench/rays_file.h"
 #include "bvh/bvh.h"
@@ -422,7 +423,7 @@ nlohmann::json measure_wavefront(ClContext& cl, const std::string& name, const S
 struct BenchRequest {
     std::vector<SceneArg> scenes;
     int reps = 5, device = -1, res = 1024;
-    bool json = false, embree = false, wavefront = true;
+    bool json = false, embree = false, wavefront = true, startup = false;
     BvhOptions bvh;
     std::string options;
 };
@@ -437,6 +438,7 @@ void declare_bench_options(ArgParser& p) {
         .option("--res", "N", "generated primary rays: N x N (rounded down to a multiple of 4)", "1024")
         .option("--reps", "N", "timed passes per case, median reported", "5")
         .flag("--no-wavefront", "skip the per-bounce throughput of a small full render")
+        .flag("--startup", "instead of traversal: the time to the first image of each scene (`hairtrace render SCENE --width 64 --height 64 --spp 1` in a fresh process), with empty program caches and from the binary cache, medians of --reps, with the kernel build's share")
         .flag("--embree", "also trace every ray set through Embree 3 in this process (same rays, rtcIntersect1/rtcOccluded1) and print the ratio; needs a build with libembree-dev installed")
         .flag("--json", "machine-readable report");
     p.group("BVH builder")
@@ -463,6 +465,7 @@ BenchRequest parse_bench_request(const ArgParser& p) {
     r.res = p.get_int("--res", 4, 16384) / 4 * 4;
     r.reps = p.get_int("--reps", 1, 100000);
     r.wavefront = !p.has("--no-wavefront");
+    r.startup = p.has("--startup");
     r.embree = p.has("--embree");
     r.json = p.has("--json");
     if (p.has("--compact")) r.bvh = BvhOptions::compact();
@@ -506,6 +509,12 @@ int bench_main(const std::vector<std::string>& args, const SceneSource& source_i
     bool all_ok = true;
     ClContext cl(device);
     const nlohmann::json report_machine = describe_machine(cl, !json_out);
+    if (request.startup) {
+        const std::string exe = std::filesystem::read_symlink("/proc/self/exe").string();
+        for (const SceneArg& sa : scenes) report.push_back(measure_startup(exe, sa.name, reps, !json_out));
+        if (json_out) std::printf("%s\n", nlohmann::json{{"machine", report_machine}, {"startup", report}}.dump(2).c_str());
+        return 0;
+    }
 
     for (SceneArg& sa : scenes) {
         nlohmann::json js;

@@ -6,6 +6,10 @@
 
 #include <CL/opencl.hpp>
 
+#include <atomic>
+#include <future>
+#include <map>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -22,11 +26,24 @@ struct DeviceInfo {
     size_t max_work_group = 0;
 };
 
+// Sets the environment the OpenCL runtimes read at start-up (host/cl/device.cpp says what and
+// why).  Every device query calls it; a program that opens devices on another thread while its
+// main thread reads the environment calls it first, since setenv is not safe beside getenv.
+void configure_opencl_runtime();
+
 // All devices of all platforms.  Throws DeviceError when no platform is installed.
 std::vector<DeviceInfo> list_devices();
 
 // Human-readable message for an OpenCL error code.
 std::string cl_error_name(int err);
+
+// A finished program build: the program, its wall milliseconds and whether the binary cache
+// supplied it.
+struct ProgramBuild {
+    cl::Program program;
+    double ms = 0;
+    bool cached = false;
+};
 
 class ClContext {
 public:
@@ -38,9 +55,20 @@ public:
     cl::Device& device() { return device_; }
     const DeviceInfo& info() const { return info_; }
 
-    // Builds kernels/<main_file> (assembled with #line markers) with options, through the
-    // binary cache.  Throws DeviceError with the build log on failure.
+    // Builds kernels/<main_file> (assembled with #line markers) with the options its source reads
+    // (options_read_by, cl/kernel_source.h), through the binary cache.  Throws DeviceError with the build log on failure.
+    // A build that prefetch() started with the same file and options is waited for instead.
     cl::Program build(const std::string& main_file, const std::string& options);
+
+    // Starts the same build on a background thread and returns at once, so that the compile
+    // (seconds with a cold cache) overlaps host work such as the BVH build.  Its failure is
+    // reported by the build() that collects it; a prefetch nobody collects is waited for and
+    // dropped with the context.
+    void prefetch(const std::string& main_file, const std::string& options);
+
+    // Programs this context has compiled or loaded from the cache, prefetched ones included
+    // (a prefetch that build() collects counts once).
+    int compiles() const { return compiles_; }
 
     // Milliseconds spent in the last build() and whether it came from the cache.
     double last_build_ms() const { return last_build_ms_; }
@@ -53,6 +81,12 @@ private:
     DeviceInfo info_;
     double last_build_ms_ = 0;
     bool last_build_cached_ = false;
+    std::atomic<int> compiles_{0};
+    std::mutex prefetch_mutex_;
+    // Declared last: destroyed first, so a running prefetch finishes while the context lives.
+    std::map<std::string, std::future<ProgramBuild>> prefetched_;  // by file + options
+
+    ProgramBuild compile(const std::string& main_file, const std::string& options);
 };
 
 // Where compiled program binaries are kept: $HAIRTRACE_CACHE_DIR, else $XDG_CACHE_HOME/hairtrace,

@@ -18,4 +18,10 @@ std::string kernel_file(const std::string& rel_path);
 // marker before and after each inlined file, so compiler messages name kernels/<file>:<line>.
 std::string assemble_kernel_source(const std::string& main_file);
 
+// `options` without the -DNAME[=value] tokens that `source` does not read: NAME occurs nowhere
+// but in its own default declaration (#ifndef NAME / #define NAME).  Programs built from
+// different stages then share a build (and a cache entry) across scenes that differ only in
+// what another stage reads; a dropped define cannot change the program.
+std::string options_read_by(const std::string& source, const std::string& options);
+
 }  // namespace ht

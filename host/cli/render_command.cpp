@@ -28,6 +28,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <future>
 #include <memory>
 
 namespace ht {
@@ -86,17 +87,26 @@ void load_inputs(PreparedRender& job, const RenderRequest& request, bool quiet) 
     for (auto& w : job.scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
 }
 
+std::vector<std::unique_ptr<ClContext>> open_contexts(const DeviceChoice& devices) {
+    std::vector<std::unique_ptr<ClContext>> out;
+    for (int d : device_indices(devices)) out.push_back(std::make_unique<ClContext>(d));
+    return out;
+}
+
 void open_devices(PreparedRender& job, const RenderRequest& request, bool quiet) {
-    for (int d : device_indices(request.image.devices)) {
-        job.contexts.push_back(std::make_unique<ClContext>(d));
-        const DeviceInfo& info = job.contexts.back()->info();
-        job.device_names.push_back(info.name + (d >= 0 ? " #" + std::to_string(d) : ""));
+    const std::vector<int> indices = device_indices(request.image.devices);
+    for (size_t i = 0; i < job.contexts.size(); ++i) {
+        const DeviceInfo& info = job.contexts[i]->info();
+        job.device_names.push_back(info.name + (indices[i] >= 0 ? " #" + std::to_string(indices[i]) : ""));
         if (!quiet) std::fprintf(stderr, "device: %s (%s)\n", info.name.c_str(), info.platform.c_str());
     }
     if (!quiet)
         std::fprintf(stderr, "scene: %s, %zu strands, %zu segments\n", job.scene.source.c_str(),
                      job.scene.strands.strand_count(), job.scene.strands.segment_count());
-    job.prepared = std::make_unique<PreparedScene>(prepare_scene(job.scene, job.settings));
+    const auto start_builds = [&](const PreparedScene& recipe) {
+        for (auto& c : job.contexts) prefetch_render_program(*c, recipe, job.scene);
+    };
+    job.prepared = std::make_unique<PreparedScene>(prepare_scene(job.scene, job.settings, start_builds));
     for (auto& c : job.contexts) job.renderers.push_back(std::make_unique<Renderer>(*c, *job.prepared));
     const Renderer& renderer = *job.renderers.front();
     if (!quiet && renderer.stats().clamp_indirect > 0)
@@ -137,11 +147,16 @@ void prepare(PreparedRender& job, const RenderRequest& request, const DistContex
     job.my_range = rank_range(job.range, request.grid, dist.rank, dist.ranks);
     job.rank_suffix = dist.ranks > 1 ? ".rank" + std::to_string(dist.rank) : "";
     if (!request.image.kernel_dir.empty()) set_kernel_dir(request.image.kernel_dir);
+    // The OpenCL runtime's start-up (PoCL: about half a second of CPU) overlaps the scene load;
+    // a scene error is still reported first.
+    configure_opencl_runtime();
+    auto contexts = std::async(std::launch::async, open_contexts, request.image.devices);
     load_inputs(job, request, quiet);
     if (!quiet && dist.mpi) {
         const std::string w = cpu_binding_warning(local_rank_count());
         if (!w.empty()) std::fprintf(stderr, "warning: %s\n", w.c_str());
     }
+    job.contexts = contexts.get();
     open_devices(job, request, quiet);
     job.identity = render_identity(job.scene, *job.prepared, request.grid.chunk, request.aovs);
     job.acc = std::make_unique<SampleAccumulator>(request.grid, job.settings.width, job.settings.height,

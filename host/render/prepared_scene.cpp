@@ -15,9 +15,17 @@ uint64_t PreparedScene::extra_scene_bytes() const {
            texture_headers.size() * sizeof(HtTexture) + afs_table.size() * sizeof(float);
 }
 
-PreparedScene prepare_scene(const Scene& scene, const RenderSettings& s) {
+PreparedScene prepare_scene(const Scene& scene, const RenderSettings& s, const RecipeReady& recipe_ready) {
     PreparedScene p;
     p.settings = s;
+    const bool afs = s.indirect == RenderSettings::Indirect::Afs;
+    // The lobe bounds are a quadrature per material: once per render, not per device.
+    p.features = scene_features(scene, s.fiber_field, afs, s.features);
+    p.features[Feature::AOVS] = s.aovs;
+    p.estimator_options = estimator_build_options(s.clamp_indirect, s.regularize_deg,
+                                                  s.spawn_offset == RenderSettings::SpawnOffset::Pbrt,
+                                                  s.sampler == RenderSettings::Sampler::Sobol);
+    if (recipe_ready) recipe_ready(p);
     p.geometry = build_geometry(scene);
     p.strand_material.assign(scene.strands.material.begin(), scene.strands.material.end());
     p.materials = make_kernel_materials(scene.materials);
@@ -29,7 +37,6 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& s) {
     p.textures = &scene.textures;
     p.texel_bytes = texel_buffer_size(scene.textures) * sizeof(uint32_t);
 
-    const bool afs = s.indirect == RenderSettings::Indirect::Afs;
     if (afs) {
         for (const HtMaterial& m : p.materials) {
             const std::vector<float> t = afs_tt_table(m.eta, m.sigma_a);
@@ -37,12 +44,6 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& s) {
         }
         if (p.afs_table.empty()) p.afs_table.assign(4 * (HT_AFS_TT_TABLE_N + 1), 0.0f);  // no buffer of size 0
     }
-    // The lobe bounds are a quadrature per material: once per render, not per device.
-    p.features = scene_features(scene, s.fiber_field, afs, s.features);
-    p.features[Feature::AOVS] = s.aovs;
-    p.estimator_options = estimator_build_options(s.clamp_indirect, s.regularize_deg,
-                                                  s.spawn_offset == RenderSettings::SpawnOffset::Pbrt,
-                                                  s.sampler == RenderSettings::Sampler::Sobol);
     return p;
 }
 

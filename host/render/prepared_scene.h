@@ -12,6 +12,7 @@
 #include "scene/scene.h"
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -37,8 +38,14 @@ struct PreparedScene {
     uint64_t extra_scene_bytes() const;
 };
 
+// Called once the kernels' recipe (features, estimator_options) is known and before the BVH is
+// built, which takes most of the preparation: program builds started there overlap it
+// (render/renderer.h prefetch_render_program).  Only those two fields and `settings` are set.
+using RecipeReady = std::function<void(const PreparedScene& recipe)>;
+
 // Builds everything above from `scene` (after the command line's overrides; it must outlive the
 // result, whose `textures` points into it).  Throws SceneError for an unreadable environment map.
-PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings);
+PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
+                            const RecipeReady& recipe_ready = {});
 
 }  // namespace ht

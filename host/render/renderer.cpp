@@ -42,7 +42,40 @@ cl::Buffer device_array(cl::Context& ctx, const std::vector<T>& v) {
     if (padded.empty()) padded.resize(1);
     return cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes, padded.data());
 }
+
+// The render program in two builds: shade, which holds the fibre models and every scene feature
+// (most of the compile), and the stages around it, which read few features and so are shared by
+// most scenes (options_read_by in cl/kernel_source.h).  PoCL compiles them on two threads.
+constexpr const char* kTraceProgram = "stages/trace.cl";
+constexpr const char* kShadeProgram = "stages/shade.cl";
+constexpr const char* kAfsShadowProgram = "stages/intersect_shadow_afs.cl";  // --indirect afs only
+
+// True when every geometry array stays below half the device's allocation limit even with twice
+// as many BVH references and nodes as primitives: upload_geometry then cuts nothing into pages.
+bool surely_unpaged(const Scene& scene, uint64_t max_alloc) {
+    size_t triangles = 0;
+    for (const Mesh& m : scene.meshes) triangles += m.triangle_count();
+    const uint64_t primitives = scene.strands.segment_count() + triangles;
+    const uint64_t largest = std::max({2 * primitives * sizeof(HtBvhNode), 2 * primitives * sizeof(HtSegment),
+                                       (scene.strands.point_count() + 3 * triangles) * sizeof(HtPoint),
+                                       triangles * sizeof(HtTriangleShading)});
+    return largest <= max_alloc / 2;
+}
 }  // namespace
+
+std::string render_program_options(KernelFeatures features, const std::string& estimator_options,
+                                   const GeometryPaging& paging) {
+    features.paging = paging;
+    return kernel_build_options(features) + estimator_options;
+}
+
+void prefetch_render_program(ClContext& cl, const PreparedScene& recipe, const Scene& scene) {
+    if (!surely_unpaged(scene, cl.info().max_alloc)) return;
+    const std::string options = render_program_options(recipe.features, recipe.estimator_options, GeometryPaging{});
+    cl.prefetch(kShadeProgram, options);
+    cl.prefetch(kTraceProgram, options);
+    if (recipe.features[Feature::INDIRECT_AFS]) cl.prefetch(kAfsShadowProgram, options);
+}
 
 // Test hook: HAIRTRACE_INJECT_FAULT=alloc|launch makes the device layer fail the way a driver
 // does (CL_MEM_OBJECT_ALLOCATION_FAILURE, CL_OUT_OF_RESOURCES), so the error paths that real
@@ -65,7 +98,7 @@ struct Renderer::Impl {
     cl::Buffer afs_table;  // --indirect afs: AFS_TT^avg(theta) per material
     std::string options;
     KernelFeatures features;
-    cl::Program program;
+    cl::Program trace_program, shade_program;
     cl::Kernel k_generate, k_closest, k_shade, k_shadow, k_resolve, k_accumulate;
     cl::Kernel k_compact_count, k_compact_scan, k_compact_scatter;
     cl::Kernel k_shadow_afs, k_resolve_afs;
@@ -105,24 +138,30 @@ struct Renderer::Impl {
         features = p.features;
         options = kernel_build_options(features) + p.estimator_options;
         features.paging = device_geometry.paging;
-        const std::string build_options = kernel_build_options(features) + p.estimator_options;
-        program = cl.build("stages/wavefront.cl", build_options);
+        const std::string build_options = render_program_options(p.features, p.estimator_options, features.paging);
+        shade_program = cl.build(kShadeProgram, build_options);
         stats.build_ms = cl.last_build_ms();
         stats.build_cached = cl.last_build_cached();
+        trace_program = cl.build(kTraceProgram, build_options);
+        stats.build_ms += cl.last_build_ms();
+        stats.build_cached = stats.build_cached && cl.last_build_cached();
         stats.kernel_options = build_options;
-        k_generate = cl::Kernel(program, "generate_camera_rays");
-        k_closest = cl::Kernel(program, "intersect_closest");
-        k_shade = cl::Kernel(program, "shade");
-        k_shadow = cl::Kernel(program, "intersect_shadow");
-        k_resolve = cl::Kernel(program, "resolve_shadows");
-        k_accumulate = cl::Kernel(program, "accumulate");
-        k_compact_count = cl::Kernel(program, "compact_count");
-        k_compact_scan = cl::Kernel(program, "compact_scan");
-        k_compact_scatter = cl::Kernel(program, "compact_scatter");
+        k_generate = cl::Kernel(trace_program, "generate_camera_rays");
+        k_closest = cl::Kernel(trace_program, "intersect_closest");
+        k_shade = cl::Kernel(shade_program, "shade");
+        k_shadow = cl::Kernel(trace_program, "intersect_shadow");
+        k_resolve = cl::Kernel(trace_program, "resolve_shadows");
+        k_accumulate = cl::Kernel(trace_program, "accumulate");
+        k_compact_count = cl::Kernel(trace_program, "compact_count");
+        k_compact_scan = cl::Kernel(trace_program, "compact_scan");
+        k_compact_scatter = cl::Kernel(trace_program, "compact_scatter");
         if (afs) {
             afs_table = device_array(cl.context(), p.afs_table);
-            k_shadow_afs = cl::Kernel(program, "intersect_shadow_afs");
-            k_resolve_afs = cl::Kernel(program, "resolve_shadows_afs");
+            const cl::Program afs_program = cl.build(kAfsShadowProgram, build_options);
+            stats.build_ms += cl.last_build_ms();
+            stats.build_cached = stats.build_cached && cl.last_build_cached();
+            k_shadow_afs = cl::Kernel(afs_program, "intersect_shadow_afs");
+            k_resolve_afs = cl::Kernel(afs_program, "resolve_shadows_afs");
         }
 
         const uint64_t scene_bytes = device_geometry.bytes + p.extra_scene_bytes();
@@ -328,7 +367,8 @@ Renderer::Renderer(ClContext& cl, const PreparedScene& prepared) {
 }
 
 Renderer::Renderer(ClContext& cl, const Scene& scene, const RenderSettings& settings) {
-    auto own = std::make_unique<PreparedScene>(prepare_scene(scene, settings));
+    auto own = std::make_unique<PreparedScene>(prepare_scene(
+        scene, settings, [&](const PreparedScene& recipe) { prefetch_render_program(cl, recipe, scene); }));
     const PreparedScene& p = *own;
     try {
         impl_ = new Impl(cl, std::move(own), p);

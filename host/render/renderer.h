@@ -51,6 +51,17 @@ using ProgressFn = std::function<bool(int, int)>;
 
 class RayDump;
 
+// The render program's build options: the scene's features and estimator values, on geometry
+// cut into device buffers as `paging` (which depends on the device).
+std::string render_program_options(KernelFeatures features, const std::string& estimator_options,
+                                   const GeometryPaging& paging);
+
+// Starts compiling the render program on `cl` in the background (ClContext::prefetch) from a
+// recipe (prepare_scene's RecipeReady), so the compile overlaps the BVH build and the upload.
+// It assumes unpaged geometry and does nothing for scenes whose geometry could approach the
+// device's allocation limit; the Renderer builds whatever the upload needs either way.
+void prefetch_render_program(ClContext& cl, const PreparedScene& recipe, const Scene& scene);
+
 class Renderer {
 public:
     // Uploads `prepared` (which must outlive the renderer) and builds the kernels for this device.

@@ -23,8 +23,12 @@
  * of the visiting order.  Entry and exit of one capsule are one intersection test, never two.
  * The previous closest-hit loop skipped to the exit of the hit segment's infinite cylinder and could
  * count the next segment of the same strand a second time (darker where rays run along strands),
- * and ignored crossings after the 64th; both differences are measured in docs/PAPER.md. */
+ * and ignored crossings after the 64th; both differences are measured in docs/PAPER.md.
+ * A program of its own (host/render/renderer.cpp), compiled only with HT_FEATURE_INDIRECT_AFS. */
 #include "../types.h"
+
+#if HT_FEATURE_INDIRECT_AFS
+
 #include "../geometry/bvh_traverse.h"
 #include "../fiber/afs.h"
 #include "../integrator/aov_record.h"
@@ -134,3 +138,5 @@ __kernel void resolve_shadows_afs(__global const HtShadowContrib* shadow_contrib
     ht_aov_resolve(aovs, shadow_aov, j, c.path, (float3)(c.contrib[0] * T.x, c.contrib[1] * T.y, c.contrib[2] * T.z));
 #endif
 }
+
+#endif /* HT_FEATURE_INDIRECT_AFS */

@@ -32,6 +32,7 @@
 #include "../integrator/roulette.h"
 #include "../integrator/shading_point.h"
 #include "../integrator/aov_record.h"
+#include "../integrator/aov_lobes.h"
 #include "stage_args.h"
 
 #ifndef HT_RR_START_BOUNCE

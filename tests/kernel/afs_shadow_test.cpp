@@ -44,7 +44,7 @@ cl::Buffer input(ht::ClContext& cl, const std::vector<T>& v) {
 std::vector<float> transmittance(const ht::SceneGeometry& geo, const float sigma_a[3], const std::vector<HtRay>& rays) {
     ht::ClContext& cl = afs_cl();
     ht::DeviceGeometry g = ht::upload_geometry(cl, geo);
-    cl::Program prog = cl.build("stages/wavefront.cl", std::string(ht::base_kernel_options()) +
+    cl::Program prog = cl.build("stages/intersect_shadow_afs.cl", std::string(ht::base_kernel_options()) +
                                                          " -DHT_FEATURE_INDIRECT_AFS=1 -DHT_FEATURE_MESHES=0" +
                                                          ht::geometry_page_options(g.paging));
     cl::Kernel k(prog, "intersect_shadow_afs");

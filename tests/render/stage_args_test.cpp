@@ -23,7 +23,7 @@ std::vector<std::string> kernel_arg_names(const cl::Kernel& k) {
 TEST(StageArgs, ShadeTakesGeometrySceneQueueAndBounceInTheHostsOrder) {
     ht::ClContext cl;
     const std::string options = ht::kernel_build_options(ht::KernelFeatures{}) + " -cl-kernel-arg-info";
-    cl::Program prog = cl.build("stages/wavefront.cl", options);
+    cl::Program prog = cl.build("stages/shade.cl", options);
     std::vector<std::string> expected = {"segs", "points", "tri_shading"};  // unpaged geometry
     for (const std::string& n : ht::bundle_arg_names<ht::SceneBuffers>()) expected.push_back(n);
     for (const std::string& n : ht::bundle_arg_names<ht::ShadeQueue>()) expected.push_back(n);

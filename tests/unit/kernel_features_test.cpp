@@ -30,13 +30,10 @@ std::set<std::string> defined_names(const std::string& options) {
     return out;
 }
 
-// The render program's source without the file that declares the options.
-std::string program_without_declarations() {
-    std::string src = assemble_kernel_source("stages/wavefront.cl");
-    const std::string decl = kernel_file("features.h");
-    const size_t at = src.find(decl);
-    if (at != std::string::npos) src.erase(at, decl.size());
-    return src;
+// The render program's source: both of its builds (host/render/renderer.cpp).
+std::string render_program_source() {
+    return assemble_kernel_source("stages/trace.cl") + assemble_kernel_source("stages/shade.cl") +
+           assemble_kernel_source("stages/intersect_shadow_afs.cl");
 }
 
 }  // namespace
@@ -49,9 +46,27 @@ TEST(KernelFeatures, EveryEmittedDefineIsReadByAKernel) {
     const std::string options = kernel_build_options(all) + estimator_build_options(2.0f, 10.0f, true, true);
     const std::set<std::string> names = defined_names(options);
     EXPECT_GE(names.size(), kFeatureCount + 6);
-    const std::string src = program_without_declarations();
+    const std::string src = render_program_source();
     for (const std::string& name : names)
-        EXPECT_NE(src.find(name), std::string::npos) << name << " is emitted but no kernel reads it";
+        EXPECT_EQ(options_read_by(src, "-D" + name + "=1"), "-D" + name + "=1")
+            << name << " is emitted but no kernel reads it";
+}
+
+TEST(KernelFeatures, AProgramIsBuiltWithTheDefinesItReadsOnly) {
+    const std::string src = "#ifndef HT_A\n#define HT_A 1\n#endif\n"
+                            "  #  ifndef HT_B\n#define HT_B 0\n#endif\n"
+                            "#if HT_A\nint a;\n#endif\n"
+                            "#define HT_DERIVED (HT_C && 1)\n"
+                            "int HT_DX; /* HT_D in a comment, and a longer name */\n// HT_E too\n";
+    EXPECT_EQ(options_read_by(src, "-cl-std=CL1.2 -DHT_A=0 -DHT_B=1 -DHT_C=1 -DHT_D=1 -DHT_E -cl-mad-enable"),
+              "-cl-std=CL1.2 -DHT_A=0 -DHT_C=1 -cl-mad-enable");
+    // the trace stages read neither the lights, the fibre models nor their lobes: scenes that
+    // differ in them share that build
+    const std::string trace = assemble_kernel_source("stages/trace.cl");
+    EXPECT_EQ(options_read_by(trace, "-DHT_FEATURE_LIGHT_SPOT=0 -DHT_FEATURE_MODEL_ZINKE=0 -DHT_FEATURE_LOBE_TT=0"), "");
+    const std::string shade = assemble_kernel_source("stages/shade.cl");
+    EXPECT_EQ(options_read_by(shade, "-DHT_FEATURE_LIGHT_SPOT=0 -DHT_FEATURE_MODEL_ZINKE=0"),
+              "-DHT_FEATURE_LIGHT_SPOT=0 -DHT_FEATURE_MODEL_ZINKE=0");
 }
 
 TEST(KernelFeatures, OneDefinePerSwitchAndEveryMeaningSaid) {
