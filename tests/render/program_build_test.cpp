@@ -1,13 +1,11 @@
-// Program builds: the render program is compiled while the host builds the BVH (ClContext::prefetch,
-// prefetch_render_program) and the Renderer must collect that build rather than compile a second
-// one; a background failure must reach the caller; and a program loaded from hairtrace's binary
-// cache must render the same bits as the freshly compiled one even when PoCL's own cache is empty
-// (the binary then carries every kernel's code: host/cl/device.cpp configure_pocl).
+// Program builds: a build started in the background (ClContext::prefetch) must report its failure
+// to the build() that collects it, and a program loaded from hairtrace's binary cache must render
+// the same bits as the freshly compiled one even when PoCL's own cache is empty (the binary then
+// carries every kernel's code: host/cl/device.cpp configure_pocl).  That the Renderer collects
+// the prefetched builds is tested with the programs' options (program_options_test.cpp).
 #include <gtest/gtest.h>
 
 #include "cl/device.h"
-#include "render/renderer.h"
-#include "scene/scene.h"
 
 #include "cli_test_util.h"
 
@@ -19,21 +17,6 @@ using namespace clitest;
 namespace {
 
 const std::string kBin = HT_BINARY;
-
-TEST(ProgramBuild, RendererCollectsTheBuildStartedBeforeTheBvh) {
-    for (const char* source : {"builtin:strand?hairs=40&segments=8", "builtin:ball?hairs=40&segments=8"}) {
-        ClContext cl;
-        Scene scene = load_scene(source);
-        ensure_camera_and_light(scene);
-        RenderSettings rs;
-        rs.width = rs.height = 8;
-        rs.spp = 1;
-        Renderer renderer(cl, scene, rs);
-        // two programs (trace and shade), each compiled once
-        EXPECT_EQ(cl.compiles(), 2) << source << ": the prefetched options differ from the Renderer's: "
-                                    << renderer.stats().kernel_options;
-    }
-}
 
 TEST(ProgramBuild, AFailedBackgroundBuildIsReportedByTheBuildThatCollectsIt) {
     ClContext cl;

@@ -1,6 +1,7 @@
 // `hairtrace bench` must measure the traversal the renderer runs: the intersection program it
 // builds (host/bvh/device_geometry.h DeviceTracer) and the render program must agree on every
 // option that changes the traversal code (the OpenCL compiler flags, meshes in or out, paging).
+// The Renderer also collects the builds it started before the BVH instead of compiling again.
 #include <gtest/gtest.h>
 
 #include "bvh/bvh.h"
@@ -36,7 +37,11 @@ void expect_same_traversal(const std::string& source) {
     RenderSettings rs;
     rs.width = rs.height = 8;
     rs.spp = 1;
+    const int compiles_before = cl.compiles();
     Renderer renderer(cl, scene, rs);
+    // The render program's trace and shade builds, each once: the builds started before the BVH
+    // (prefetch_render_program) had the options the Renderer asks for.
+    EXPECT_EQ(cl.compiles() - compiles_before, 2) << source << ": " << renderer.stats().kernel_options;
     const SceneGeometry g = build_geometry(scene);
     const DeviceGeometry dg = upload_geometry(cl, g);
     const DeviceTracer tracer(cl, dg);
