@@ -76,7 +76,7 @@ unsigned long long max_alloc_cap() {
 void configure_pocl() { ::setenv("POCL_WORK_GROUP_SPECIALIZATION", "0", 0); }
 
 std::vector<Found> enumerate() {
-    configure_opencl_runtime();
+    configure_pocl();
     std::vector<cl::Platform> platforms;
     try {
         cl::Platform::get(&platforms);
@@ -116,8 +116,6 @@ std::vector<Found> enumerate() {
 }
 
 }  // namespace
-
-void configure_opencl_runtime() { configure_pocl(); }
 
 std::vector<DeviceInfo> list_devices() {
     std::vector<DeviceInfo> out;

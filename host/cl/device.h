@@ -26,11 +26,6 @@ struct DeviceInfo {
     size_t max_work_group = 0;
 };
 
-// Sets the environment the OpenCL runtimes read at start-up (host/cl/device.cpp says what and
-// why).  Every device query calls it; a program that opens devices on another thread while its
-// main thread reads the environment calls it first, since setenv is not safe beside getenv.
-void configure_opencl_runtime();
-
 // All devices of all platforms.  Throws DeviceError when no platform is installed.
 std::vector<DeviceInfo> list_devices();
 

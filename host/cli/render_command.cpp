@@ -28,7 +28,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
-#include <future>
 #include <memory>
 
 namespace ht {
@@ -147,16 +146,14 @@ void prepare(PreparedRender& job, const RenderRequest& request, const DistContex
     job.my_range = rank_range(job.range, request.grid, dist.rank, dist.ranks);
     job.rank_suffix = dist.ranks > 1 ? ".rank" + std::to_string(dist.rank) : "";
     if (!request.image.kernel_dir.empty()) set_kernel_dir(request.image.kernel_dir);
-    // The OpenCL runtime's start-up (PoCL: about half a second of CPU) overlaps the scene load;
-    // a scene error is still reported first.
-    configure_opencl_runtime();
-    auto contexts = std::async(std::launch::async, open_contexts, request.image.devices);
     load_inputs(job, request, quiet);
     if (!quiet && dist.mpi) {
         const std::string w = cpu_binding_warning(local_rank_count());
         if (!w.empty()) std::fprintf(stderr, "warning: %s\n", w.c_str());
     }
-    job.contexts = contexts.get();
+    // On the main thread: opening the OpenCL runtime on a short-lived thread made AddressSanitizer
+    // fail at that thread's exit (PoCL's start-up replaces the thread's alternate signal stack).
+    job.contexts = open_contexts(request.image.devices);
     open_devices(job, request, quiet);
     job.identity = render_identity(job.scene, *job.prepared, request.grid.chunk, request.aovs);
     job.acc = std::make_unique<SampleAccumulator>(request.grid, job.settings.width, job.settings.height,

@@ -43,7 +43,8 @@ uint64_t hash_segment(uint64_t hash, const SegmentHeader& sh, const Film& film) 
 }
 
 bool write_floats(const std::vector<float>& v, FILE* f) {
-    return std::fwrite(v.data(), sizeof(float), v.size(), f) == v.size();
+    // an empty vector's data() may be null, which fwrite must not be given even for no items
+    return v.empty() || std::fwrite(v.data(), sizeof(float), v.size(), f) == v.size();
 }
 
 bool read_floats(std::vector<float>& v, size_t count, std::ifstream& f) {
