@@ -4,6 +4,7 @@
 #include "core/errors.h"
 
 #include "bench/embree_tracer.h"
+#include "bench/median.h"
 #include "bench/startup.h"
 #include "render/renderer.h"
 #include "bench/rays_file.h"
@@ -41,10 +42,6 @@ double cpu_ms() {
     timespec ts;
     clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
     return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v.empty() ? 0.0 : v[v.size() / 2];
 }
 
 struct SceneArg {

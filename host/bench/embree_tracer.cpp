@@ -1,6 +1,7 @@
 #include "bench/embree_tracer.h"
 
 #include "cl/device.h"
+#include "bench/median.h"
 #include "bench/rays_file.h"
 #include "core/errors.h"
 
@@ -112,8 +113,7 @@ double EmbreeTracer::trace(const std::vector<HtRay>& rays, bool shadow, int reps
         ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     }
     *count = size_t(std::count(result.begin(), result.end(), 1));
-    std::nth_element(ms.begin(), ms.begin() + ms.size() / 2, ms.end());
-    return ms[ms.size() / 2];
+    return median(ms);
 }
 
 void EmbreeTracer::answer(const std::vector<HtRay>& rays, bool shadow, std::vector<EmbreeHit>& hits,

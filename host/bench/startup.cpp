@@ -1,12 +1,13 @@
 #include "bench/startup.h"
 
+#include "bench/median.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <regex>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
@@ -27,11 +28,6 @@ struct StartupRun {
     double seconds = 0, build_ms = 0;
     bool cached = false;
 };
-
-double median_of(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v.empty() ? 0.0 : v[v.size() / 2];
-}
 
 // One render in a child process whose caches live in `caches`; its stderr goes to a log that the
 // "done:" line (kernel build milliseconds, cached or not) is read from.
@@ -70,10 +66,14 @@ StartupRun run_render(const std::string& exe, const std::string& scene, const fs
     const std::string text((std::istreambuf_iterator<char>(in)), {});
     if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
         throw std::runtime_error("bench --startup: `hairtrace render " + scene + "` failed:\n" + text);
-    std::smatch m;
-    if (std::regex_search(text, m, std::regex("kernel build ([0-9.]+) ms( \\(cached\\))?"))) {
-        run.build_ms = std::stod(m[1]);
-        run.cached = m[2].matched;
+    // "... kernel build 5309 ms" or "... kernel build 12 ms (cached)"
+    const std::string label = "kernel build ";
+    const size_t at = text.find(label);
+    if (at != std::string::npos) {
+        const size_t end = text.find('\n', at);
+        const std::string rest = text.substr(at + label.size(), end == std::string::npos ? end : end - at - label.size());
+        run.build_ms = std::strtod(rest.c_str(), nullptr);
+        run.cached = rest.find("(cached)") != std::string::npos;
     }
     return run;
 }
@@ -103,17 +103,17 @@ nlohmann::json measure_startup(const std::string& exe, const std::string& scene,
     fs::remove_all(root);
     nlohmann::json js = {{"scene", scene},
                          {"reps", reps},
-                         {"cold_seconds", median_of(cold_s)},
-                         {"cold_build_ms", median_of(cold_build)},
-                         {"cached_seconds", median_of(cached_s)},
-                         {"cached_build_ms", median_of(cached_build)},
+                         {"cold_seconds", median(cold_s)},
+                         {"cold_build_ms", median(cold_build)},
+                         {"cached_seconds", median(cached_s)},
+                         {"cached_build_ms", median(cached_build)},
                          {"cached_from_binary_cache", cached_hit}};
     if (print)
         std::printf("first image of %s (64 x 64, 1 spp, fresh process, median of %d):\n"
                     "  empty caches  %.2f s (kernel build %.0f ms)\n"
                     "  binary cache  %.2f s (kernel build %.0f ms%s)\n",
-                    scene.c_str(), reps, median_of(cold_s), median_of(cold_build), median_of(cached_s),
-                    median_of(cached_build), cached_hit ? "" : "; NOT from the cache");
+                    scene.c_str(), reps, median(cold_s), median(cold_build), median(cached_s),
+                    median(cached_build), cached_hit ? "" : "; NOT from the cache");
     return js;
 }
 

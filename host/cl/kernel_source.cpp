@@ -107,27 +107,10 @@ void assemble(const std::string& file, std::set<std::string>& once, std::vector<
         out << line << '\n';
     }
 }
-bool is_name_char(char c) { return std::isalnum((unsigned char)c) || c == '_'; }
-
-// Whether `name` occurs in `source` as a whole word other than as its own default declaration,
-// the first word after #ifndef or #define.
-bool reads_name(const std::string& source, const std::string& name) {
-    for (size_t at = source.find(name); at != std::string::npos; at = source.find(name, at + 1)) {
-        const size_t end = at + name.size();
-        if ((at > 0 && is_name_char(source[at - 1])) || (end < source.size() && is_name_char(source[end]))) continue;
-        const size_t newline = at == 0 ? std::string::npos : source.rfind('\n', at - 1);
-        const size_t line_start = newline == std::string::npos ? 0 : newline + 1;
-        std::string head = source.substr(line_start, at - line_start);
-        head.erase(std::remove_if(head.begin(), head.end(), [](char c) { return c == ' ' || c == '\t'; }), head.end());
-        if (head != "#ifndef" && head != "#define") return true;
-    }
-    return false;
-}
-}  // namespace
 
 // The source with every comment replaced by a space (kernels hold no string literals that could
 // contain comment markers), so that a define named in a comment does not count as read.
-static std::string without_comments(const std::string& src) {
+std::string without_comments(const std::string& src) {
     std::string out;
     out.reserve(src.size());
     for (size_t i = 0; i < src.size(); ++i) {
@@ -147,6 +130,24 @@ static std::string without_comments(const std::string& src) {
     }
     return out;
 }
+
+bool is_name_char(char c) { return std::isalnum((unsigned char)c) || c == '_'; }
+
+// Whether `name` occurs in `source` as a whole word other than as its own default declaration,
+// the first word after #ifndef or #define.
+bool reads_name(const std::string& source, const std::string& name) {
+    for (size_t at = source.find(name); at != std::string::npos; at = source.find(name, at + 1)) {
+        const size_t end = at + name.size();
+        if ((at > 0 && is_name_char(source[at - 1])) || (end < source.size() && is_name_char(source[end]))) continue;
+        const size_t newline = at == 0 ? std::string::npos : source.rfind('\n', at - 1);
+        const size_t line_start = newline == std::string::npos ? 0 : newline + 1;
+        std::string head = source.substr(line_start, at - line_start);
+        head.erase(std::remove_if(head.begin(), head.end(), [](char c) { return c == ' ' || c == '\t'; }), head.end());
+        if (head != "#ifndef" && head != "#define") return true;
+    }
+    return false;
+}
+}  // namespace
 
 std::string options_read_by(const std::string& source_text, const std::string& options) {
     const std::string source = without_comments(source_text);

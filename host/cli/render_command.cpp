@@ -86,17 +86,13 @@ void load_inputs(PreparedRender& job, const RenderRequest& request, bool quiet) 
     for (auto& w : job.scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
 }
 
-std::vector<std::unique_ptr<ClContext>> open_contexts(const DeviceChoice& devices) {
-    std::vector<std::unique_ptr<ClContext>> out;
-    for (int d : device_indices(devices)) out.push_back(std::make_unique<ClContext>(d));
-    return out;
-}
-
+// On the main thread: opening the OpenCL runtime on a short-lived thread made AddressSanitizer fail
+// at that thread's exit (PoCL's start-up replaces the thread's alternate signal stack).
 void open_devices(PreparedRender& job, const RenderRequest& request, bool quiet) {
-    const std::vector<int> indices = device_indices(request.image.devices);
-    for (size_t i = 0; i < job.contexts.size(); ++i) {
-        const DeviceInfo& info = job.contexts[i]->info();
-        job.device_names.push_back(info.name + (indices[i] >= 0 ? " #" + std::to_string(indices[i]) : ""));
+    for (int d : device_indices(request.image.devices)) {
+        job.contexts.push_back(std::make_unique<ClContext>(d));
+        const DeviceInfo& info = job.contexts.back()->info();
+        job.device_names.push_back(info.name + (d >= 0 ? " #" + std::to_string(d) : ""));
         if (!quiet) std::fprintf(stderr, "device: %s (%s)\n", info.name.c_str(), info.platform.c_str());
     }
     if (!quiet)
@@ -151,9 +147,6 @@ void prepare(PreparedRender& job, const RenderRequest& request, const DistContex
         const std::string w = cpu_binding_warning(local_rank_count());
         if (!w.empty()) std::fprintf(stderr, "warning: %s\n", w.c_str());
     }
-    // On the main thread: opening the OpenCL runtime on a short-lived thread made AddressSanitizer
-    // fail at that thread's exit (PoCL's start-up replaces the thread's alternate signal stack).
-    job.contexts = open_contexts(request.image.devices);
     open_devices(job, request, quiet);
     job.identity = render_identity(job.scene, *job.prepared, request.grid.chunk, request.aovs);
     job.acc = std::make_unique<SampleAccumulator>(request.grid, job.settings.width, job.settings.height,

@@ -43,23 +43,36 @@ cl::Buffer device_array(cl::Context& ctx, const std::vector<T>& v) {
     return cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes, padded.data());
 }
 
-// The render program in two builds: shade, which holds the fibre models and every scene feature
-// (most of the compile), and the stages around it, which read few features and so are shared by
-// most scenes (options_read_by in cl/kernel_source.h).  PoCL compiles them on two threads.
+// The render program in three builds: shade, which holds the fibre models and every scene
+// feature (most of the compile); the stages around it, which read few features and so are shared
+// by most scenes (options_read_by in cl/kernel_source.h); and the AFS shadow stage.
 constexpr const char* kTraceProgram = "stages/trace.cl";
 constexpr const char* kShadeProgram = "stages/shade.cl";
 constexpr const char* kAfsShadowProgram = "stages/intersect_shadow_afs.cl";  // --indirect afs only
 
-// True when every geometry array stays below half the device's allocation limit even with twice
-// as many BVH references and nodes as primitives: upload_geometry then cuts nothing into pages.
+// The builds a scene with `features` needs, shade first (the longest: it starts first).
+std::vector<const char*> render_program_files(const KernelFeatures& features) {
+    std::vector<const char*> files = {kShadeProgram, kTraceProgram};
+    if (features[Feature::INDIRECT_AFS]) files.push_back(kAfsShadowProgram);
+    return files;
+}
+
+// True when upload_geometry will cut nothing into pages: the planner it uses keeps every array
+// in one buffer even with twice as many BVH nodes and leaf references as primitives.
 bool surely_unpaged(const Scene& scene, uint64_t max_alloc) {
     size_t triangles = 0;
     for (const Mesh& m : scene.meshes) triangles += m.triangle_count();
     const uint64_t primitives = scene.strands.segment_count() + triangles;
-    const uint64_t largest = std::max({2 * primitives * sizeof(HtBvhNode), 2 * primitives * sizeof(HtSegment),
-                                       (scene.strands.point_count() + 3 * triangles) * sizeof(HtPoint),
-                                       triangles * sizeof(HtTriangleShading)});
-    return largest <= max_alloc / 2;
+    try {
+        return plan_geometry_pages({{"BVH node", 2 * primitives * sizeof(HtBvhNode)},
+                                    {"segment", 2 * primitives * sizeof(HtSegment)},
+                                    {"point", (scene.strands.point_count() + 3 * triangles) * sizeof(HtPoint)},
+                                    {"triangle shading", triangles * sizeof(HtTriangleShading)}},
+                                   max_alloc)
+                   .pages == 1;
+    } catch (const DeviceError&) {
+        return false;  // more pages than the kernels take: the upload will say so
+    }
 }
 }  // namespace
 
@@ -72,9 +85,7 @@ std::string render_program_options(KernelFeatures features, const std::string& e
 void prefetch_render_program(ClContext& cl, const PreparedScene& recipe, const Scene& scene) {
     if (!surely_unpaged(scene, cl.info().max_alloc)) return;
     const std::string options = render_program_options(recipe.features, recipe.estimator_options, GeometryPaging{});
-    cl.prefetch(kShadeProgram, options);
-    cl.prefetch(kTraceProgram, options);
-    if (recipe.features[Feature::INDIRECT_AFS]) cl.prefetch(kAfsShadowProgram, options);
+    for (const char* file : render_program_files(recipe.features)) cl.prefetch(file, options);
 }
 
 // Test hook: HAIRTRACE_INJECT_FAULT=alloc|launch makes the device layer fail the way a driver
@@ -139,12 +150,15 @@ struct Renderer::Impl {
         options = kernel_build_options(features) + p.estimator_options;
         features.paging = device_geometry.paging;
         const std::string build_options = render_program_options(p.features, p.estimator_options, features.paging);
-        shade_program = cl.build(kShadeProgram, build_options);
-        stats.build_ms = cl.last_build_ms();
-        stats.build_cached = cl.last_build_cached();
-        trace_program = cl.build(kTraceProgram, build_options);
-        stats.build_ms += cl.last_build_ms();
-        stats.build_cached = stats.build_cached && cl.last_build_cached();
+        stats.build_cached = true;
+        const auto build = [&](const char* file) {
+            cl::Program program = cl.build(file, build_options);
+            stats.build_ms += cl.last_build_ms();
+            stats.build_cached = stats.build_cached && cl.last_build_cached();
+            return program;
+        };
+        shade_program = build(kShadeProgram);
+        trace_program = build(kTraceProgram);
         stats.kernel_options = build_options;
         k_generate = cl::Kernel(trace_program, "generate_camera_rays");
         k_closest = cl::Kernel(trace_program, "intersect_closest");
@@ -157,9 +171,7 @@ struct Renderer::Impl {
         k_compact_scatter = cl::Kernel(trace_program, "compact_scatter");
         if (afs) {
             afs_table = device_array(cl.context(), p.afs_table);
-            const cl::Program afs_program = cl.build(kAfsShadowProgram, build_options);
-            stats.build_ms += cl.last_build_ms();
-            stats.build_cached = stats.build_cached && cl.last_build_cached();
+            const cl::Program afs_program = build(kAfsShadowProgram);
             k_shadow_afs = cl::Kernel(afs_program, "intersect_shadow_afs");
             k_resolve_afs = cl::Kernel(afs_program, "resolve_shadows_afs");
         }
