@@ -29,9 +29,11 @@
         F(HtHit, tx, 16) F(HtHit, ty, 20) F(HtHit, tz, 24) F(HtHit, radius, 28)                    \
     S(HtPathState, 48) F(HtPathState, throughput, 0) F(HtPathState, pixel, 12)                    \
         F(HtPathState, radiance, 16) F(HtPathState, flags, 28) F(HtPathState, last_pdf, 32)        \
+        F(HtPathState, split, 36)                                                                  \
     S(HtShadowContrib, 16) F(HtShadowContrib, contrib, 0) F(HtShadowContrib, path, 12)            \
     S(HtBounce, 32) F(HtBounce, seed, 0) F(HtBounce, sample, 4) F(HtBounce, bounce, 8)            \
         F(HtBounce, max_depth, 12) F(HtBounce, field_mode, 16) F(HtBounce, pixel_angle, 20)        \
+        F(HtBounce, splits, 24) F(HtBounce, light_samples, 28)                                     \
     S(HtCamera, 80) F(HtCamera, eye, 0) F(HtCamera, right, 16) F(HtCamera, up, 32)                \
         F(HtCamera, forward, 48) F(HtCamera, width, 64) F(HtCamera, height, 68)                    \
     S(HtLight, 80) F(HtLight, type, 0) F(HtLight, position, 16) F(HtLight, direction, 32)         \

@@ -22,7 +22,16 @@
  *   ROULETTE    RR (0)                                Russian roulette
  *
  * Every pair above is components 0/1 of its group: the first two Sobol' dimensions, a (0,2)-sequence
- * (tests/unit/sobol_test.cpp checks the nets). */
+ * (tests/unit/sobol_test.cpp checks the nets).
+ *
+ * First-hit splits (--first-hit-splits N, kernels/stages/shade.cl): the camera path's own draws --
+ * the jitter and the first vertex's next-event estimate -- take sample index `sample`; each of its
+ * N continuations takes index sample * N + split (ht_continuation_sample) for everything from the
+ * first vertex's BCSDF sample on.  So every continuation has numbers of its own, still a pure
+ * function of (seed, pixel, sample, split, dimension); for the Sobol' sampler the N continuations
+ * of a camera sample are N consecutive indices of each group -- an aligned block of N points when
+ * N is a power of two, which the shuffle keeps together -- so their first directions are
+ * stratified among themselves.  N = 1 gives every draw index `sample`, as without splits. */
 #ifndef HT_RNG_H
 #define HT_RNG_H
 
@@ -57,6 +66,9 @@ HT_FN real ht_uniform(uint seed, uint pixel, uint sample, uint dim) {
 }
 
 HT_FN uint ht_dim(uint bounce, uint slot) { return bounce * HT_DIMS_PER_BOUNCE + slot; }
+
+/* The sample index of continuation `split` (0..splits-1) of camera sample `sample` (the layout above). */
+HT_FN uint ht_continuation_sample(uint sample, uint splits, uint split) { return sample * splits + split; }
 
 /* The Sobol' group of a slot (the layout table above); comp receives its component. */
 HT_FN uint ht_slot_group(uint slot, uint* comp) {

@@ -106,7 +106,9 @@ typedef struct {
     float radiance[3];
     uint flags;
     float last_pdf;  /* solid-angle pdf of the BCSDF sample that made the current ray (MIS) */
-    float pad0, pad1, pad2;
+    uint split;      /* which of its camera path's continuations this is (--first-hit-splits;
+                      * kernels/rng.h ht_continuation_sample): 0 for the camera path itself */
+    float pad1, pad2;
 } HtPathState;
 #define HT_PATH_FROM_CAMERA 1u  /* the current ray is a camera ray: no MIS on what it sees */
 
@@ -127,12 +129,13 @@ typedef struct {
 #define HT_COUNTER_COUNT 4
 
 /* What one shade launch needs besides its buffers: the sample's coordinates in the random
- * sequence, the bounce and its limit, and the --fiber-field choice. */
+ * sequence, the bounce and its limit, the --fiber-field choice and the first-hit splits. */
 typedef struct {
     uint seed, sample, bounce, max_depth;
     uint field_mode;    /* HT_FIELD_* */
     float pixel_angle;  /* radians per pixel at the image centre (ray footprint for HT_FIELD_AUTO) */
-    uint pad0, pad1;
+    uint splits;        /* --first-hit-splits: continuations of each camera path after its first vertex */
+    uint light_samples; /* --first-hit-light-samples: next-event estimates at that vertex */
 } HtBounce;
 
 /* ---------------------------------------------------------------- camera and lights */

@@ -241,10 +241,10 @@ void report(const PreparedRender& job, const RenderRequest& request, const RunOu
     std::fprintf(stderr, "done: %d spp in %.2f s; %llu camera + %llu extension + %llu shadow rays; kernel build %.0f ms%s\n",
                  done, out.render_seconds, (unsigned long long)st.camera_rays, (unsigned long long)st.extension_rays,
                  (unsigned long long)st.shadow_rays, st.build_ms, st.build_cached ? " (cached)" : "");
-    if (st.camera_rays)
+    if (st.paths)
         std::fprintf(stderr, "max depth %d cut %llu of %llu paths (%.3g %%)\n", job.settings.max_depth,
-                     (unsigned long long)st.cut_paths, (unsigned long long)st.camera_rays,
-                     100.0 * double(st.cut_paths) / double(st.camera_rays));
+                     (unsigned long long)st.cut_paths, (unsigned long long)st.paths,
+                     100.0 * double(st.cut_paths) / double(st.paths));
     for (auto& [name, sec] : st.stage_seconds) std::fprintf(stderr, "stage %-22s %8.3f s\n", name.c_str(), sec);
     if (request.profile)
         for (size_t b = 0; b < st.bounces.size(); ++b) {
@@ -301,6 +301,8 @@ ImageMetadata metadata_of(const PreparedRender& job, const RenderRequest& reques
     meta.ints["hairtrace:spp"] = job.acc->samples();
     meta.ints["hairtrace:seed"] = int(job.settings.seed);
     meta.ints["hairtrace:max_depth"] = job.settings.max_depth;
+    meta.ints["hairtrace:first_hit_splits"] = job.settings.first_hit_splits;
+    meta.ints["hairtrace:first_hit_light_samples"] = job.settings.first_hit_light_samples;
     meta.ints["hairtrace:chunk"] = request.grid.chunk;
     meta.floats["hairtrace:clamp_indirect"] = job.renderers.front()->stats().clamp_indirect;
     meta.floats["hairtrace:regularize_deg"] = job.settings.regularize_deg;

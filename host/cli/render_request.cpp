@@ -51,6 +51,8 @@ const OptionRow kOptions[] = {
     {"light transport", "--fiber-field", "near|far|auto|material", "for marschner/zinke materials: near field (zinke) everywhere, far field (marschner) everywhere, or auto: near where a fibre covers at least half a camera pixel's footprint and for hair-to-hair light, far elsewhere; with --model and no --fiber-field: material", "auto", Kind::Value, kBoth},
     {"light transport", "--features", "scene|all|all-lobes", "what the kernels are compiled with: what the scene needs (lights, models, meshes, fibre lobes above 1e-3 of R's energy for some material; --verbose lists them), everything, or the scene's choice with every lobe kept (A/B comparisons)", "scene", Kind::Value, kBoth},
     {"light transport", "--clamp-indirect", "C|off", "cap the contribution of every light path that scattered at two or more surfaces at C (radiance, largest rgb channel, hue kept): fewer sparkles at low sample counts at the cost of a bias that must be measured per scene (builtin:strand, irradiance 1: C = 3 removes 2.8 % of the light, C = 1 14.5 %)", "off", Kind::Value, kBoth},
+    {"sampling", "--first-hit-splits", "N", "continue every camera path N times from its first hit, each with 1/N of the weight, while the camera ray, its hit and its direct light are computed once: N hair-to-hair samples per camera sample (1 = one path per camera sample; the default 2 paid on every scene measured, with auto light samples, docs/PERFORMANCE.md section 8)", "2", Kind::Value, kBoth},
+    {"sampling", "--first-hit-light-samples", "M|auto", "at the first hit of every camera path, M next-event estimates (each 1/M of the weight, each picking a light from its own M-th of the choice) instead of one; auto: one per light that next-event estimation picks from (the lights and an environment map), so that every light is met once at the first hit (1 = one estimate, as with a single light; measured in docs/PERFORMANCE.md section 8)", "auto", Kind::Value, kBoth},
     {"sampling", "--sampler", "sobol|independent", "random numbers: Owen-scrambled Sobol' points (each jointly used pair stratified, kernels/rng.h) or independent counter-based hashing (A/B); measured in docs/PERFORMANCE.md", "sobol", Kind::Value, kBoth},
     {"light transport", "--spawn-offset", "capsule|pbrt", "where rays leaving a fibre start: just outside its capsule, or 1-1.73 fibre diameters off it along the normal as pbrt-v4 offsets its curves' rays (a diagnostic for comparing with pbrt renders: rays then skip the nearest neighbours; docs/ESTIMATOR.md)", "capsule", Kind::Value, kBoth},
     {"light transport", "--regularize", "DEG|off", "path regularisation: where a path meets hair after a first scattering, widen the marschner/zinke lobes to at least DEG degrees (longitudinal widths and zinke's azimuthal spread); bright two-lobe sparkles become a blur of indirect highlights (biased; measured in docs/PERFORMANCE.md)", "off", Kind::Value, kBoth},
@@ -158,6 +160,8 @@ ImageRequest parse_image_request(const ArgParser& p) {
     s.regularize_deg = float(p.get_double_or("--regularize", "off", 0.1, 90).value_or(0.0));
     if (p.get_choice("--spawn-offset", {"capsule", "pbrt"}) == "pbrt") s.spawn_offset = RenderSettings::SpawnOffset::Pbrt;
     if (p.get_choice("--sampler", {"sobol", "independent"}) == "independent") s.sampler = RenderSettings::Sampler::Independent;
+    s.first_hit_splits = p.get_int("--first-hit-splits", 1, kMaxFirstHitSplits);
+    r.light_samples = p.get_int_or("--first-hit-light-samples", "auto", 1, kMaxFirstHitSplits);
     if (p.has("--background")) r.background = parse_rgb("--background", p.get("--background"));
     r.environment = p.get("--environment");
     r.environment_intensity = float(p.get_double("--environment-intensity", 0, 1e12));
@@ -250,6 +254,10 @@ RenderSettings resolve_settings(const Scene& scene, const ImageRequest& r, std::
         s.max_depth = choice.depth;
         if (why) *why = choice.why;
     }
+    // auto: one estimate per light next-event estimation picks from (kernels/stages/shade.cl
+    // ht_nee_sample: the lights and an environment map), each light met once at the first hit
+    const int nee_lights = int(scene.lights.size()) + (scene.environment.map_path.empty() ? 0 : 1);
+    s.first_hit_light_samples = r.light_samples.value_or(std::clamp(nee_lights, 1, kMaxFirstHitSplits));
     return s;
 }
 

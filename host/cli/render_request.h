@@ -33,6 +33,7 @@ struct ImageRequest {
     std::optional<std::string> model;     // --model: every material's fibre model
     std::optional<Vec3f> sigma_a;         // --sigma-a: every hair material's absorption
     std::optional<int> max_depth;         // --max-depth; nullopt: auto
+    std::optional<int> light_samples;     // --first-hit-light-samples; nullopt: auto (one per light)
     std::string indirect = "exact";       // exact | afs | none
     std::optional<uint32_t> fiber_field;  // --fiber-field; nullopt: auto, or the materials' own with --model
     std::optional<Vec3f> background;

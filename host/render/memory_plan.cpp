@@ -37,10 +37,11 @@ MemoryPlan plan_device_memory(uint64_t pixels, uint64_t scene_bytes, uint64_t ma
     const uint64_t avail = budget - fixed;
     const uint64_t group_bytes = buffers.pass_bytes(2 * kPathGroup) - buffers.pass_bytes(kPathGroup);
     const uint64_t fit_groups = 1 + (avail - min_pass) / group_bytes;
-    uint64_t paths = std::min<uint64_t>({pixels, max_paths_per_pass, fit_groups * kPathGroup,
+    const uint64_t per_pixel = buffers.slots_per_pixel;
+    uint64_t paths = std::min<uint64_t>({pixels * per_pixel, max_paths_per_pass, fit_groups * kPathGroup,
                                          max_alloc / buffers.largest_element()});
-    paths = std::max<uint64_t>(paths, 1);
-    p.paths_per_pass = size_t(paths);
+    p.pixels_per_pass = size_t(std::max<uint64_t>(paths / per_pixel, 1));
+    p.paths_per_pass = p.pixels_per_pass * per_pixel;
     p.pass_bytes = buffers.pass_bytes(p.paths_per_pass);
     return p;
 }

@@ -14,7 +14,8 @@
 namespace ht {
 
 struct MemoryPlan {
-    size_t paths_per_pass = 0;
+    size_t paths_per_pass = 0;   // path slots
+    size_t pixels_per_pass = 0;  // paths_per_pass / the buffers' slots_per_pixel
     uint64_t film_bytes = 0, scene_bytes = 0, pass_bytes = 0;
     GeometryPaging paging;  // as uploaded, for --verbose
 };

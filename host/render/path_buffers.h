@@ -1,7 +1,10 @@
 // The wavefront's per-path device buffers, declared once.  Slot k of a pass owns element k of
 // each (the per-work-group counts: one element per kPathGroup slots); the bytes a path costs,
 // the allocation and the memory plan (render/memory_plan.h) all follow from this table, so a
-// buffer added here is counted everywhere.
+// buffer added here is counted everywhere.  A pixel of a pass takes one slot, or max(N, M) with
+// --first-hit-splits N and --first-hit-light-samples M: its camera path and the continuations and
+// light samples of its first vertex each own a path state, the first shade queues M shadow rays
+// per camera ray, and after the first bounce the queues hold up to N rays per camera ray.
 #pragma once
 
 #include "kernels/aovs.h"
@@ -66,10 +69,11 @@ constexpr bool path_buffer_rows_in_order() {
 static_assert(path_buffer_rows_in_order(), "kPathBuffers rows in PathBuffer order");
 
 // The buffers one render uses (the AFS transmittance only with --indirect afs, the AOV records
-// only with --aovs).
+// only with --aovs), and the path slots each pixel of a pass takes.
 struct PathBufferSet {
     bool indirect_afs = false;
     bool aovs = false;
+    size_t slots_per_pixel = 1;  // max(--first-hit-splits, --first-hit-light-samples)
 
     bool uses(const PathBufferSpec& b) const {
         return b.use == PathBufferSpec::Always || (b.use == PathBufferSpec::IndirectAfs && indirect_afs) ||

@@ -21,7 +21,8 @@ const char* const kPartMessages[RenderIdentity::kPartCount] = {
     "--environment-intensity, the environment map's contents)",
     "a different camera (the scene's camera or the default framing, image aspect)",
     "different settings (--width, --height, --seed, --max-depth, --chunk, --indirect, --fiber-field, "
-    "--features, --clamp-indirect, --regularize, --spawn-offset, --sampler)",
+    "--features, --clamp-indirect, --regularize, --spawn-offset, --sampler, --first-hit-splits, "
+    "--first-hit-light-samples)",
     "different AOVs (--aovs: which output values are recorded, if any)",
 };
 
@@ -90,6 +91,9 @@ uint64_t settings_digest(const RenderSettings& s, int chunk) {
     d.add(s.width).add(s.height).add(s.seed).add(s.max_depth).add(chunk);
     d.add(s.indirect).add(s.fiber_field).add(s.features).add(s.clamp_indirect).add(s.regularize_deg);
     d.add(s.spawn_offset).add(s.sampler);
+    // only when splitting, so that checkpoints and parts of renders from before keep their identity
+    if (s.first_hit_splits != 1 || s.first_hit_light_samples != 1)
+        d.add(s.first_hit_splits).add(s.first_hit_light_samples);
     return d.h;
 }
 

@@ -4,6 +4,10 @@
 //   generate_camera_rays -> [ intersect_closest -> shade -> intersect_shadow -> resolve_shadows ]*
 //                        -> accumulate
 //
+// With --first-hit-splits N the first shade starts N continuations per camera ray, so the queue
+// of the later bounces holds up to N rays per pixel of the pass, and with
+// --first-hit-light-samples M it queues M shadow rays per camera ray (render/path_buffers.h).
+//
 // Queue sizes come back from the device after each shade (one small read); empty queues
 // launch nothing.
 #include "render/renderer.h"
@@ -119,7 +123,13 @@ struct Renderer::Impl {
 
     // per-pass buffers (render/path_buffers.h), sized for max paths per pass
     PathBufferSet buffer_set;
-    size_t capacity = 0;
+    size_t capacity = 0;         // path slots per pass
+    size_t pixels_per_pass = 0;  // capacity / paths_per_pixel
+    // --first-hit-splits, or 1 where no path goes on past its first vertex (depth 1 without an
+    // environment): there is nothing to split, and the image is the same either way
+    uint32_t splits = 1;
+    uint32_t light_samples = 1;    // --first-hit-light-samples
+    uint32_t paths_per_pixel = 1;  // path states of a camera path: max(splits, light_samples)
     cl::Buffer buffers[size_t(PathBuffer::Count)];
     cl::Buffer counters;
 
@@ -143,6 +153,10 @@ struct Renderer::Impl {
         const bool afs = s.indirect == RenderSettings::Indirect::Afs;
         buffer_set.indirect_afs = afs;
         buffer_set.aovs = s.aovs;
+        splits = s.max_depth > 1 || p.environment.header.enabled ? uint32_t(s.first_hit_splits) : 1u;
+        light_samples = uint32_t(s.first_hit_light_samples);
+        paths_per_pixel = std::max(splits, light_samples);
+        buffer_set.slots_per_pixel = paths_per_pixel;
         stats.clamp_indirect = s.clamp_indirect;
         // The render identity (render/render_identity.h) leaves the paging out: it depends on
         // the device, and paged and unpaged renders give the same bits (tested).
@@ -182,6 +196,7 @@ struct Renderer::Impl {
                                              std::max<size_t>(s.max_paths_per_pass, 1), buffer_set,
                                              device_geometry.paging);
         upload_textures();
+        pixels_per_pass = plan.pixels_per_pass;
         allocate(plan.paths_per_pass);
     }
 
@@ -230,9 +245,10 @@ struct Renderer::Impl {
         k_generate.setArg(2, count);
         k_generate.setArg(3, settings.seed);
         k_generate.setArg(4, sample);
-        k_generate.setArg(5, queue_rays(0));
-        k_generate.setArg(6, queue_paths(0));
-        k_generate.setArg(7, buffer(PathBuffer::Paths));
+        k_generate.setArg(5, cl_uint(paths_per_pixel));
+        k_generate.setArg(6, queue_rays(0));
+        k_generate.setArg(7, queue_paths(0));
+        k_generate.setArg(8, buffer(PathBuffer::Paths));
         launch(k_generate, count);
     }
 
@@ -258,7 +274,7 @@ struct Renderer::Impl {
                                buffer(PathBuffer::StagePath), counters};
         a = set_bundle_args(k_shade, a, queue);
         const HtBounce b{settings.seed, sample, bounce, uint32_t(settings.max_depth), settings.fiber_field,
-                         prepared.pixel_angle, 0, 0};
+                         prepared.pixel_angle, splits, light_samples};
         k_shade.setArg(a++, b);
         if (settings.aovs) {
             k_shade.setArg(a++, buffer(PathBuffer::Aovs));
@@ -342,10 +358,11 @@ struct Renderer::Impl {
     void accumulate(cl::Buffer& film, uint32_t count) {
         k_accumulate.setArg(0, buffer(PathBuffer::Paths));
         k_accumulate.setArg(1, count);
-        k_accumulate.setArg(2, film);
+        k_accumulate.setArg(2, cl_uint(paths_per_pixel));
+        k_accumulate.setArg(3, film);
         if (settings.aovs) {
-            k_accumulate.setArg(3, buffer(PathBuffer::Aovs));
-            k_accumulate.setArg(4, film_aov);
+            k_accumulate.setArg(4, buffer(PathBuffer::Aovs));
+            k_accumulate.setArg(5, film_aov);
         }
         launch(k_accumulate, count);
     }
@@ -445,10 +462,11 @@ void Renderer::render_sample(uint32_t sample) {
     const size_t pixels = size_t(s.width) * size_t(s.height);
     auto t0 = std::chrono::steady_clock::now();
     try {
-        for (size_t offset = 0; offset < pixels; offset += r.capacity) {
-            const uint32_t count = uint32_t(std::min(r.capacity, pixels - offset));
+        for (size_t offset = 0; offset < pixels; offset += r.pixels_per_pass) {
+            const uint32_t count = uint32_t(std::min(r.pixels_per_pass, pixels - offset));
             r.generate_camera_rays(uint32_t(offset), count, sample);
             r.stats.camera_rays += count;
+            r.stats.paths += uint64_t(count) * r.splits;
             int q = 0;
             uint32_t n = count;
             // max_depth scattering vertices; with an environment, the last vertex's BCSDF ray is
@@ -460,15 +478,19 @@ void Renderer::render_sample(uint32_t sample) {
                 r.intersect_closest(q, n);
                 if (r.dump) r.dump->closest(r.cl.queue(), r.queue_rays(q), r.buffer(PathBuffer::Hits), n, bounce);
                 r.shade(q, n, sample, bounce);
+                // the first shade leaves `light_samples` shadow slots and `splits` stage slots
+                // per camera ray, later ones one of each per ray
+                const uint32_t shadow_slots = bounce == 0 ? n * r.light_samples : n;
                 if (bounce + 1 == vertices && s.indirect == RenderSettings::Indirect::Afs) {
-                    r.intersect_shadow_afs(n);
-                    r.resolve_shadows_afs(n);
+                    r.intersect_shadow_afs(shadow_slots);
+                    r.resolve_shadows_afs(shadow_slots);
                 } else if (bounce < vertices) {
-                    r.intersect_shadow(n);
-                    if (r.dump) r.dump->shadow(r.cl.queue(), r.buffer(PathBuffer::ShadowRays), r.buffer(PathBuffer::Occluded), n, bounce);
-                    r.resolve_shadows(n);
+                    r.intersect_shadow(shadow_slots);
+                    if (r.dump) r.dump->shadow(r.cl.queue(), r.buffer(PathBuffer::ShadowRays), r.buffer(PathBuffer::Occluded), shadow_slots, bounce);
+                    r.resolve_shadows(shadow_slots);
                 }
-                if (bounce + 1 < traced) r.compact(1 - q, n);  // else no path continues
+                const uint32_t staged = bounce == 0 ? n * r.splits : n;
+                if (bounce + 1 < traced) r.compact(1 - q, staged);  // else no path continues
                 const Impl::ShadeCounters c = r.read_counters();
                 r.stats.nonfinite_caught += c.nonfinite;
                 r.stats.shadow_rays += c.shadow;
@@ -496,6 +518,7 @@ void Renderer::render_sample(uint32_t sample) {
 
 void RenderStats::add(const RenderStats& o) {
     camera_rays += o.camera_rays;
+    paths += o.paths;
     extension_rays += o.extension_rays;
     shadow_rays += o.shadow_rays;
     nonfinite_caught += o.nonfinite_caught;

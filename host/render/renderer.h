@@ -28,6 +28,8 @@ struct RenderStats {
     double seconds = 0, build_ms = 0;
     bool build_cached = false;
     uint64_t camera_rays = 0, extension_rays = 0, shadow_rays = 0;
+    // camera rays x --first-hit-splits: the paths of the estimate, each continuation one of them
+    uint64_t paths = 0;
     uint64_t nonfinite_caught = 0;  // NaN/Inf values zeroed by the kernels
     // Paths cut by max_depth: with an environment, those whose last vertex's BCSDF ray met a
     // surface; without one, those that scattered at their last allowed vertex (an upper bound

@@ -10,6 +10,11 @@
 
 namespace ht {
 
+// --first-hit-splits and --first-hit-light-samples at most: a pixel's path slots then fit in one
+// work-group, the smallest pass the memory plan admits, and sample * N stays far below 2^32
+// (kernels/rng.h).
+constexpr int kMaxFirstHitSplits = 64;
+
 struct RenderSettings {
     int width = 512, height = 512;
     int spp = 16;
@@ -29,6 +34,14 @@ struct RenderSettings {
     float regularize_deg = 0.0f;
     // Random numbers: Owen-scrambled Sobol' or independent hashing (kernels/rng.h).
     enum class Sampler { Sobol, Independent } sampler = Sampler::Sobol;
+    // Continuations per camera path from its first vertex, each with 1/N of the weight, while the
+    // camera ray, its hit and its next-event estimate are done once (kernels/stages/shade.cl).
+    // 1 here, the plain estimator; the command line's default is chosen by measurement
+    // (cli/render_request.cpp, docs/PERFORMANCE.md §8).
+    int first_hit_splits = 1;
+    // Next-event estimates at that first vertex, each with 1/M of the weight and its own stratum
+    // of the light pick (1 here; the command line's auto is one per light).
+    int first_hit_light_samples = 1;
     // Where rays leaving a fibre start: just outside the capsule (the default), or offset as
     // pbrt-v4 offsets its curves' rays (a diagnostic for comparisons with pbrt, docs/ESTIMATOR.md).
     enum class SpawnOffset { Capsule, Pbrt } spawn_offset = SpawnOffset::Capsule;

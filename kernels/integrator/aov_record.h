@@ -37,9 +37,11 @@ HT_FN void ht_aov_resolve(__global float* aovs, __global const float* shadow_aov
                      (float4)(sa[0], sa[1], sa[2], sa[3]));
 }
 
-/* The camera ray's record: coverage, depth and tangent of what it met. */
-HT_FN void ht_aov_begin(__global float* rec, const HtHit* hit) {
-    for (uint i = 0u; i < HT_AOV_STRIDE; ++i) rec[i] = 0.0f;
+/* The camera ray's record: coverage, depth and tangent of what it met; the records of its other
+ * first-hit continuations (the `splits` - 1 after it, --first-hit-splits) start empty, since
+ * accumulate adds them all up whether they went on or not. */
+HT_FN void ht_aov_begin(__global float* rec, const HtHit* hit, uint splits) {
+    for (uint i = 0u; i < splits * HT_AOV_STRIDE; ++i) rec[i] = 0.0f;
     if (hit->segment == HT_NO_HIT) return;
     rec[HT_AOV_ALPHA] = 1.0f;
     rec[HT_AOV_DEPTH] = hit->t;

@@ -1,18 +1,29 @@
 /* Stage 6: finished paths of a pass -> film.  film[pixel] holds (sum r, sum g, sum b, samples).
- * Path i renders a distinct pixel, so the film needs no atomics and the sum for a pixel is
- * taken in sample order: the image is independent of scheduling. */
+ * Camera path i renders a distinct pixel, so the film needs no atomics and the sum for a pixel is
+ * taken in sample order: the image is independent of scheduling.  One sample of a pixel is the
+ * sum of its camera path's `splits` path states (--first-hit-splits; each continuation already
+ * carries 1/N of the weight), added in continuation order. */
 #include "../types.h"
 #include "../aovs.h"
 #include "stage_args.h"
 
-__kernel void accumulate(__global const HtPathState* paths, uint count, __global float4* film HT_ACCUMULATE_AOV_PARAMS) {
+__kernel void accumulate(__global const HtPathState* paths, uint count, uint splits,
+                         __global float4* film HT_ACCUMULATE_AOV_PARAMS) {
     uint i = get_global_id(0);
     if (i >= count) return;
-    HtPathState s = paths[i];
-    float4 f = film[s.pixel];
-    f += (float4)(s.radiance[0], s.radiance[1], s.radiance[2], 1.0f);
-    film[s.pixel] = f;
+    const uint first = i * splits;
+    const uint pixel = paths[first].pixel;
+    float3 radiance = (float3)(0.0f);
+    for (uint j = 0u; j < splits; ++j) {
+        const HtPathState s = paths[first + j];
+        radiance += (float3)(s.radiance[0], s.radiance[1], s.radiance[2]);
+    }
+    float4 f = film[pixel];
+    f += (float4)(radiance, 1.0f);
+    film[pixel] = f;
 #if HT_FEATURE_AOVS
-    for (uint c = 0u; c < HT_AOV_OUT; ++c) film_aov[(size_t)s.pixel * HT_AOV_OUT + c] += aovs[(size_t)i * HT_AOV_STRIDE + c];
+    for (uint j = 0u; j < splits; ++j)
+        for (uint c = 0u; c < HT_AOV_OUT; ++c)
+            film_aov[(size_t)pixel * HT_AOV_OUT + c] += aovs[(size_t)(first + j) * HT_AOV_STRIDE + c];
 #endif
 }

@@ -1,13 +1,16 @@
 /* Stage 1: camera -> extension queue.
- * Path i of this pass renders pixel (pixel_offset + i) for sample `sample`; its ray goes to
- * rays[i] and ray_path[i] = i.  Paths start with throughput 1 and radiance 0. */
+ * Camera path i of this pass renders pixel (pixel_offset + i) for sample `sample`; its ray goes to
+ * rays[i].  With --first-hit-splits N it owns the N path states from i N on -- itself
+ * (continuation 0, ray_path[i] = i N) and the continuations its first vertex will start
+ * (kernels/stages/shade.cl) -- all starting with throughput 1 and radiance 0, so that accumulate
+ * can add them up whether they were started or not. */
 #include "../types.h"
 #include "../rng.h"
 #include "../camera.h"
 
 __kernel void generate_camera_rays(HtCamera camera, uint pixel_offset, uint count, uint seed,
-                                   uint sample, __global HtRay* rays, __global uint* ray_path,
-                                   __global HtPathState* paths) {
+                                   uint sample, uint splits, __global HtRay* rays,
+                                   __global uint* ray_path, __global HtPathState* paths) {
     uint i = get_global_id(0);
     if (i >= count) return;
     uint pixel = pixel_offset + i;
@@ -15,13 +18,16 @@ __kernel void generate_camera_rays(HtCamera camera, uint pixel_offset, uint coun
     float jx = ht_sample(seed, pixel, sample, 0u, HT_DIM_PIXEL_X);
     float jy = ht_sample(seed, pixel, sample, 0u, HT_DIM_PIXEL_Y);
     rays[i] = ht_camera_ray(&camera, px, py, jx, jy);
-    ray_path[i] = i;
+    ray_path[i] = i * splits;
     HtPathState s;
     s.throughput[0] = s.throughput[1] = s.throughput[2] = 1.0f;
     s.radiance[0] = s.radiance[1] = s.radiance[2] = 0.0f;
     s.pixel = pixel;
     s.flags = HT_PATH_FROM_CAMERA;
     s.last_pdf = 0.0f;
-    s.pad0 = s.pad1 = s.pad2 = 0.0f;
-    paths[i] = s;
+    s.pad1 = s.pad2 = 0.0f;
+    for (uint j = 0u; j < splits; ++j) {
+        s.split = j;
+        paths[i * splits + j] = s;
+    }
 }

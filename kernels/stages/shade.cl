@@ -13,6 +13,14 @@
  *                ray (below max_depth; at the last vertex only when there is an environment),
  *                with Russian roulette from HT_RR_START_BOUNCE bounces on
  *                (kernels/integrator/roulette.h).
+ *   first vertex of a camera path: the camera ray, its hit and the shading point are made once,
+ *                the next-event estimate M times (--first-hit-light-samples M) and the extension
+ *                N times (--first-hit-splits N, N continuations), each with 1/M or 1/N of the
+ *                weight and random numbers of its own (kernels/rng.h).  Continuation j and light
+ *                sample j belong to path state p + j, the slots after the camera path's (which is
+ *                continuation 0; generate_camera_rays.cl lays them out, accumulate.cl adds them
+ *                up).  Hair-to-hair light, the bulk of the variance in a lit lock, is then sampled
+ *                N times per camera sample, at N times the cost of the later bounces only.
  *   triangle  -> (HT_FEATURE_MESHES) a Lambertian surface: the same light pick and MIS, shadow
  *                and extension rays spawned a small offset off the surface on their side of the
  *                geometric normal, cosine-weighted sampling (kernels/surface/lambert.h); the
@@ -20,7 +28,8 @@
  *                TEXCOORD_0 when there is one (HT_FEATURE_TEXTURES, kernels/surface/texture.h).
  * Outputs stay in the slot of the shaded ray: shadow_rays[k] (tmax < 0: none) with
  * shadow_contrib[k], and the extension ray in stage_rays[k] with stage_path[k] = path (or
- * HT_NO_PATH); compact.cl then packs the extension queue in a thread-independent order.
+ * HT_NO_PATH) -- at a first vertex in shadow slots k M .. k M + M - 1 and stage slots
+ * k N .. k N + N - 1; compact.cl then packs the extension queue in a thread-independent order.
  * Every path ends each call in exactly one of: terminated, continued (stage slot filled). */
 #include "../types.h"
 #include "../geometry/pages.h"
@@ -43,11 +52,13 @@
  * from bounce 1 on, environment hits from bounce 2 on) is capped at HT_CLAMP_INDIRECT in its
  * largest channel, hue kept.  Biased (energy is removed) but bounded variance: narrow fibre lobes
  * lit by small lights make rare, very bright hair-to-hair paths (sparkles at low sample counts).
+ * Such light always comes through a continuation, which carries `share` (1/N) of its camera
+ * sample: the cap is on what it stands for, c / share, so splits leave the bias as it was.
  * Undefined: compiled out. */
-HT_FN float3 ht_clamp_indirect(float3 c, uint scatterings) {
+HT_FN float3 ht_clamp_indirect(float3 c, uint scatterings, float share) {
 #ifdef HT_CLAMP_INDIRECT
     float m = max(c.x, max(c.y, c.z));
-    if (scatterings >= 2u && m > HT_CLAMP_INDIRECT) c *= HT_CLAMP_INDIRECT / m;
+    if (scatterings >= 2u && m > HT_CLAMP_INDIRECT * share) c *= HT_CLAMP_INDIRECT * share / m;
 #endif
     return c;
 }
@@ -64,12 +75,15 @@ HT_FN uint ht_env_in_nee(const HtEnvironment* env) { return env->enabled && env-
 /* Next-event light pick shared by hair and surfaces: one of the lights or the environment map,
  * uniformly; returns 0 when the chosen light gives nothing at p.  ls->pdf is the pdf that BCSDF
  * sampling competes with by MIS: the environment's, and 0 (full weight) for every light, since
- * BCSDF-sampled rays never meet a light's surface here (lights are not in the BVH). */
+ * BCSDF-sampled rays never meet a light's surface here (lights are not in the BVH).
+ * Estimate `stratum` of `strata` at one vertex picks from its own 1/strata of [0, 1): M estimates
+ * of M lights meet each light once, whatever the sampler (one estimate: the plain pick). */
 HT_FN int ht_nee_sample(__global const HtLight* lights, uint light_count, const HtEnvironment* env,
                         __global const float* env_texels, __global const float* env_marginal,
                         __global const float* env_conditional, uint nee_count, uint seed,
-                        uint pixel, uint sample, uint bounce, float3 p, HtLightSample* ls) {
-    float ul = ht_sample(seed, pixel, sample, bounce, HT_DIM_LIGHT_PICK);
+                        uint pixel, uint sample, uint bounce, uint stratum, uint strata, float3 p,
+                        HtLightSample* ls) {
+    float ul = ((float)stratum + ht_sample(seed, pixel, sample, bounce, HT_DIM_LIGHT_PICK)) / (float)strata;
     uint li = min((uint)(ul * (float)nee_count), nee_count - 1u);
     float u = ht_sample(seed, pixel, sample, bounce, HT_DIM_LIGHT_U);
     float v = ht_sample(seed, pixel, sample, bounce, HT_DIM_LIGHT_V);
@@ -109,46 +123,90 @@ HT_FN int ht_continue_path(HtPathState* st, float3 nthr, float pdf, float3 o, fl
     return 1;
 }
 
-/* Russian roulette from HT_RR_START_BOUNCE on. */
-HT_FN float3 ht_roulette_at(float3 nthr, uint seed, uint pixel, uint sample, uint bounce) {
+/* Russian roulette from HT_RR_START_BOUNCE on, for a continuation carrying `share` of its camera
+ * sample. */
+HT_FN float3 ht_roulette_at(float3 nthr, float share, uint seed, uint pixel, uint sample, uint bounce) {
     if (bounce + 1u < HT_RR_START_BOUNCE) return nthr;
-    return ht_roulette(nthr, ht_sample(seed, pixel, sample, bounce, HT_DIM_RR));
+    return ht_roulette(nthr, share, ht_sample(seed, pixel, sample, bounce, HT_DIM_RR));
 }
 
+
+/* One next-event estimate at shading point sp of a path with throughput thr, drawn with sample
+ * index `sample`: a light picked (ht_nee_sample, from stratum `stratum` of `strata`), the BCSDF
+ * evaluated towards it, MIS where BCSDF sampling can find that light too.  Fills the shadow ray
+ * and its unoccluded contribution (and the light's direction, for --aovs); returns 0 when there
+ * is no ray to trace. */
+HT_FN int ht_next_event(__global const HtLight* lights, uint light_count, const HtEnvironment* env,
+                        __global const float* env_texels, __global const float* env_marginal,
+                        __global const float* env_conditional, uint nee_count, uint seed, uint pixel,
+                        uint sample, uint bounce, uint stratum, uint strata, const HtShadingPoint* sp,
+                        float3 thr, float share, volatile __global uint* counters, HtRay* shadow_ray,
+                        float3* contrib, float3* wi) {
+    HtLightSample ls;
+    if (!ht_nee_sample(lights, light_count, env, env_texels, env_marginal, env_conditional, nee_count, seed,
+                       pixel, sample, bounce, stratum, strata, sp->p, &ls))
+        return 0;
+    float3 value;
+    float pdf_bsdf = 0.0f;
+    ht_point_eval(sp, ls.wi, &value, &pdf_bsdf);
+    /* lights that BCSDF sampling can also reach (the environment map) share the estimate by MIS;
+     * the others keep weight 1 */
+    float w = ls.pdf > 0.0f ? ht_mis_power(ls.pdf / (float)nee_count, pdf_bsdf) : 1.0f;
+    float3 c = ht_clamp_indirect(thr * value * ls.li_over_pdf * ((float)nee_count * w), bounce + 1u, share);
+    if (!ht_finite3(c)) {
+        atomic_inc(&counters[HT_COUNTER_NAN]);
+        return 0;
+    }
+    if (!(c.x + c.y + c.z > 0.0f)) return 0;
+    float3 o = ht_point_spawn(sp, ls.wi);
+    shadow_ray->ox = o.x; shadow_ray->oy = o.y; shadow_ray->oz = o.z;
+    shadow_ray->dx = ls.wi.x; shadow_ray->dy = ls.wi.y; shadow_ray->dz = ls.wi.z;
+    shadow_ray->tmin = 0.0f;
+    shadow_ray->tmax = ht_point_shadow_tmax(sp, ls.distance);
+    *contrib = c;
+    *wi = ls.wi;
+    return shadow_ray->tmax > 0.0f;
+}
 
 __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM, HT_SCENE_PARAMS, HT_SHADE_QUEUE_PARAMS,
                     HtBounce b HT_SHADE_AOV_PARAMS) {
     const uint seed = b.seed, sample = b.sample, bounce = b.bounce, max_depth = b.max_depth;
     const uint field_mode = b.field_mode;
     const float pixel_angle = b.pixel_angle;
+    const uint splits = b.splits, light_samples = b.light_samples;
+    const float share = 1.0f / (float)splits; /* of its camera sample, in every continuation */
+    /* the last vertex samples a BCSDF ray too when there is light it can find (the environment),
+     * so that both halves of the vertex's MIS estimate are there */
+    const uint ext_depth = env.enabled ? max_depth + 1u : max_depth;
+    const int extend = bounce + 1u < ext_depth;
+    /* the stage slots (continuations) and shadow slots (light samples) of each ray */
+    const uint continuations = bounce == 0u && extend ? splits : 1u;
+    const uint lights_here = bounce == 0u ? light_samples : 1u;
     __local uint lcount, lbase;
     uint k = get_global_id(0);
     int active = k < count;
-    int want_shadow = 0, want_next = 0, cut = 0;
-    HtRay shadow_ray, next_ray;
-    float3 shadow_value = (float3)(0.0f);
-    uint p = 0u;
-    HtPathState st;
-#if HT_FEATURE_AOVS
-    float4 shadow_frac = (float4)(0.0f);
-#endif
+    uint shadows = 0u;
+    int cut = 0;
 
     if (active) {
-        p = ray_path[k];
-        st = paths[p];
+        const uint p = ray_path[k];
+        HtPathState st = paths[p];
         HtRay ray = rays[k];
         HtHit hit = hits[k];
 #if HT_FEATURE_AOVS
         __global float* rec = aovs + (size_t)p * HT_AOV_STRIDE;
-        if (bounce == 0u) ht_aov_begin(rec, &hit);
+        if (bounce == 0u) ht_aov_begin(rec, &hit, max(splits, light_samples));
         const float4 frac = ht_aov_fractions(rec);
 #endif
+        /* every stage slot of the ray says whether a path goes on from it: compact reads them all */
+        for (uint j = 0u; j < continuations; ++j) stage_path[k * continuations + j] = HT_NO_PATH;
+        /* a camera path's first vertex draws its own numbers, a continuation its own (kernels/rng.h) */
+        const uint vertex_sample = bounce == 0u ? sample : ht_continuation_sample(sample, splits, st.split);
         float3 thr = ht_load3(st.throughput);
         float3 dir = (float3)(ray.dx, ray.dy, ray.dz);
         const uint nee_count = light_count + ht_env_in_nee(&env);
-        /* the last vertex samples a BCSDF ray too when there is light it can find (the
-         * environment), so that both halves of the vertex's MIS estimate are there */
-        const uint ext_depth = env.enabled ? max_depth + 1u : max_depth;
+        const int scatters = hit.segment != HT_NO_HIT && bounce < max_depth;
+        HtShadingPoint sp;
         if (hit.segment == HT_NO_HIT) {
             float3 le = ht_env_eval(&env, env_texels, dir);
             float w = 1.0f;
@@ -156,7 +214,7 @@ __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM, HT_SCENE_PARA
                 float p_light = ht_env_pdf(&env, env_marginal, env_conditional, dir) / (float)nee_count;
                 w = ht_mis_power(st.last_pdf, p_light);
             }
-            float3 add = ht_clamp_indirect(thr * le * w, bounce);
+            float3 add = ht_clamp_indirect(thr * le * w, bounce, share);
             if (ht_finite3(add)) {
                 st.radiance[0] += add.x; st.radiance[1] += add.y; st.radiance[2] += add.z;
 #if HT_FEATURE_AOVS
@@ -165,14 +223,13 @@ __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM, HT_SCENE_PARA
             } else {
                 atomic_inc(&counters[HT_COUNTER_NAN]);
             }
-        } else if (bounce >= max_depth) {
+        } else if (!scatters) {
             cut = 1;
         } else {
             /* without an environment nothing is traced past the last vertex: a path counts as
              * cut when it scatters there */
             cut = bounce + 1u == max_depth && !env.enabled;
             HtSegment seg = HT_SEG(hit.segment);
-            HtShadingPoint sp;
 #if HT_FEATURE_MESHES
             if (seg.flags & HT_SEG_TRIANGLE)
                 ht_surface_point(HT_TRI_SHADING(seg.strand), &ray, &hit, textures, texture_count, texels, &sp);
@@ -181,60 +238,81 @@ __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM, HT_SCENE_PARA
                 ht_fibre_point(materials[strand_material[seg.strand]], HT_POINT(seg.point),
                                HT_POINT(seg.point + 1u), &ray, &hit, st.flags, bounce, field_mode,
                                pixel_angle, &sp);
+        }
 
-            /* next-event estimation */
-            if (nee_count > 0u) {
-                HtLightSample ls;
-                if (ht_nee_sample(lights, light_count, &env, env_texels, env_marginal,
-                                  env_conditional, nee_count, seed, st.pixel, sample, bounce,
-                                  sp.p, &ls)) {
-                    float3 value;
-                    float pdf_bsdf = 0.0f;
-                    ht_point_eval(&sp, ls.wi, &value, &pdf_bsdf);
-                    /* lights that BCSDF sampling can also reach (the environment map) share the
-                     * estimate by MIS; the others keep weight 1 */
-                    float w = ls.pdf > 0.0f ? ht_mis_power(ls.pdf / (float)nee_count, pdf_bsdf) : 1.0f;
-                    float3 c = ht_clamp_indirect(thr * value * ls.li_over_pdf * ((float)nee_count * w),
-                                                 bounce + 1u);
-                    if (!ht_finite3(c)) {
-                        atomic_inc(&counters[HT_COUNTER_NAN]);
-                    } else if (c.x + c.y + c.z > 0.0f) {
-                        float3 o = ht_point_spawn(&sp, ls.wi);
-                        shadow_ray.ox = o.x; shadow_ray.oy = o.y; shadow_ray.oz = o.z;
-                        shadow_ray.dx = ls.wi.x; shadow_ray.dy = ls.wi.y; shadow_ray.dz = ls.wi.z;
-                        shadow_ray.tmin = 0.0f;
-                        shadow_ray.tmax = ht_point_shadow_tmax(&sp, ls.distance);
-                        shadow_value = c;
-                        want_shadow = shadow_ray.tmax > 0.0f;
-#if HT_FEATURE_AOVS
-                        shadow_frac = bounce == 0u ? ht_aov_lobe_fractions(&sp, ls.wi) : frac;
-#endif
-                    }
-                }
+        /* next-event estimation: one light sample, or at a camera path's first vertex M of them
+         * (--first-hit-light-samples; each with 1/M of the weight, numbers of its own and its own
+         * stratum of the light pick), sample j credited to path state p + j so that no two shadow
+         * slots of a bounce add to one path.  Every shadow slot of the ray is written; an empty
+         * one has tmax < 0. */
+        const float light_weight = bounce == 0u ? 1.0f / (float)light_samples : 1.0f;
+        const HtRay no_shadow_ray = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f, -1.0f};
+        for (uint j = 0u; j < lights_here; ++j) {
+            HtRay shadow_ray = no_shadow_ray;
+            float3 contrib = (float3)(0.0f), wl = (float3)(0.0f);
+            int queued = 0;
+            if (scatters && nee_count > 0u) {
+                const uint nee_sample =
+                    bounce == 0u ? ht_continuation_sample(sample, light_samples, j) : vertex_sample;
+                queued = ht_next_event(lights, light_count, &env, env_texels, env_marginal, env_conditional,
+                                       nee_count, seed, st.pixel, nee_sample, bounce, j, lights_here, &sp,
+                                       thr * light_weight, share, counters, &shadow_ray, &contrib, &wl);
             }
-
-            /* extension ray (with --aovs, the camera vertex's sample is also its albedo estimate) */
-            const int extend = bounce + 1u < ext_depth;
-            float3 wi = (float3)(0.0f), weight = (float3)(0.0f);
-            float pdf = 0.0f;
-            int sampled = 0;
+            if (!queued) shadow_ray = no_shadow_ray;
+            const uint slot = k * lights_here + j;
+            shadow_rays[slot] = shadow_ray;
+            HtShadowContrib sc;
+            sc.contrib[0] = contrib.x; sc.contrib[1] = contrib.y; sc.contrib[2] = contrib.z;
+            sc.path = p + j;
+            shadow_contrib[slot] = sc;
 #if HT_FEATURE_AOVS
-            const int want_sample = extend || bounce == 0u;
-#else
-            const int want_sample = extend;
+            const float4 f = !queued ? (float4)(0.0f)
+                             : bounce == 0u ? ht_aov_lobe_fractions(&sp, wl)
+                                            : frac;
+            __global float* sa = shadow_aov + (size_t)slot * HT_SHADOW_AOV_STRIDE;
+            sa[0] = f.x; sa[1] = f.y; sa[2] = f.z; sa[3] = f.w;
+            sa[4] = bounce == 0u ? 1.0f : 0.0f;
 #endif
-            if (want_sample)
-                sampled = ht_point_sample(&sp, seed, st.pixel, sample, bounce, &wi, &weight, &pdf);
+            shadows += (uint)queued;
+        }
+
+        /* extension rays: continuation 0 goes on in the path's own state, continuations 1..
+         * in copies that start without radiance (with --aovs, continuation 0's sample at the
+         * camera vertex is also its albedo estimate) */
+#if HT_FEATURE_AOVS
+        const int want_sample = scatters && (extend || bounce == 0u);
+#else
+        const int want_sample = scatters && extend;
+#endif
+        for (uint j = 0u; want_sample && j < continuations; ++j) {
+            HtPathState fork = st;
+            HtPathState* cont = j == 0u ? &st : &fork;
+            fork.radiance[0] = fork.radiance[1] = fork.radiance[2] = 0.0f;
+            fork.split = j;
+            /* the camera path's split takes 1/N of the weight, later vertices keep theirs */
+            const float split_weight = bounce == 0u ? share : 1.0f;
+            const uint cont_sample = ht_continuation_sample(sample, splits, cont->split);
+            float3 wi, weight;
+            float pdf;
+            const int sampled =
+                ht_point_sample(&sp, seed, st.pixel, cont_sample, bounce, &wi, &weight, &pdf);
             if (extend && sampled) {
-                float3 nthr = ht_roulette_at(thr * weight, seed, st.pixel, sample, bounce);
-                want_next = ht_continue_path(&st, nthr, pdf, ht_point_spawn(&sp, wi), wi, &next_ray, counters);
+                float3 nthr =
+                    ht_roulette_at(thr * weight * split_weight, share, seed, st.pixel, cont_sample, bounce);
+                HtRay next_ray;
+                if (ht_continue_path(cont, nthr, pdf, ht_point_spawn(&sp, wi), wi, &next_ray, counters)) {
+                    stage_rays[k * continuations + j] = next_ray;
+                    stage_path[k * continuations + j] = p + j;
+                    if (j > 0u) paths[p + j] = fork;
+                }
             }
 #if HT_FEATURE_AOVS
             if (bounce == 0u && sampled && ht_finite3(weight)) {
-                ht_aov_add3(rec, HT_AOV_ALBEDO, weight);
+                __global float* cont_rec = rec + (size_t)j * HT_AOV_STRIDE;
+                if (j == 0u) ht_aov_add3(rec, HT_AOV_ALBEDO, weight);
                 const float4 f = ht_aov_lobe_fractions(&sp, wi);
-                rec[HT_AOV_FRACTIONS] = f.x; rec[HT_AOV_FRACTIONS + 1u] = f.y;
-                rec[HT_AOV_FRACTIONS + 2u] = f.z; rec[HT_AOV_FRACTIONS + 3u] = f.w;
+                cont_rec[HT_AOV_FRACTIONS] = f.x; cont_rec[HT_AOV_FRACTIONS + 1u] = f.y;
+                cont_rec[HT_AOV_FRACTIONS + 2u] = f.z; cont_rec[HT_AOV_FRACTIONS + 3u] = f.w;
             }
 #endif
         }
@@ -242,27 +320,6 @@ __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM, HT_SCENE_PARA
     }
 
     /* statistics only: the shadow queue is not compacted, its count is reported */
-    ht_queue_append(want_shadow, &lcount, &lbase, &counters[HT_COUNTER_SHADOW]);
-    ht_queue_append(cut, &lcount, &lbase, &counters[HT_COUNTER_CUT]);
-    if (active) {
-        if (!want_shadow) {
-            shadow_ray.ox = shadow_ray.oy = shadow_ray.oz = 0.0f;
-            shadow_ray.dx = shadow_ray.dy = 0.0f;
-            shadow_ray.dz = 1.0f;
-            shadow_ray.tmin = 0.0f;
-            shadow_ray.tmax = -1.0f;
-        }
-        shadow_rays[k] = shadow_ray;
-        HtShadowContrib sc;
-        sc.contrib[0] = shadow_value.x; sc.contrib[1] = shadow_value.y; sc.contrib[2] = shadow_value.z;
-        sc.path = p;
-        shadow_contrib[k] = sc;
-#if HT_FEATURE_AOVS
-        __global float* sa = shadow_aov + (size_t)k * HT_SHADOW_AOV_STRIDE;
-        sa[0] = shadow_frac.x; sa[1] = shadow_frac.y; sa[2] = shadow_frac.z; sa[3] = shadow_frac.w;
-        sa[4] = bounce == 0u ? 1.0f : 0.0f;
-#endif
-        if (want_next) stage_rays[k] = next_ray;
-        stage_path[k] = want_next ? p : HT_NO_PATH;
-    }
+    ht_queue_append(shadows, &lcount, &lbase, &counters[HT_COUNTER_SHADOW]);
+    ht_queue_append((uint)cut, &lcount, &lbase, &counters[HT_COUNTER_CUT]);
 }

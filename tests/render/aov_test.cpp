@@ -101,6 +101,27 @@ TEST(Aovs, DirectPlusIndirectIsTheBeautyAndTheLobesAreTheHairsShare) {
     expect_sum(h, aov_channels(h, aov_names()), {"R", "TT", "TRT", "residual"});
 }
 
+TEST(Aovs, FirstHitSplitsKeepTheSumsAndTheCameraValues) {
+    // --first-hit-splits 3, --first-hit-light-samples 2: each continuation has a record of its
+    // own, the second light sample adds to the second one's, all added up per pixel
+    Scene s = lock();
+    s.environment.color = {0.2f, 0.3f, 0.4f};
+    RenderSettings rs = small(5);
+    rs.first_hit_splits = 3;
+    rs.first_hit_light_samples = 2;
+    const Film plain = render(s, rs, false), f = render(s, rs, true);
+    EXPECT_EQ(plain.rgba, f.rgba);
+    const std::vector<ImageChannel> chs = aov_channels(f, aov_names());
+    expect_sum(f, chs, {"direct", "indirect"});
+    // what the camera ray met is recorded once, as without splits
+    const std::vector<ImageChannel> unsplit = aov_channels(render(s, small(5), true), aov_names());
+    for (const std::string name : {"A", "Z", "tangent.X"})
+        EXPECT_EQ(channel(chs, name).values, channel(unsplit, name).values) << name;
+    s.environment.color = {0, 0, 0};
+    const Film h = render(s, rs, true);
+    expect_sum(h, aov_channels(h, aov_names()), {"R", "TT", "TRT", "residual"});
+}
+
 TEST(Aovs, AlphaDepthAndTangentDescribeWhatTheCameraSees) {
     const Scene s = lock();
     const Film f = render(s, small(2), true);

@@ -57,6 +57,12 @@ TEST(RenderIdentity, EachPartFollowsItsInputs) {
     RenderSettings other = rs;
     other.clamp_indirect = 3;
     only(render_identity(s, other, 16), RenderIdentity::Settings);
+    RenderSettings split = rs;
+    split.first_hit_splits = 2;
+    only(render_identity(s, split, 16), RenderIdentity::Settings);
+    RenderSettings light_samples = rs;
+    light_samples.first_hit_light_samples = 2;
+    only(render_identity(s, light_samples, 16), RenderIdentity::Settings);
     only(render_identity(s, rs, 8), RenderIdentity::Settings);
     // the set of AOVs asked for, in whatever order
     const RenderIdentity aovs = render_identity(s, rs, 16, {"alpha", "depth"});

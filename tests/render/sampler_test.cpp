@@ -7,51 +7,22 @@
 #include <gtest/gtest.h>
 
 #include "cli_test_util.h"
+#include "render_test_util.h"
 
 #include <cmath>
 #include <string>
 
 using namespace ht;
+using rendertest::image_mean;
+using rendertest::rmse;
+using rendertest::thick_strand;
 
 namespace {
 
-ClContext& test_context() {
-    static ClContext cl;  // one context for the whole test binary: PoCL start-up is not free
-    return cl;
-}
-
-// Few, thick fibres: pixels that a fibre covers in part, where stratified jitter pays most.
-Scene thick_strand() {
-    Scene s = load_scene("builtin:strand?hairs=150&segments=20&radius=0.8");
-    ensure_camera_and_light(s);
-    return s;
-}
-
 Film render(const Scene& scene, RenderSettings::Sampler sampler, int spp, uint32_t seed, int depth) {
-    RenderSettings rs;
-    rs.width = rs.height = 48;
-    rs.spp = spp;
-    rs.seed = seed;
-    rs.max_depth = depth;
+    RenderSettings rs = rendertest::small_settings(spp, seed, depth);
     rs.sampler = sampler;
-    Film film;
-    Renderer(test_context(), scene, rs).render(film);
-    return film;
-}
-
-double image_mean(const Film& f) {
-    double s = 0;
-    for (size_t i = 0; i < size_t(f.width) * f.height; ++i)
-        for (int c = 0; c < 3; ++c) s += f.mean(i, c);
-    return s / (3.0 * f.width * f.height);
-}
-
-double rmse(const Film& a, const Film& b) {
-    double s = 0;
-    const size_t n = size_t(a.width) * a.height;
-    for (size_t i = 0; i < n; ++i)
-        for (int c = 0; c < 3; ++c) s += std::pow(double(a.mean(i, c)) - b.mean(i, c), 2);
-    return std::sqrt(s / (3.0 * n));
+    return rendertest::render(scene, rs);
 }
 
 constexpr auto kSobol = RenderSettings::Sampler::Sobol;

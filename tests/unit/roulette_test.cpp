@@ -12,7 +12,7 @@ real3 v3(double x, double y, double z) { return make_real3(x, y, z); }
 TEST(Roulette, LeavesAPathAloneWhileItsThroughputIsAtLeastOne) {
     for (double u : {0.0, 0.25, 0.5, 0.999999}) {
         for (real3 t : {v3(1, 1, 1), v3(1, 0.2, 0.1), v3(0.1, 3, 0.5), v3(169, 1e-3, 0)}) {
-            const real3 r = ht_roulette(t, u);
+            const real3 r = ht_roulette(t, 1.0, u);
             EXPECT_EQ(r.x, t.x);
             EXPECT_EQ(r.y, t.y);
             EXPECT_EQ(r.z, t.z);
@@ -24,7 +24,7 @@ TEST(Roulette, SurvivorsAreNeverLiftedAboveOne) {
     // survival probability = the largest channel m < 1; survivors carry throughput / m, whose
     // largest channel is exactly 1: a path can never come out brighter than a full-energy one
     for (double m : {0.9, 0.5, 0.01}) {
-        const real3 r = ht_roulette(v3(m, m / 2, m / 4), 0.0);
+        const real3 r = ht_roulette(v3(m, m / 2, m / 4), 1.0, 0.0);
         EXPECT_DOUBLE_EQ(r.x, 1.0);
         EXPECT_DOUBLE_EQ(r.y, 0.5);
         EXPECT_DOUBLE_EQ(r.z, 0.25);
@@ -33,26 +33,43 @@ TEST(Roulette, SurvivorsAreNeverLiftedAboveOne) {
 
 TEST(Roulette, IsUnbiased) {
     // E over u uniform in [0,1) of the result equals the throughput (midpoint rule, exact up to
-    // the grid: the survival interval [0, m) holds round(m N) of the N midpoints)
+    // the grid: the survival interval [0, m) holds round(m N) of the N midpoints), for a whole
+    // path and for one of 4 first-hit continuations (share 1/4)
     const int n = 1 << 16;
-    for (real3 t : {v3(0.7, 0.3, 0.1), v3(0.05, 0.05, 0.02), v3(0.999, 0, 0.5)}) {
-        double sx = 0, sy = 0, sz = 0;
-        for (int i = 0; i < n; ++i) {
-            const real3 r = ht_roulette(t, (i + 0.5) / n);
-            sx += r.x;
-            sy += r.y;
-            sz += r.z;
+    for (double share : {1.0, 0.25}) {
+        for (real3 t : {v3(0.7, 0.3, 0.1) * share, v3(0.05, 0.05, 0.02), v3(0.999, 0, 0.5) * share}) {
+            double sx = 0, sy = 0, sz = 0;
+            for (int i = 0; i < n; ++i) {
+                const real3 r = ht_roulette(t, share, (i + 0.5) / n);
+                sx += r.x;
+                sy += r.y;
+                sz += r.z;
+            }
+            EXPECT_NEAR(sx / n, t.x, 2.0 / n);
+            EXPECT_NEAR(sy / n, t.y, 2.0 / n);
+            EXPECT_NEAR(sz / n, t.z, 2.0 / n);
         }
-        EXPECT_NEAR(sx / n, t.x, 2.0 / n);
-        EXPECT_NEAR(sy / n, t.y, 2.0 / n);
-        EXPECT_NEAR(sz / n, t.z, 2.0 / n);
     }
 }
 
+TEST(Roulette, AContinuationIsJudgedByTheThroughputItStandsFor) {
+    // one of 4 first-hit continuations (share 1/4): a throughput of 1/4 stands for 1 and is left
+    // alone; below it, the survival probability is 4x the largest channel, and survivors carry
+    // 1/4 there, not 1 (which would undo the split)
+    const real3 full = ht_roulette(v3(0.25, 0.1, 0), 0.25, 0.999);
+    EXPECT_EQ(full.x, 0.25);
+    EXPECT_EQ(full.y, 0.1);
+    const real3 r = ht_roulette(v3(0.1, 0.05, 0), 0.25, 0.39);
+    EXPECT_DOUBLE_EQ(r.x, 0.25);
+    EXPECT_DOUBLE_EQ(r.y, 0.125);
+    const real3 ended = ht_roulette(v3(0.1, 0.05, 0), 0.25, 0.41);
+    EXPECT_EQ(ended.x + ended.y + ended.z, 0.0);
+}
+
 TEST(Roulette, EndsPathsWithoutEnergy) {
-    const real3 r = ht_roulette(v3(0, 0, 0), 0.0);
+    const real3 r = ht_roulette(v3(0, 0, 0), 1.0, 0.0);
     EXPECT_EQ(r.x + r.y + r.z, 0.0);
-    const real3 nan = ht_roulette(v3(std::nan(""), 0, 0), 0.0);  // no NaN passes on
+    const real3 nan = ht_roulette(v3(std::nan(""), 0, 0), 1.0, 0.0);  // no NaN passes on
     EXPECT_EQ(nan.x, 0.0);
     EXPECT_EQ(nan.y + nan.z, 0.0);
 }
