@@ -14,7 +14,7 @@ int cmd_tonemap(const std::vector<std::string>& args) {
     ArgParser p("tonemap", "Maps a linear image (.exr/.hdr/.tif) to an 8-bit sRGB image exactly as `render` maps its\n"
                            "PNG/JPEG outputs.");
     p.positional("IN", "linear input image")
-        .path("-o", "OUT", "output image (.png/.jpg: tone mapped; .exr: the input unchanged)", PathKind::Image, "", true)
+        .path("-o", "OUT", "output image (.png/.jpg: tone mapped, .png with the input's alpha if it has one; .exr: the input unchanged)", PathKind::Image, "", true)
         .option("--exposure", "E|auto", kExposureHelp, "auto")
         .option("--tonemap", "filmic|clip", kToneMapHelp, "filmic")
         .flag("--quiet", "no report on stderr");
@@ -32,8 +32,9 @@ int cmd_tonemap(const std::vector<std::string>& args) {
 
     Film film;
     std::vector<float> rgb;
+    std::vector<ImageChannel> alpha(1, ImageChannel{"A", {}});
     try {
-        rgb = read_rgb_image(in, film.width, film.height);
+        rgb = read_rgb_image(in, film.width, film.height, &alpha[0].values);
     } catch (const ImageError& e) {
         throw UsageError(std::string("tonemap: ") + e.what());
     }
@@ -48,7 +49,8 @@ int cmd_tonemap(const std::vector<std::string>& args) {
     meta.floats["hairtrace:exposure"] = exposure;
     meta.text["hairtrace:tonemap"] = tone_map_name(tone_map);
     for (const auto& o : outputs) {
-        write_image(o, film, meta, exposure, tone_map);
+        // An input with alpha keeps it: straight in a PNG, as `render --aovs alpha` writes it.
+        write_image(o, film, meta, exposure, tone_map, alpha[0].values.empty() ? std::vector<ImageChannel>{} : alpha);
         if (!p.has("--quiet")) std::fprintf(stderr, "wrote %s (exposure %.6g, %s)\n", o.c_str(), exposure, tone_map_name(tone_map).c_str());
     }
     return kExitOk;

@@ -226,7 +226,8 @@ void write_image(const std::string& path, const Film& film, const ImageMetadata&
                      " (any previous file was kept)");
 }
 
-std::vector<float> read_rgb_image(const std::string& path, int& width, int& height) {
+std::vector<float> read_rgb_image(const std::string& path, int& width, int& height,
+                                  std::vector<float>* alpha) {
     auto in = ImageInput::open(path);
     if (!in) throw ImageError(path + ": cannot read: " + OIIO::geterror());
     const ImageSpec& spec = in->spec();
@@ -240,6 +241,13 @@ std::vector<float> read_rgb_image(const std::string& path, int& width, int& heig
     std::vector<float> rgb(size_t(width) * height * 3);
     for (size_t i = 0; i < size_t(width) * height; ++i)
         for (int c = 0; c < 3; ++c) rgb[3 * i + c] = all[i * nc + std::min(c, nc - 1)];
+    if (alpha) {
+        alpha->clear();
+        if (spec.alpha_channel >= 0) {
+            alpha->resize(size_t(width) * height);
+            for (size_t i = 0; i < alpha->size(); ++i) (*alpha)[i] = all[i * nc + spec.alpha_channel];
+        }
+    }
     return rgb;
 }
 

@@ -68,8 +68,10 @@ void write_image(const std::string& path, const Film& film, const ImageMetadata&
                  float exposure = 1.0f, ToneMap tone_map = ToneMap::Filmic,
                  const std::vector<ImageChannel>& extra = {});
 
-// Reads a float RGB(A) image (reference images): width, height, rgb (3 per pixel).
-std::vector<float> read_rgb_image(const std::string& path, int& width, int& height);
+// Reads a float RGB(A) image (reference images): width, height, rgb (3 per pixel).  With `alpha`,
+// also the file's alpha channel (one per pixel, as stored), or an empty vector if it has none.
+std::vector<float> read_rgb_image(const std::string& path, int& width, int& height,
+                                  std::vector<float>* alpha = nullptr);
 
 bool is_float_format(const std::string& path);
 // 8-bit formats whose files can hold an alpha channel: .png.

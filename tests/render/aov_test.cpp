@@ -238,6 +238,17 @@ TEST(AovsCli, AlphaMakesThePngRgba) {
     }
     EXPECT_GT(empty, n / 10);
     EXPECT_GT(covered, 0u);
+
+    // `tonemap` of that EXR keeps its alpha: the same RGBA PNG as the render wrote, but for the
+    // colour's rounding (the EXR holds each pixel's mean, the render divided its film's sums, so a
+    // byte may move by one).
+    ASSERT_EQ(run(std::string(HT_BINARY) + " tonemap " + d / "rgba.exr" + " -o " + d / "mapped.png --quiet"), 0);
+    std::vector<unsigned char> mapped(n * 4);
+    ASSERT_EQ(read(d / "mapped.png", OIIO::TypeDesc::UINT8, mapped.data()), 4);
+    for (size_t i = 0; i < n; ++i) {
+        ASSERT_EQ(mapped[4 * i + 3], rgba[4 * i + 3]) << i;
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(mapped[4 * i + c], rgba[4 * i + c], 1) << i;
+    }
 }
 #endif
 
