@@ -376,6 +376,20 @@ struct Renderer::Impl {
         launch(k_accumulate, count);
     }
 
+    // A film's AOV sums or even half on the device: a copy of `sums`, or zeros when it is empty
+    // (a chunk's first upload).
+    cl::Buffer film_sums(const std::vector<float>& sums, size_t floats, const char* what) {
+        if (sums.empty()) {
+            cl::Buffer b(cl.context(), CL_MEM_READ_WRITE, floats * sizeof(float));
+            cl.queue().enqueueFillBuffer(b, 0.0f, 0, floats * sizeof(float));
+            return b;
+        }
+        if (sums.size() != floats)
+            throw std::invalid_argument(std::string("film ") + what + ": size does not match the render settings");
+        return cl::Buffer(cl.context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, floats * sizeof(float),
+                          const_cast<float*>(sums.data()));
+    }
+
     void launch(cl::Kernel& k, size_t n) { launch(k, global_for(n), cl::NDRange(kLocalSize)); }
 
     void launch(cl::Kernel& k, const cl::NDRange& global, const cl::NDRange& local) {
@@ -431,29 +445,8 @@ void Renderer::upload_film(const Film& film) {
     try {
         r.film_buf = cl::Buffer(r.cl.context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR,
                                 floats * sizeof(float), const_cast<float*>(film.rgba.data()));
-        if (r.settings.aovs) {
-            const size_t aov_floats = size_t(HT_AOV_OUT) * (floats / 4);
-            if (film.aov.empty()) {
-                r.film_aov = cl::Buffer(r.cl.context(), CL_MEM_READ_WRITE, aov_floats * sizeof(float));
-                r.cl.queue().enqueueFillBuffer(r.film_aov, 0.0f, 0, aov_floats * sizeof(float));
-            } else if (film.aov.size() == aov_floats) {
-                r.film_aov = cl::Buffer(r.cl.context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR,
-                                        aov_floats * sizeof(float), const_cast<float*>(film.aov.data()));
-            } else {
-                throw std::invalid_argument("film AOV size does not match the render settings");
-            }
-        }
-        if (r.settings.target_error > 0) {
-            if (film.even.empty()) {
-                r.film_even = cl::Buffer(r.cl.context(), CL_MEM_READ_WRITE, floats * sizeof(float));
-                r.cl.queue().enqueueFillBuffer(r.film_even, 0.0f, 0, floats * sizeof(float));
-            } else if (film.even.size() == floats) {
-                r.film_even = cl::Buffer(r.cl.context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR,
-                                         floats * sizeof(float), const_cast<float*>(film.even.data()));
-            } else {
-                throw std::invalid_argument("film's even half does not match the render settings");
-            }
-        }
+        if (r.settings.aovs) r.film_aov = r.film_sums(film.aov, size_t(HT_AOV_OUT) * (floats / 4), "AOV sums");
+        if (r.settings.target_error > 0) r.film_even = r.film_sums(film.even, floats, "even half");
     } catch (const cl::Error& e) {
         throw DeviceError(std::string("cannot allocate the film on the device: ") + cl_error_name(e.err()));
     }
