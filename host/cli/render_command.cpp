@@ -72,7 +72,7 @@ struct RunOutcome {
     double render_seconds = 0, total_seconds = 0, reduce_seconds = 0;
     int my_samples = 0;
     bool stopped_by_limit = false;
-    bool converged = false;  // --target-error reached before --spp
+    bool converged = false;  // --target-error: every tile below the target before --spp
     std::vector<RankReport> reports;
 };
 
@@ -316,10 +316,11 @@ void report(const PreparedRender& job, const RenderRequest& request, const RunOu
     if (out.stopped_by_limit) std::fprintf(stderr, "stopped by --time-limit after %d of %d spp\n", done, job.range.count());
     if (job.settings.target_error > 0) {
         const AdaptiveState a = final_error(job);
-        std::fprintf(stderr, "target error %g %s: error estimate %.4g (largest tile), %.4g (RMS over %d tiles); "
+        std::fprintf(stderr, "target error %g %s%s: error estimate %.4g (largest tile), %.4g (RMS over %d tiles); "
                              "%d tiles above it; spp per pixel %d-%d, mean %.1f\n",
-                     double(job.settings.target_error), out.converged ? "reached" : "not reached", a.max_error,
-                     a.rms_error, a.tiles, a.tiles_above, a.min_spp, a.max_spp, a.mean_spp);
+                     double(job.settings.target_error), a.tiles_above ? "not reached" : "reached",
+                     out.converged ? " before --spp" : "", a.max_error, a.rms_error, a.tiles, a.tiles_above,
+                     a.min_spp, a.max_spp, a.mean_spp);
     }
     if (g_stop_signal)
         std::fprintf(stderr, "interrupted after %d of %d spp%s\n", done, job.range.count(),
