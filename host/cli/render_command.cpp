@@ -8,6 +8,7 @@
 #include "core/errors.h"
 #include "core/hash.h"
 #include "io/image_io.h"
+#include "render/adaptive.h"
 #include "render/aovs.h"
 #include "render/error_metrics.h"
 #include "render/features.h"
@@ -71,6 +72,7 @@ struct RunOutcome {
     double render_seconds = 0, total_seconds = 0, reduce_seconds = 0;
     int my_samples = 0;
     bool stopped_by_limit = false;
+    bool converged = false;  // --target-error: every tile below the target before --spp
     std::vector<RankReport> reports;
 };
 
@@ -141,6 +143,10 @@ void prepare(PreparedRender& job, const RenderRequest& request, const DistContex
     job.range = request.sample_range.value_or(SampleRange{0, request.grid.spp});
     job.my_range = rank_range(job.range, request.grid, dist.rank, dist.ranks);
     job.rank_suffix = dist.ranks > 1 ? ".rank" + std::to_string(dist.rank) : "";
+    if (dist.ranks > 1 && request.image.settings.target_error > 0)
+        throw UsageError("render: --target-error cannot run on " + std::to_string(dist.ranks) +
+                         " MPI ranks: which pixels a chunk renders depends on the chunks before it, which "
+                         "other ranks render; run it as one process (--device all uses every local device)");
     if (!request.image.kernel_dir.empty()) set_kernel_dir(request.image.kernel_dir);
     load_inputs(job, request, quiet);
     if (!quiet && dist.mpi) {
@@ -169,9 +175,53 @@ void save_state(const PreparedRender& job, const RenderRequest& request, const D
     c.rank = uint32_t(dist.rank);
     c.ranks = uint32_t(dist.ranks);
     c.aov_sums = uint32_t(job.acc->aov_sums());
+    c.even_sums = job.settings.target_error > 0 ? 4 : 0;
     c.identity = job.identity;
     c.segments = job.acc->segments();
     save_checkpoint(request.checkpoint + job.rank_suffix, c);
+}
+
+void add_shares(std::vector<DeviceShare>& total, const std::vector<DeviceShare>& more) {
+    if (total.empty()) total = more;
+    else
+        for (size_t d = 0; d < more.size(); ++d) {
+            total[d].chunks += more[d].chunks;
+            total[d].samples += more[d].samples;
+            total[d].busy_seconds += more[d].busy_seconds;
+        }
+}
+
+// --target-error: the chunks one at a time, in order, each on the tiles the film of the chunks
+// before it leaves above the target (render/adaptive.h); stops when none is left.  One chunk at a
+// time leaves all but one device idle, but keeps the image that of one device.
+std::vector<DeviceShare> render_adaptive(PreparedRender& job, const std::vector<Renderer*>& devices,
+                                         const std::vector<int>& pending, const ChunkRunHooks& hooks,
+                                         RunOutcome& out) {
+    const ChunkGrid& grid = job.acc->grid();
+    std::vector<DeviceShare> shares;
+    bool stopped = false;
+    ChunkRunHooks once = hooks;
+    int before = 0;  // samples rendered by the earlier calls, for the progress line
+    once.progress = [&](int n) { hooks.progress(before + n); };
+    once.should_stop = [&] { return stopped = stopped || hooks.should_stop(); };
+    for (int j : pending) {
+        const int first = grid.begin(j);
+        std::vector<uint32_t> pixels;  // empty: every pixel
+        if (first >= job.settings.adaptive_min_spp) {
+            const AdaptiveState st = assess_film(job.acc->compose_before(first), first, job.settings.target_error);
+            if (st.pixels.empty()) {
+                out.converged = true;
+                break;
+            }
+            pixels = st.pixels;
+        }
+        for (Renderer* r : devices) r->set_pixels(pixels);
+        const int done = job.acc->samples();
+        add_shares(shares, render_chunks(devices, job.device_names, *job.acc, {j}, once));
+        before += job.acc->samples() - done;
+        if (stopped) break;
+    }
+    return shares;
 }
 
 RunOutcome run(PreparedRender& job, const RenderRequest& request, DistContext& dist, bool quiet) {
@@ -197,7 +247,9 @@ RunOutcome run(PreparedRender& job, const RenderRequest& request, DistContext& d
     };
     std::vector<Renderer*> devices;
     for (auto& r : job.renderers) devices.push_back(r.get());
-    out.shares = render_chunks(devices, job.device_names, *job.acc, job.acc->pending_chunks(job.my_range), hooks);
+    const std::vector<int> pending = job.acc->pending_chunks(job.my_range);
+    if (job.settings.target_error > 0) out.shares = render_adaptive(job, devices, pending, hooks, out);
+    else out.shares = render_chunks(devices, job.device_names, *job.acc, pending, hooks);
     progress.finish();
     // The reduction replaces each rank's samples with the chain's: save them before it.
     if (dist.ranks > 1) save_state(job, request, dist);
@@ -234,6 +286,11 @@ void report_split(const RunOutcome& out, const DistContext& dist) {
                      out.reports[r].reduce_seconds, out.reports[r].bytes_sent, out.reports[r].bytes_received);
 }
 
+// The error estimate of the image as written (render/adaptive.h).
+AdaptiveState final_error(const PreparedRender& job) {
+    return assess_film(job.acc->compose(), 0, job.settings.target_error);
+}
+
 void report(const PreparedRender& job, const RenderRequest& request, const RunOutcome& out, const DistContext& dist) {
     const RenderStats st = summed_stats(job);
     const int done = job.acc->samples();
@@ -257,6 +314,14 @@ void report(const PreparedRender& job, const RenderRequest& request, const RunOu
                          bs.seconds > 0 ? rays / bs.seconds * 1e-6 : 0.0);
         }
     if (out.stopped_by_limit) std::fprintf(stderr, "stopped by --time-limit after %d of %d spp\n", done, job.range.count());
+    if (job.settings.target_error > 0) {
+        const AdaptiveState a = final_error(job);
+        std::fprintf(stderr, "target error %g %s%s: error estimate %.4g (largest tile), %.4g (RMS over %d tiles); "
+                             "%d tiles above it; spp per pixel %d-%d, mean %.1f\n",
+                     double(job.settings.target_error), a.tiles_above ? "not reached" : "reached",
+                     out.converged ? " before --spp" : "", a.max_error, a.rms_error, a.tiles, a.tiles_above,
+                     a.min_spp, a.max_spp, a.mean_spp);
+    }
     if (g_stop_signal)
         std::fprintf(stderr, "interrupted after %d of %d spp%s\n", done, job.range.count(),
                      request.checkpoint.empty() ? "" : "; continue with --resume");
@@ -335,10 +400,23 @@ void write_outputs(const PreparedRender& job, const RenderRequest& request, cons
     meta.floats["hairtrace:exposure"] = exposure;
     meta.text["hairtrace:tonemap"] = tone_map_name(request.tone_map);
     const std::vector<ImageChannel> aovs = aov_channels(film, request.aovs);
+    std::vector<ImageChannel> exr_channels = aovs;
+    if (job.settings.target_error > 0) {
+        const AdaptiveState a = final_error(job);
+        meta.floats["hairtrace:target_error"] = job.settings.target_error;
+        meta.floats["hairtrace:error_estimate"] = float(a.max_error);
+        meta.floats["hairtrace:error_estimate_rms"] = float(a.rms_error);
+        meta.floats["hairtrace:spp_mean"] = float(a.mean_spp);
+        meta.ints["hairtrace:min_spp"] = job.settings.adaptive_min_spp;
+        // where the samples went: cheap, and only EXR takes a channel of any name
+        ImageChannel spp{"spp", std::vector<float>(size_t(film.width) * size_t(film.height))};
+        for (size_t i = 0; i < spp.values.size(); ++i) spp.values[i] = film.rgba[4 * i + 3];
+        exr_channels.push_back(std::move(spp));
+    }
     for (auto& o : request.outputs) {
         // A part's .exr keeps the raw sums for the merge; other formats show its mean.
         if (request.sample_range && keeps_raw_sums(o)) write_partial_exr(o, partial_image_of(job, request), meta);
-        else write_image(o, film, meta, exposure, request.tone_map, aovs);
+        else write_image(o, film, meta, exposure, request.tone_map, keeps_raw_sums(o) ? exr_channels : aovs);
         if (!quiet) std::fprintf(stderr, "wrote %s\n", o.c_str());
     }
     if (job.reference.empty()) return;

@@ -43,6 +43,8 @@ const OptionRow kOptions[] = {
     {"sampling", "--spp", "N", "samples per pixel (hair-to-hair light through narrow fibre lobes sparkles below ~64)", "64", Kind::Value, kRender},
     {"sampling", "--seed", "S", "random seed; the image depends only on seed, spp, scene and options", "1", Kind::Value, kBoth},
     {"sampling", "--chunk", "K", "samples per chunk: the image is the sum of K-sample chunk films added in chunk order, which every split (devices, MPI ranks, --sample-range parts) reproduces exactly; K >= spp is the plain sequential sum", "16", Kind::Value, kRender},
+    {"sampling", "--target-error", "E|off", "adaptive sampling: after --min-spp samples everywhere, each further --chunk of samples goes only to the 8x8-pixel tiles whose relative error estimate exceeds E, until every tile is below E, --spp (now the maximum) or --time-limit is reached. A pixel's estimate is |Y(even half) - Y(odd half)| / (2 (Y + eps)): half the difference between the means of its even- and odd-numbered samples (an estimate of the standard error of its mean) over its luminance Y, eps = 0.1x the image's mean luminance; a tile's is the RMS over its pixels (e.g. 0.02: about 2 % noise). Prints the achieved estimate (largest tile, RMS over tiles); .exr outputs get an spp channel. Deterministic, exact with checkpoints and several devices; not with --sample-range or MPI", "off", Kind::Value, kRender},
+    {"sampling", "--min-spp", "N", "with --target-error: samples every pixel gets before the estimate decides (rounded up to whole --chunk)", "16", Kind::Value, kRender},
     {"sampling", "--sample-range", "A:B", "render-farm part: render samples [A, B) of --spp only (A, B multiples of --chunk or B = spp); the .exr output then holds the raw sums for `hairtrace merge`", "", Kind::Value, kRender},
 
     {"light transport", "--max-depth", "D|auto", "path length in fibre bounces (1 = direct light only); auto: from the materials' averaged attenuation (AFS_TT^avg^D < 0.2, Zinke 2004 §5)", "auto", Kind::Value, kBoth},
@@ -210,6 +212,17 @@ RenderRequest parse_render_request(const ArgParser& p) {
         r.sample_range = parse_sample_range(p.get("--sample-range"), r.grid);
         if (std::none_of(r.outputs.begin(), r.outputs.end(), keeps_raw_sums))
             throw UsageError("--sample-range needs an .exr output: only it keeps the raw sums `hairtrace merge` combines");
+    }
+    if (auto e = p.get_double_or("--target-error", "off", 1e-6, 100)) {
+        if (r.sample_range)
+            throw p.error("--target-error", "cannot be combined with --sample-range: which pixels a chunk renders "
+                                            "depends on the chunks before it, which another part renders");
+        RenderSettings& s = r.image.settings;
+        s.target_error = float(*e);
+        const int k = r.grid.chunk;
+        s.adaptive_min_spp = std::min(r.grid.spp, (p.get_int("--min-spp", 2, 1 << 24) + k - 1) / k * k);
+    } else if (p.has("--min-spp")) {
+        throw p.error("--min-spp", "only applies with --target-error");
     }
     r.time_limit = p.get_double("--time-limit", 0, 1e9);
     r.checkpoint = p.get("--checkpoint");

@@ -22,7 +22,7 @@ const char* const kPartMessages[RenderIdentity::kPartCount] = {
     "a different camera (the scene's camera or the default framing, image aspect)",
     "different settings (--width, --height, --seed, --max-depth, --chunk, --indirect, --fiber-field, "
     "--features, --clamp-indirect, --regularize, --spawn-offset, --sampler, --first-hit-splits, "
-    "--first-hit-light-samples)",
+    "--first-hit-light-samples, --target-error, --min-spp)",
     "different AOVs (--aovs: which output values are recorded, if any)",
 };
 
@@ -94,6 +94,8 @@ uint64_t settings_digest(const RenderSettings& s, int chunk) {
     // only when splitting, so that checkpoints and parts of renders from before keep their identity
     if (s.first_hit_splits != 1 || s.first_hit_light_samples != 1)
         d.add(s.first_hit_splits).add(s.first_hit_light_samples);
+    // only when adaptive: which pixels get which samples depends on both
+    if (s.target_error > 0) d.add(s.target_error).add(s.adaptive_min_spp);
     return d.h;
 }
 

@@ -119,6 +119,9 @@ struct Renderer::Impl {
     cl::Kernel k_shadow_afs, k_resolve_afs;
     RenderStats stats;
     cl::Buffer film_buf, film_aov;  // film_aov: --aovs only
+    cl::Buffer film_even;           // --target-error: the even samples' half film (core/film.h)
+    cl::Buffer pixel_list;          // set_pixels; a one-element dummy while every pixel renders
+    size_t listed_pixels = 0;       // 0: every pixel
     RayDump* dump = nullptr;        // --dump-rays
 
     // per-pass buffers (render/path_buffers.h), sized for max paths per pass
@@ -198,6 +201,7 @@ struct Renderer::Impl {
         upload_textures();
         pixels_per_pass = plan.pixels_per_pass;
         allocate(plan.paths_per_pass);
+        pixel_list = device_array(cl.context(), std::vector<cl_uint>{});
     }
 
     // After the memory plan, so textures that cannot fit are refused before they are copied.
@@ -246,9 +250,11 @@ struct Renderer::Impl {
         k_generate.setArg(3, settings.seed);
         k_generate.setArg(4, sample);
         k_generate.setArg(5, cl_uint(paths_per_pixel));
-        k_generate.setArg(6, queue_rays(0));
-        k_generate.setArg(7, queue_paths(0));
-        k_generate.setArg(8, buffer(PathBuffer::Paths));
+        k_generate.setArg(6, pixel_list);
+        k_generate.setArg(7, cl_uint(listed_pixels > 0));
+        k_generate.setArg(8, queue_rays(0));
+        k_generate.setArg(9, queue_paths(0));
+        k_generate.setArg(10, buffer(PathBuffer::Paths));
         launch(k_generate, count);
     }
 
@@ -355,16 +361,33 @@ struct Renderer::Impl {
         launch(k_resolve, count);
     }
 
-    void accumulate(cl::Buffer& film, uint32_t count) {
+    void accumulate(cl::Buffer& film, uint32_t count, uint32_t sample) {
+        const bool even = settings.target_error > 0 && sample % 2 == 0;
         k_accumulate.setArg(0, buffer(PathBuffer::Paths));
         k_accumulate.setArg(1, count);
         k_accumulate.setArg(2, cl_uint(paths_per_pixel));
         k_accumulate.setArg(3, film);
+        k_accumulate.setArg(4, cl_uint(even));
+        k_accumulate.setArg(5, even ? film_even : pixel_list);  // unread when odd: any buffer
         if (settings.aovs) {
-            k_accumulate.setArg(4, buffer(PathBuffer::Aovs));
-            k_accumulate.setArg(5, film_aov);
+            k_accumulate.setArg(6, buffer(PathBuffer::Aovs));
+            k_accumulate.setArg(7, film_aov);
         }
         launch(k_accumulate, count);
+    }
+
+    // A film's AOV sums or even half on the device: a copy of `sums`, or zeros when it is empty
+    // (a chunk's first upload).
+    cl::Buffer film_sums(const std::vector<float>& sums, size_t floats, const char* what) {
+        if (sums.empty()) {
+            cl::Buffer b(cl.context(), CL_MEM_READ_WRITE, floats * sizeof(float));
+            cl.queue().enqueueFillBuffer(b, 0.0f, 0, floats * sizeof(float));
+            return b;
+        }
+        if (sums.size() != floats)
+            throw std::invalid_argument(std::string("film ") + what + ": size does not match the render settings");
+        return cl::Buffer(cl.context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, floats * sizeof(float),
+                          const_cast<float*>(sums.data()));
     }
 
     void launch(cl::Kernel& k, size_t n) { launch(k, global_for(n), cl::NDRange(kLocalSize)); }
@@ -422,18 +445,8 @@ void Renderer::upload_film(const Film& film) {
     try {
         r.film_buf = cl::Buffer(r.cl.context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR,
                                 floats * sizeof(float), const_cast<float*>(film.rgba.data()));
-        if (r.settings.aovs) {
-            const size_t aov_floats = size_t(HT_AOV_OUT) * (floats / 4);
-            if (film.aov.empty()) {
-                r.film_aov = cl::Buffer(r.cl.context(), CL_MEM_READ_WRITE, aov_floats * sizeof(float));
-                r.cl.queue().enqueueFillBuffer(r.film_aov, 0.0f, 0, aov_floats * sizeof(float));
-            } else if (film.aov.size() == aov_floats) {
-                r.film_aov = cl::Buffer(r.cl.context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR,
-                                        aov_floats * sizeof(float), const_cast<float*>(film.aov.data()));
-            } else {
-                throw std::invalid_argument("film AOV size does not match the render settings");
-            }
-        }
+        if (r.settings.aovs) r.film_aov = r.film_sums(film.aov, size_t(HT_AOV_OUT) * (floats / 4), "AOV sums");
+        if (r.settings.target_error > 0) r.film_even = r.film_sums(film.even, floats, "even half");
     } catch (const cl::Error& e) {
         throw DeviceError(std::string("cannot allocate the film on the device: ") + cl_error_name(e.err()));
     }
@@ -451,15 +464,34 @@ void Renderer::download_film(Film& film) {
             film.aov.resize(size_t(HT_AOV_OUT) * size_t(film.width) * size_t(film.height));
             r.cl.queue().enqueueReadBuffer(r.film_aov, CL_TRUE, 0, film.aov.size() * sizeof(float), film.aov.data());
         }
+        film.even.clear();
+        if (r.settings.target_error > 0) {
+            film.even.resize(film.rgba.size());
+            r.cl.queue().enqueueReadBuffer(r.film_even, CL_TRUE, 0, film.even.size() * sizeof(float), film.even.data());
+        }
     } catch (const cl::Error& e) {
         throw DeviceError(std::string("OpenCL failure reading the film: ") + cl_error_name(e.err()));
     }
 }
 
+void Renderer::set_pixels(const std::vector<uint32_t>& pixels) {
+    Impl& r = *impl_;
+    const size_t all = size_t(r.settings.width) * size_t(r.settings.height);
+    for (size_t i = 0; i < pixels.size(); ++i)
+        if (pixels[i] >= all || (i > 0 && pixels[i] <= pixels[i - 1]))
+            throw std::invalid_argument("set_pixels: pixel indices must be ascending and inside the image");
+    try {
+        r.pixel_list = device_array(r.cl.context(), pixels);
+    } catch (const cl::Error& e) {
+        throw DeviceError(std::string("cannot allocate the pixel list on the device: ") + cl_error_name(e.err()));
+    }
+    r.listed_pixels = pixels.size();
+}
+
 void Renderer::render_sample(uint32_t sample) {
     Impl& r = *impl_;
     const RenderSettings& s = r.settings;
-    const size_t pixels = size_t(s.width) * size_t(s.height);
+    const size_t pixels = r.listed_pixels ? r.listed_pixels : size_t(s.width) * size_t(s.height);
     auto t0 = std::chrono::steady_clock::now();
     try {
         for (size_t offset = 0; offset < pixels; offset += r.pixels_per_pass) {
@@ -506,7 +538,7 @@ void Renderer::render_sample(uint32_t sample) {
                 q = 1 - q;
                 n = c.next;
             }
-            r.accumulate(r.film_buf, count);
+            r.accumulate(r.film_buf, count, sample);
         }
         r.cl.queue().finish();
     } catch (const cl::Error& e) {

@@ -82,6 +82,10 @@ public:
     void upload_film(const Film& film);
     void render_sample(uint32_t sample);  // one pass over every pixel, finished on return
     void download_film(Film& film);
+    // The pixels the next render_sample calls render (indices y * width + x, ascending); empty:
+    // every pixel.  render --target-error narrows it to the tiles still above the target; the
+    // others keep their film values untouched.
+    void set_pixels(const std::vector<uint32_t>& pixels);
     const RenderStats& stats() const;
 
     const std::string& kernel_options() const;

@@ -48,6 +48,11 @@ struct RenderSettings {
     FeatureMode features = FeatureMode::Scene;  // --features: what is compiled in
     // --aovs: record the output values of kernels/aovs.h (the beauty is the same bits either way).
     bool aovs = false;
+    // --target-error: after adaptive_min_spp samples everywhere, further chunks only for the
+    // tiles whose relative error estimate exceeds it (render/adaptive.h); 0: every pixel gets
+    // every sample.  The films then carry their even halves (core/film.h).
+    float target_error = 0.0f;
+    int adaptive_min_spp = 0;
 };
 
 }  // namespace ht

@@ -28,15 +28,23 @@ SampleRange parse_sample_range(const std::string& text, const ChunkGrid& grid) {
     return r;
 }
 
+namespace {
+void add_sums(std::vector<float>& a, const std::vector<float>& b, const char* mismatch) {
+    if (b.empty()) return;
+    if (a.empty()) a.assign(b.size(), 0.0f);
+    if (a.size() != b.size()) throw std::invalid_argument(mismatch);
+    for (size_t i = 0; i < a.size(); ++i) a[i] += b[i];
+}
+}  // namespace
+
 void add_film(Film& a, const Film& b) {
     if (a.rgba.size() != b.rgba.size()) throw std::invalid_argument("films of different sizes");
     // One IEEE float addition per element; no reassociation happens across elements.
     for (size_t i = 0; i < a.rgba.size(); ++i) a.rgba[i] += b.rgba[i];
-    // AOV sums (render --aovs) the same way; a film without them counts as zeros
-    if (b.aov.empty()) return;
-    if (a.aov.empty()) a.aov.assign(b.aov.size(), 0.0f);
-    if (a.aov.size() != b.aov.size()) throw std::invalid_argument("films with different AOVs");
-    for (size_t i = 0; i < a.aov.size(); ++i) a.aov[i] += b.aov[i];
+    // AOV sums (render --aovs) and even halves (--target-error) the same way; a film without
+    // them counts as zeros
+    add_sums(a.aov, b.aov, "films with different AOVs");
+    add_sums(a.even, b.even, "films with and without even halves");
 }
 
 SampleAccumulator::SampleAccumulator(ChunkGrid grid, int width, int height, int aov_sums)
@@ -124,17 +132,22 @@ std::vector<int> SampleAccumulator::pending_chunks(const SampleRange& range) con
     return out;
 }
 
-Film SampleAccumulator::compose() const {
+Film SampleAccumulator::compose() const { return compose_before(grid_.spp); }
+
+Film SampleAccumulator::compose_before(int end) const {
     Film f;
     f.width = width_;
     f.height = height_;
-    if (segments_.empty()) {
-        f.rgba.assign(4 * size_t(width_) * size_t(height_), 0.0f);
-        f.aov.assign(size_t(aov_sums_) * size_t(width_) * size_t(height_), 0.0f);
-        return f;
+    f.rgba.assign(4 * size_t(width_) * size_t(height_), 0.0f);
+    f.aov.assign(size_t(aov_sums_) * size_t(width_) * size_t(height_), 0.0f);
+    bool first = true;
+    for (const FilmSegment& s : segments_) {
+        if (s.first + s.count > end) continue;
+        // the first segment is copied, not added to zeros, so that the fold keeps its bits
+        if (first) f = s.film;
+        else add_film(f, s.film);
+        first = false;
     }
-    f = segments_[0].film;
-    for (size_t i = 1; i < segments_.size(); ++i) add_film(f, segments_[i].film);
     return f;
 }
 

@@ -93,6 +93,9 @@ public:
     // The fold of every held segment in sample order: the image (exact when the segments cover
     // [0, spp) completely; otherwise an unbiased estimate from the samples present).
     Film compose() const;
+    // The fold of the segments that end at or before sample `end` (render --target-error decides
+    // the next chunk from the chunks before it, render/adaptive.h).
+    Film compose_before(int end) const;
 
 private:
     void fold_prefix();

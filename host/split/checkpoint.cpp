@@ -20,14 +20,16 @@ constexpr char kMagic[4] = {'H', 'T', 'C', 'K'};
 // 4: the lights digest hashes the environment as loaded (header and texels), not its file.
 // 5: the AOV sums of render --aovs after each segment's film, and a sixth identity digest (the
 // AOV list).
-constexpr uint32_t kVersion = 5;
+// 6: the even half films of render --target-error after each segment's AOV sums (4 floats per
+// pixel when the header's even_sums says so), and --target-error in the settings digest.
+constexpr uint32_t kVersion = 6;
 constexpr uint32_t kMaxSegments = 1u << 20;
 
 struct Header {
     char magic[4];
     uint32_t version, width, height, seed, max_depth, samples_done, spp_target;
     uint32_t chunk, range_first, range_end, rank, ranks, segment_count;
-    uint32_t aov_sums, unused;  // `unused` keeps the digests 8-byte aligned without hidden padding
+    uint32_t aov_sums, even_sums;  // per pixel; two fields keep the digests 8-byte aligned
     uint64_t identity[RenderIdentity::kPartCount], payload_hash;
 };
 
@@ -36,10 +38,10 @@ struct SegmentHeader {
 };
 
 // The payload checksum continued over one segment: its header, then its film's floats in file
-// order, the (r, g, b, n) sums and the AOV sums.
+// order, the (r, g, b, n) sums, the AOV sums and the even half.
 uint64_t hash_segment(uint64_t hash, const SegmentHeader& sh, const Film& film) {
     hash = fnv1a(&sh, sizeof sh, hash);
-    return fnv1a(film.aov, fnv1a(film.rgba, hash));
+    return fnv1a(film.even, fnv1a(film.aov, fnv1a(film.rgba, hash)));
 }
 
 bool write_floats(const std::vector<float>& v, FILE* f) {
@@ -70,11 +72,13 @@ void save_checkpoint(const std::string& path, const Checkpoint& c) {
     h.ranks = c.ranks;
     h.segment_count = uint32_t(c.segments.size());
     h.aov_sums = c.aov_sums;
+    h.even_sums = c.even_sums;
     for (int p = 0; p < RenderIdentity::kPartCount; ++p) h.identity[p] = c.identity.digests[p];
     const size_t pixels = size_t(c.width) * c.height;
     uint64_t hash = fnv1a(nullptr, 0);
     for (auto& s : c.segments) {
-        if (s.film.rgba.size() != 4 * pixels || s.film.aov.size() != c.aov_sums * pixels)
+        if (s.film.rgba.size() != 4 * pixels || s.film.aov.size() != c.aov_sums * pixels ||
+            s.film.even.size() != c.even_sums * pixels)
             throw std::invalid_argument("checkpoint segment film does not match the image size and AOV sums");
         hash = hash_segment(hash, SegmentHeader{uint32_t(s.first), uint32_t(s.count)}, s.film);
     }
@@ -86,7 +90,7 @@ void save_checkpoint(const std::string& path, const Checkpoint& c) {
     for (auto& s : c.segments) {
         SegmentHeader sh{uint32_t(s.first), uint32_t(s.count)};
         ok = ok && std::fwrite(&sh, sizeof sh, 1, f) == 1 && write_floats(s.film.rgba, f) &&
-             write_floats(s.film.aov, f);
+             write_floats(s.film.aov, f) && write_floats(s.film.even, f);
     }
     ok = std::fflush(f) == 0 && ok;
     ok = ::fsync(fileno(f)) == 0 && ok;
@@ -114,7 +118,7 @@ Checkpoint load_checkpoint(const std::string& path) {
     if (h.width == 0 || h.height == 0 || h.width > 65536 || h.height > 65536)
         throw SceneError(path + ": checkpoint has an impossible image size");
     if (h.chunk == 0 || h.segment_count > kMaxSegments || h.ranks == 0 || h.rank >= h.ranks ||
-        (h.aov_sums != 0 && h.aov_sums != HT_AOV_OUT))
+        (h.aov_sums != 0 && h.aov_sums != HT_AOV_OUT) || (h.even_sums != 0 && h.even_sums != 4))
         throw SceneError(path + ": checkpoint header is corrupt");
     Checkpoint c;
     c.width = h.width;
@@ -129,6 +133,7 @@ Checkpoint load_checkpoint(const std::string& path) {
     c.rank = h.rank;
     c.ranks = h.ranks;
     c.aov_sums = h.aov_sums;
+    c.even_sums = h.even_sums;
     for (int p = 0; p < RenderIdentity::kPartCount; ++p) c.identity.digests[p] = h.identity[p];
     uint64_t hash = fnv1a(nullptr, 0);
     const size_t pixels = size_t(h.width) * h.height;
@@ -141,7 +146,8 @@ Checkpoint load_checkpoint(const std::string& path) {
         s.count = int(sh.count);
         s.film.width = int(h.width);
         s.film.height = int(h.height);
-        if (!read_floats(s.film.rgba, 4 * pixels, f) || !read_floats(s.film.aov, h.aov_sums * pixels, f))
+        if (!read_floats(s.film.rgba, 4 * pixels, f) || !read_floats(s.film.aov, h.aov_sums * pixels, f) ||
+            !read_floats(s.film.even, h.even_sums * pixels, f))
             throw SceneError(path + ": truncated checkpoint (film data missing)");
         hash = hash_segment(hash, sh, s.film);
         c.segments.push_back(std::move(s));

@@ -21,6 +21,7 @@ struct Checkpoint {
     uint32_t range_first = 0, range_end = 0;     // the samples this process was asked for
     uint32_t rank = 0, ranks = 1;                // MPI: which rank wrote it, out of how many
     uint32_t aov_sums = 0;                       // per pixel in every segment's film (--aovs), or 0
+    uint32_t even_sums = 0;                      // 4 with --target-error (Film::even), or 0
     RenderIdentity identity;  // everything else that shapes the image (scene, options)
     std::vector<FilmSegment> segments;  // sorted, disjoint; see SampleAccumulator
 };

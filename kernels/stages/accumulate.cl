@@ -2,13 +2,17 @@
  * Camera path i renders a distinct pixel, so the film needs no atomics and the sum for a pixel is
  * taken in sample order: the image is independent of scheduling.  One sample of a pixel is the
  * sum of its camera path's `splits` path states (--first-hit-splits; each continuation already
- * carries 1/N of the weight), added in continuation order. */
+ * carries 1/N of the weight), added in continuation order.
+ * With `even` (an even sample index of a render --target-error) the sample is also added to
+ * film_even: the half film whose difference from the odd half estimates each pixel's error
+ * (host/render/adaptive.h). */
 #include "../types.h"
 #include "../aovs.h"
 #include "stage_args.h"
 
 __kernel void accumulate(__global const HtPathState* paths, uint count, uint splits,
-                         __global float4* film HT_ACCUMULATE_AOV_PARAMS) {
+                         __global float4* film, uint even,
+                         __global float4* film_even HT_ACCUMULATE_AOV_PARAMS) {
     uint i = get_global_id(0);
     if (i >= count) return;
     const uint first = i * splits;
@@ -21,6 +25,7 @@ __kernel void accumulate(__global const HtPathState* paths, uint count, uint spl
     float4 f = film[pixel];
     f += (float4)(radiance, 1.0f);
     film[pixel] = f;
+    if (even) film_even[pixel] += (float4)(radiance, 1.0f);
 #if HT_FEATURE_AOVS
     for (uint j = 0u; j < splits; ++j)
         for (uint c = 0u; c < HT_AOV_OUT; ++c)

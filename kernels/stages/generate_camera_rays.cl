@@ -3,17 +3,21 @@
  * rays[i].  With --first-hit-splits N it owns the N path states from i N on -- itself
  * (continuation 0, ray_path[i] = i N) and the continuations its first vertex will start
  * (kernels/stages/shade.cl) -- all starting with throughput 1 and radiance 0, so that accumulate
- * can add them up whether they were started or not. */
+ * can add them up whether they were started or not.
+ * With `listed` (render --target-error) camera path i renders pixel pixel_list[pixel_offset + i]
+ * instead: the pixels still short of the target.  The random numbers depend on the pixel, never on
+ * the slot, so a pixel renders the same sample whichever others share its pass. */
 #include "../types.h"
 #include "../rng.h"
 #include "../camera.h"
 
 __kernel void generate_camera_rays(HtCamera camera, uint pixel_offset, uint count, uint seed,
-                                   uint sample, uint splits, __global HtRay* rays,
-                                   __global uint* ray_path, __global HtPathState* paths) {
+                                   uint sample, uint splits, __global const uint* pixel_list,
+                                   uint listed, __global HtRay* rays, __global uint* ray_path,
+                                   __global HtPathState* paths) {
     uint i = get_global_id(0);
     if (i >= count) return;
-    uint pixel = pixel_offset + i;
+    uint pixel = listed ? pixel_list[pixel_offset + i] : pixel_offset + i;
     uint px = pixel % camera.width, py = pixel / camera.width;
     float jx = ht_sample(seed, pixel, sample, 0u, HT_DIM_PIXEL_X);
     float jy = ht_sample(seed, pixel, sample, 0u, HT_DIM_PIXEL_Y);

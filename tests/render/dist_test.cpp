@@ -217,6 +217,16 @@ TEST(MultiDevice, SplitAcrossDevicesEqualsOneDevice) {
     EXPECT_EQ(run(env + kRender + " --spp 2 --device 0,0 -o " + (d / "x.exr") + " 2>/dev/null"), 2);
 }
 
+// --target-error takes the chunks one at a time, on whichever device is free: the same image.
+TEST(MultiDevice, AdaptiveSplitAcrossDevicesEqualsOneDevice) {
+    TempDir d("ht_dist_");
+    const std::string env = "POCL_DEVICES='pthread basic' ";
+    const std::string adaptive = kRender + " --spp 24 --chunk 4 --target-error 0.4 --min-spp 4";
+    ASSERT_EQ(run(env + adaptive + " --device 0 -o " + (d / "one.exr")), 0);
+    ASSERT_EQ(run(env + adaptive + " --device 0,1 -o " + (d / "two.exr")), 0);
+    EXPECT_EQ(clitest::channel_bits(d / "one.exr"), clitest::channel_bits(d / "two.exr"));
+}
+
 // Work stealing: the devices together render every chunk exactly once.  (Which device takes how
 // many depends on timing; on a loaded machine one device may legitimately take them all.)
 TEST(MultiDevice, DevicesRenderEveryChunkOnce) {
@@ -282,6 +292,15 @@ TEST(Mpi, RanksGiveTheOneProcessImage) {
         ASSERT_EQ(run_logged(mpirun(np) + kRender + " --spp 12 --chunk 2 -o " + out, d / "log.txt", log), 0) << np << log;
         EXPECT_EQ(one, image(out)) << np << " ranks";
     }
+}
+
+// Which pixels a chunk renders depends on the chunks before it, which other ranks render.
+TEST(Mpi, TargetErrorIsRefused) {
+    TempDir d("ht_dist_");
+    std::string log;
+    EXPECT_EQ(run_logged(mpirun(2) + kRender + " --spp 8 --chunk 2 --target-error 0.1 --min-spp 2 -o " + (d / "x.exr"),
+                         d / "log.txt", log), 2) << log;
+    EXPECT_NE(log.find("--target-error cannot run on 2 MPI ranks"), std::string::npos) << log;
 }
 
 TEST(Mpi, PerRankCheckpointsResumeTogether) {
