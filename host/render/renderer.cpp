@@ -330,11 +330,18 @@ struct Renderer::Impl {
         launch(k_shadow, count);
     }
 
+    // The arguments the translucent shadow stages share: geometry, the strands' materials, the
+    // per-fibre table, the shadow rays; returns the next argument.
+    cl_uint set_translucent_args(cl::Kernel& k, const cl::Buffer& table) {
+        cl_uint a = set_geometry_args(k);
+        k.setArg(a++, scene.strand_material);
+        k.setArg(a++, table);
+        k.setArg(a++, buffer(PathBuffer::ShadowRays));
+        return a;
+    }
+
     void intersect_shadow_afs(uint32_t count) {
-        cl_uint a = set_geometry_args(k_shadow_afs);
-        k_shadow_afs.setArg(a++, scene.strand_material);
-        k_shadow_afs.setArg(a++, afs_table);
-        k_shadow_afs.setArg(a++, buffer(PathBuffer::ShadowRays));
+        cl_uint a = set_translucent_args(k_shadow_afs, afs_table);
         k_shadow_afs.setArg(a++, buffer(PathBuffer::Transmittance));
         k_shadow_afs.setArg(a++, count);
         launch(k_shadow_afs, count);
@@ -343,10 +350,7 @@ struct Renderer::Impl {
     // --indirect dual: walks the shadow rays through hair and adds each light sample's exact
     // single scattering and dual-scattering terms (kernels/stages/intersect_shadow_afs.cl).
     void shadow_dual(uint32_t count) {
-        cl_uint a = set_geometry_args(k_shadow_dual);
-        k_shadow_dual.setArg(a++, scene.strand_material);
-        k_shadow_dual.setArg(a++, dual_table);
-        k_shadow_dual.setArg(a++, buffer(PathBuffer::ShadowRays));
+        cl_uint a = set_translucent_args(k_shadow_dual, dual_table);
         k_shadow_dual.setArg(a++, buffer(PathBuffer::ShadowContrib));
         k_shadow_dual.setArg(a++, buffer(PathBuffer::DualRecords));
         k_shadow_dual.setArg(a++, count);
