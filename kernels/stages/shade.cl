@@ -229,8 +229,13 @@ __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM, HT_SCENE_PARA
             cut = 1;
         } else {
             /* without an environment nothing is traced past the last vertex: a path counts as
-             * cut when it scatters there */
-            cut = bounce + 1u == max_depth && !env.enabled && !HT_FEATURE_INDIRECT_DUAL;
+             * cut when it scatters there -- except under --indirect dual, whose terms stand for
+             * the light beyond it */
+#if HT_FEATURE_INDIRECT_DUAL
+            cut = 0;
+#else
+            cut = bounce + 1u == max_depth && !env.enabled;
+#endif
             HtSegment seg = HT_SEG(hit.segment);
 #if HT_FEATURE_MESHES
             if (seg.flags & HT_SEG_TRIANGLE)
