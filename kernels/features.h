@@ -18,6 +18,7 @@
     X(MODEL_ZINKE, "model zinke")                                                                  \
     X(MODEL_CHIANG, "model chiang")                                                                \
     X(INDIRECT_AFS, "translucent AFS shadow rays (--indirect afs)")                                \
+    X(INDIRECT_DUAL, "dual scattering (--indirect dual)")                                          \
     X(MESHES, "triangle meshes")                                                                   \
     X(TEXTURES, "base colour textures")                                                            \
     X(LOBE_TT, "lobe TT")                                                                          \
@@ -49,6 +50,10 @@
 /* the AFS stage is a separate kernel: only the render program includes it, when asked */
 #ifndef HT_FEATURE_INDIRECT_AFS
 #define HT_FEATURE_INDIRECT_AFS 0
+#endif
+/* --indirect dual: shade's records and the dual shadow stage (a setting, off unless asked) */
+#ifndef HT_FEATURE_INDIRECT_DUAL
+#define HT_FEATURE_INDIRECT_DUAL 0
 #endif
 /* hair-only scenes get 0: the leaf loop and shade stay pure hair */
 #ifndef HT_FEATURE_MESHES

@@ -118,6 +118,17 @@ typedef struct {
     uint path;
 } HtShadowContrib;
 
+/* --indirect dual: what the dual-scattering terms of a queued shadow ray need besides the
+ * crossings its shadow ray finds (kernels/stages/intersect_shadow_afs.cl): the light sample's
+ * weight without the BCSDF (throughput x light / pdf x pick count; no MIS weight, since BCSDF
+ * sampling never finds these terms), the fibre-frame angles and the material.
+ * material = HT_NO_PATH: not a fibre (a surface point: opaque shadows only). */
+typedef struct {
+    float weight[3];
+    uint material;
+    float theta_i, theta_o, phi, pad;
+} HtDualRecord;
+
 /* stage_path value of a slot whose path did not continue */
 #define HT_NO_PATH 0xFFFFFFFFu
 

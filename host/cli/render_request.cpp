@@ -48,7 +48,7 @@ const OptionRow kOptions[] = {
     {"sampling", "--sample-range", "A:B", "render-farm part: render samples [A, B) of --spp only (A, B multiples of --chunk or B = spp); the .exr output then holds the raw sums for `hairtrace merge`", "", Kind::Value, kRender},
 
     {"light transport", "--max-depth", "D|auto", "path length in fibre bounces (1 = direct light only); auto: from the materials' averaged attenuation (AFS_TT^avg^D < 0.2, Zinke 2004 §5)", "auto", Kind::Value, kBoth},
-    {"light transport", "--indirect", "exact|afs|none", "hair-to-hair light: exact = path traced to --max-depth; afs = traced to --max-depth (auto: 1), then the paper's averaged attenuation: the last bounce's shadow rays cross hair with AFS_TT^avg per fibre; none = direct light with opaque hair (depth 1)", "exact", Kind::Value, kBoth},
+    {"light transport", "--indirect", "exact|afs|dual|none", "hair-to-hair light: exact = path traced to --max-depth; afs = traced to --max-depth (auto: 1), then the paper's averaged attenuation: the last bounce's shadow rays cross hair with AFS_TT^avg per fibre; dual = dual scattering (Zinke et al. 2008): exact single scattering at the camera hit, all multiple scattering approximated from the fibres its shadow rays cross plus precomputed local back-scattering, no path beyond the first hit (depth 1): fast but biased (docs/PERFORMANCE.md §5 tables its bias against exact depth-20 path tracing and its time); none = direct light with opaque hair (depth 1)", "exact", Kind::Value, kBoth},
     {"light transport", "--model", "kajiya|marschner|zinke|chiang", "override every material's fibre model", "", Kind::Value, kBoth},
     {"light transport", "--fiber-field", "near|far|auto|material", "for marschner/zinke materials: near field (zinke) everywhere, far field (marschner) everywhere, or auto: near where a fibre covers at least half a camera pixel's footprint and for hair-to-hair light, far elsewhere; with --model and no --fiber-field: material", "auto", Kind::Value, kBoth},
     {"light transport", "--features", "scene|all|all-lobes", "what the kernels are compiled with: what the scene needs (lights, models, meshes, fibre lobes above 1e-3 of R's energy for some material; --verbose lists them), everything, or the scene's choice with every lobe kept (A/B comparisons)", "scene", Kind::Value, kBoth},
@@ -127,7 +127,7 @@ const std::vector<std::string>& fiber_model_names() {
 }
 
 const std::vector<std::string>& indirect_mode_names() {
-    static const std::vector<std::string> names = {"exact", "afs", "none"};
+    static const std::vector<std::string> names = {"exact", "afs", "dual", "none"};
     return names;
 }
 
@@ -156,6 +156,9 @@ ImageRequest parse_image_request(const ArgParser& p) {
     r.indirect = p.get_choice("--indirect", indirect_mode_names());
     if (r.indirect == "none" && r.max_depth && *r.max_depth != 1)
         throw UsageError("--indirect none renders direct light only; it contradicts --max-depth " + p.get("--max-depth"));
+    if (r.indirect == "dual" && r.max_depth && *r.max_depth != 1)
+        throw UsageError("--indirect dual stands for all multiple scattering at the first hit (depth 1); it contradicts "
+                         "--max-depth " + p.get("--max-depth"));
     if (p.has("--fiber-field")) r.fiber_field = parse_fiber_field("--fiber-field", p.get("--fiber-field"));
     s.features = feature_mode(p.get_choice("--features", {"scene", "all", "all-lobes"}));
     s.clamp_indirect = float(p.get_double_or("--clamp-indirect", "off", 1e-30, 3.0e38).value_or(0.0));
@@ -234,6 +237,8 @@ RenderRequest parse_render_request(const ArgParser& p) {
     if (p.has("--aovs")) {
         r.aovs = parse_aov_list_of(p.get("--aovs"), r);
         r.image.settings.aovs = true;
+        if (r.image.indirect == "dual")
+            throw UsageError("--aovs cannot split --indirect dual's light by lobe or bounce; render without one of them");
     }
     r.tone_map = tone_map_from_name(p.get_choice("--tonemap", tone_map_names()));
     r.verbose = p.has("--verbose");
@@ -258,7 +263,14 @@ RenderSettings resolve_settings(const Scene& scene, const ImageRequest& r, std::
     // An explicit --model is taken literally unless --fiber-field says otherwise.
     s.fiber_field = r.fiber_field ? *r.fiber_field : r.model ? HT_FIELD_MATERIAL : HT_FIELD_AUTO;
     if (r.indirect == "afs") s.indirect = RenderSettings::Indirect::Afs;
-    if (r.indirect == "none" || (r.indirect == "afs" && !r.max_depth)) {
+    if (r.indirect == "dual") {
+        s.indirect = RenderSettings::Indirect::Dual;
+        for (const HairMaterialDesc& m : scene.materials)
+            if (m.model == "kajiya")
+                throw UsageError("--indirect dual needs a model with R/TT/TRT lobes (marschner, zinke, chiang); material '" +
+                                 m.name + "' is kajiya");
+    }
+    if (r.indirect == "none" || r.indirect == "dual" || (r.indirect == "afs" && !r.max_depth)) {
         s.max_depth = 1;
     } else if (r.max_depth) {
         s.max_depth = *r.max_depth;

@@ -181,7 +181,8 @@ KernelFeatures scene_features(const Scene& scene, uint32_t fiber_field, bool ind
         const bool afs = f[Feature::INDIRECT_AFS];  // a stage the settings ask for, not a scene feature
         for (bool& on : f.on) on = true;
         f[Feature::INDIRECT_AFS] = afs;
-        f[Feature::AOVS] = false;  // a setting too: prepare_scene sets it from --aovs
+        f[Feature::INDIRECT_DUAL] = false;  // settings too: prepare_scene sets them
+        f[Feature::AOVS] = false;
     }
     return f;
 }

@@ -28,6 +28,7 @@ enum class PathBuffer {
     Occluded,                  // intersect_shadow's answer per shadow ray
     StageRays, StagePath,      // shade's uncompacted extension rays and their paths
     Transmittance,             // --indirect afs: rgb(a) transmittance per shadow ray
+    DualRecords,               // --indirect dual: shade's HtDualRecord per shadow slot
     GroupSums,                 // compaction's per-work-group counts
     Aovs, ShadowAovs,          // --aovs: per-path records and per-shadow-slot shares (kernels/aovs.h)
     Count
@@ -38,7 +39,7 @@ struct PathBufferSpec {
     const char* name;
     size_t element_bytes;
     size_t slots_per_element;  // 1, or kPathGroup for per-work-group records
-    enum Use { Always, IndirectAfs, Aovs } use;  // allocated always, or only for that setting
+    enum Use { Always, IndirectAfs, IndirectDual, Aovs } use;  // allocated always, or only for that setting
 };
 
 constexpr PathBufferSpec kPathBuffers[] = {
@@ -54,6 +55,7 @@ constexpr PathBufferSpec kPathBuffers[] = {
     {PathBuffer::StageRays, "stage_rays", sizeof(HtRay), 1, PathBufferSpec::Always},
     {PathBuffer::StagePath, "stage_path", sizeof(uint32_t), 1, PathBufferSpec::Always},
     {PathBuffer::Transmittance, "transmittance", 4 * sizeof(float), 1, PathBufferSpec::IndirectAfs},
+    {PathBuffer::DualRecords, "dual_records", sizeof(HtDualRecord), 1, PathBufferSpec::IndirectDual},
     {PathBuffer::GroupSums, "group_sums", sizeof(uint32_t), kPathGroup, PathBufferSpec::Always},
     {PathBuffer::Aovs, "aovs", HT_AOV_STRIDE * sizeof(float), 1, PathBufferSpec::Aovs},
     {PathBuffer::ShadowAovs, "shadow_aovs", HT_SHADOW_AOV_STRIDE * sizeof(float), 1, PathBufferSpec::Aovs},
@@ -72,11 +74,13 @@ static_assert(path_buffer_rows_in_order(), "kPathBuffers rows in PathBuffer orde
 // only with --aovs), and the path slots each pixel of a pass takes.
 struct PathBufferSet {
     bool indirect_afs = false;
+    bool indirect_dual = false;
     bool aovs = false;
     size_t slots_per_pixel = 1;  // max(--first-hit-splits, --first-hit-light-samples)
 
     bool uses(const PathBufferSpec& b) const {
         return b.use == PathBufferSpec::Always || (b.use == PathBufferSpec::IndirectAfs && indirect_afs) ||
+               (b.use == PathBufferSpec::IndirectDual && indirect_dual) ||
                (b.use == PathBufferSpec::Aovs && aovs);
     }
     // Slots allocated for a pass of `paths` paths: whole work-groups.

@@ -2,6 +2,7 @@
 
 #include "core/constants.h"
 #include "fiber/afs_quadrature.h"
+#include "fiber/dual_scattering.h"
 #include "kernels/fiber/afs.h"
 #include "render/scene_upload.h"
 
@@ -12,7 +13,7 @@ namespace ht {
 uint64_t PreparedScene::extra_scene_bytes() const {
     return environment.texels.size() * sizeof(float) +
            (environment.marginal.size() + environment.conditional.size()) * sizeof(float) + texel_bytes +
-           texture_headers.size() * sizeof(HtTexture) + afs_table.size() * sizeof(float);
+           texture_headers.size() * sizeof(HtTexture) + (afs_table.size() + dual_table.size()) * sizeof(float);
 }
 
 PreparedScene prepare_scene(const Scene& scene, const RenderSettings& s, const RecipeReady& recipe_ready) {
@@ -22,6 +23,7 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& s, const R
     // The lobe bounds are a quadrature per material: once per render, not per device.
     p.features = scene_features(scene, s.fiber_field, afs, s.features);
     p.features[Feature::AOVS] = s.aovs;
+    p.features[Feature::INDIRECT_DUAL] = s.indirect == RenderSettings::Indirect::Dual;
     p.estimator_options = estimator_build_options(s.clamp_indirect, s.regularize_deg,
                                                   s.spawn_offset == RenderSettings::SpawnOffset::Pbrt,
                                                   s.sampler == RenderSettings::Sampler::Sobol);
@@ -43,6 +45,12 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& s, const R
             p.afs_table.insert(p.afs_table.end(), t.begin(), t.end());
         }
         if (p.afs_table.empty()) p.afs_table.assign(4 * (HT_AFS_TT_TABLE_N + 1), 0.0f);  // no buffer of size 0
+    }
+    if (p.features[Feature::INDIRECT_DUAL]) {
+        for (const HtMaterial& m : p.materials) {
+            const std::vector<float> t = dual_table(m);
+            p.dual_table.insert(p.dual_table.end(), t.begin(), t.end());
+        }
     }
     return p;
 }

@@ -31,6 +31,7 @@ struct PreparedScene {
     const std::vector<Texture>* textures = nullptr;  // the scene's texels, copied at upload
     uint64_t texel_bytes = 0;                // the shared texel buffer: sRGB table + every texture
     std::vector<float> afs_table;            // --indirect afs: AFS_TT^avg(theta) per material
+    std::vector<float> dual_table;           // --indirect dual: kernels/fiber/dual.h's rows per material
     KernelFeatures features;                 // what the scene needs (geometry unpaged)
     std::string estimator_options;           // the estimator's -D values (clamp, sampler, ...)
 

@@ -49,15 +49,16 @@ cl::Buffer device_array(cl::Context& ctx, const std::vector<T>& v) {
 
 // The render program in three builds: shade, which holds the fibre models and every scene
 // feature (most of the compile); the stages around it, which read few features and so are shared
-// by most scenes (options_read_by in cl/kernel_source.h); and the AFS shadow stage.
+// by most scenes (options_read_by in cl/kernel_source.h); and the translucent shadow stage of
+// --indirect afs and dual.
 constexpr const char* kTraceProgram = "stages/trace.cl";
 constexpr const char* kShadeProgram = "stages/shade.cl";
-constexpr const char* kAfsShadowProgram = "stages/intersect_shadow_afs.cl";  // --indirect afs only
+constexpr const char* kAfsShadowProgram = "stages/intersect_shadow_afs.cl";  // --indirect afs and dual only
 
 // The builds a scene with `features` needs, shade first (the longest: it starts first).
 std::vector<const char*> render_program_files(const KernelFeatures& features) {
     std::vector<const char*> files = {kShadeProgram, kTraceProgram};
-    if (features[Feature::INDIRECT_AFS]) files.push_back(kAfsShadowProgram);
+    if (features[Feature::INDIRECT_AFS] || features[Feature::INDIRECT_DUAL]) files.push_back(kAfsShadowProgram);
     return files;
 }
 
@@ -110,13 +111,14 @@ struct Renderer::Impl {
     const RenderSettings& settings;
     DeviceGeometry device_geometry;
     SceneBuffers scene;
-    cl::Buffer afs_table;  // --indirect afs: AFS_TT^avg(theta) per material
+    cl::Buffer afs_table;   // --indirect afs: AFS_TT^avg(theta) per material
+    cl::Buffer dual_table;  // --indirect dual: kernels/fiber/dual.h's table per material
     std::string options;
     KernelFeatures features;
     cl::Program trace_program, shade_program;
     cl::Kernel k_generate, k_closest, k_shade, k_shadow, k_resolve, k_accumulate;
     cl::Kernel k_compact_count, k_compact_scan, k_compact_scatter;
-    cl::Kernel k_shadow_afs, k_resolve_afs;
+    cl::Kernel k_shadow_afs, k_resolve_afs, k_shadow_dual;
     RenderStats stats;
     cl::Buffer film_buf, film_aov;  // film_aov: --aovs only
     cl::Buffer film_even;           // --target-error: the even samples' half film (core/film.h)
@@ -155,6 +157,8 @@ struct Renderer::Impl {
 
         const bool afs = s.indirect == RenderSettings::Indirect::Afs;
         buffer_set.indirect_afs = afs;
+        const bool dual = s.indirect == RenderSettings::Indirect::Dual;
+        buffer_set.indirect_dual = dual;
         buffer_set.aovs = s.aovs;
         splits = s.max_depth > 1 || p.environment.header.enabled ? uint32_t(s.first_hit_splits) : 1u;
         light_samples = uint32_t(s.first_hit_light_samples);
@@ -191,6 +195,10 @@ struct Renderer::Impl {
             const cl::Program afs_program = build(kAfsShadowProgram);
             k_shadow_afs = cl::Kernel(afs_program, "intersect_shadow_afs");
             k_resolve_afs = cl::Kernel(afs_program, "resolve_shadows_afs");
+        }
+        if (dual) {
+            dual_table = device_array(cl.context(), p.dual_table);
+            k_shadow_dual = cl::Kernel(build(kAfsShadowProgram), "shadow_dual");
         }
 
         const uint64_t scene_bytes = device_geometry.bytes + p.extra_scene_bytes();
@@ -286,6 +294,7 @@ struct Renderer::Impl {
             k_shade.setArg(a++, buffer(PathBuffer::Aovs));
             k_shade.setArg(a++, buffer(PathBuffer::ShadowAovs));
         }
+        if (settings.indirect == RenderSettings::Indirect::Dual) k_shade.setArg(a++, buffer(PathBuffer::DualRecords));
         launch(k_shade, count);
     }
 
@@ -327,14 +336,33 @@ struct Renderer::Impl {
         launch(k_shadow, count);
     }
 
+    // The arguments the translucent shadow stages share: geometry, the strands' materials, the
+    // per-fibre table, the shadow rays; returns the next argument.
+    cl_uint set_translucent_args(cl::Kernel& k, const cl::Buffer& table) {
+        cl_uint a = set_geometry_args(k);
+        k.setArg(a++, scene.strand_material);
+        k.setArg(a++, table);
+        k.setArg(a++, buffer(PathBuffer::ShadowRays));
+        return a;
+    }
+
     void intersect_shadow_afs(uint32_t count) {
-        cl_uint a = set_geometry_args(k_shadow_afs);
-        k_shadow_afs.setArg(a++, scene.strand_material);
-        k_shadow_afs.setArg(a++, afs_table);
-        k_shadow_afs.setArg(a++, buffer(PathBuffer::ShadowRays));
+        cl_uint a = set_translucent_args(k_shadow_afs, afs_table);
         k_shadow_afs.setArg(a++, buffer(PathBuffer::Transmittance));
         k_shadow_afs.setArg(a++, count);
         launch(k_shadow_afs, count);
+    }
+
+    // --indirect dual: walks the shadow rays through hair and adds each light sample's exact
+    // single scattering and dual-scattering terms (kernels/stages/intersect_shadow_afs.cl).
+    void shadow_dual(uint32_t count) {
+        cl_uint a = set_translucent_args(k_shadow_dual, dual_table);
+        k_shadow_dual.setArg(a++, buffer(PathBuffer::ShadowContrib));
+        k_shadow_dual.setArg(a++, buffer(PathBuffer::DualRecords));
+        k_shadow_dual.setArg(a++, count);
+        k_shadow_dual.setArg(a++, buffer(PathBuffer::Paths));
+        k_shadow_dual.setArg(a++, counters);
+        launch(k_shadow_dual, count);
     }
 
     void resolve_shadows_afs(uint32_t count) {
@@ -516,6 +544,8 @@ void Renderer::render_sample(uint32_t sample) {
                 if (bounce + 1 == vertices && s.indirect == RenderSettings::Indirect::Afs) {
                     r.intersect_shadow_afs(shadow_slots);
                     r.resolve_shadows_afs(shadow_slots);
+                } else if (bounce + 1 == vertices && s.indirect == RenderSettings::Indirect::Dual) {
+                    r.shadow_dual(shadow_slots);
                 } else if (bounce < vertices) {
                     r.intersect_shadow(shadow_slots);
                     if (r.dump) r.dump->shadow(r.cl.queue(), r.buffer(PathBuffer::ShadowRays), r.buffer(PathBuffer::Occluded), shadow_slots, bounce);

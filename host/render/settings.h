@@ -22,8 +22,10 @@ struct RenderSettings {
     int max_depth = 1;        // 1 = direct light only
     uint32_t fiber_field = 0; // HT_FIELD_MATERIAL | NEAR | FAR | AUTO
     // Light beyond the last traced bounce: none, or the paper's averaged attenuation (AFS):
-    // the last bounce's shadow rays pass through hair with AFS_TT^avg per fibre crossed.
-    enum class Indirect { Exact, Afs } indirect = Indirect::Exact;
+    // the last bounce's shadow rays pass through hair with AFS_TT^avg per fibre crossed; or dual
+    // scattering (depth 1: its shadow rays gather the forward transmittance and spread through
+    // hair, plus precomputed local back-scattering; kernels/fiber/dual.h).
+    enum class Indirect { Exact, Afs, Dual } indirect = Indirect::Exact;
     int first_sample = 0;     // render samples [first_sample, first_sample + spp)
     size_t max_paths_per_pass = 1u << 20;  // bounds device memory for big images
     uint64_t max_device_bytes = 0;         // --max-memory (0: the device's global memory)

@@ -134,14 +134,14 @@ HT_FN float3 ht_roulette_at(float3 nthr, float share, uint seed, uint pixel, uin
 /* One next-event estimate at shading point sp of a path with throughput thr, drawn with sample
  * index `sample`: a light picked (ht_nee_sample, from stratum `stratum` of `strata`), the BCSDF
  * evaluated towards it, MIS where BCSDF sampling can find that light too.  Fills the shadow ray
- * and its unoccluded contribution (and the light's direction, for --aovs); returns 0 when there
- * is no ray to trace. */
+ * and its unoccluded contribution (and the light's direction, for --aovs, and the light sample's
+ * weight before the BCSDF and MIS, for --indirect dual); returns 0 when there is no ray to trace. */
 HT_FN int ht_next_event(__global const HtLight* lights, uint light_count, const HtEnvironment* env,
                         __global const float* env_texels, __global const float* env_marginal,
                         __global const float* env_conditional, uint nee_count, uint seed, uint pixel,
                         uint sample, uint bounce, uint stratum, uint strata, const HtShadingPoint* sp,
                         float3 thr, float share, volatile __global uint* counters, HtRay* shadow_ray,
-                        float3* contrib, float3* wi) {
+                        float3* contrib, float3* wi, float3* light_weight) {
     HtLightSample ls;
     if (!ht_nee_sample(lights, light_count, env, env_texels, env_marginal, env_conditional, nee_count, seed,
                        pixel, sample, bounce, stratum, strata, sp->p, &ls))
@@ -165,11 +165,12 @@ HT_FN int ht_next_event(__global const HtLight* lights, uint light_count, const 
     shadow_ray->tmax = ht_point_shadow_tmax(sp, ls.distance);
     *contrib = c;
     *wi = ls.wi;
+    *light_weight = thr * ls.li_over_pdf * (float)nee_count;
     return shadow_ray->tmax > 0.0f;
 }
 
 __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM, HT_SCENE_PARAMS, HT_SHADE_QUEUE_PARAMS,
-                    HtBounce b HT_SHADE_AOV_PARAMS) {
+                    HtBounce b HT_SHADE_AOV_PARAMS HT_SHADE_DUAL_PARAMS) {
     const uint seed = b.seed, sample = b.sample, bounce = b.bounce, max_depth = b.max_depth;
     const uint field_mode = b.field_mode;
     const float pixel_angle = b.pixel_angle;
@@ -207,6 +208,7 @@ __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM, HT_SCENE_PARA
         const uint nee_count = light_count + ht_env_in_nee(&env);
         const int scatters = hit.segment != HT_NO_HIT && bounce < max_depth;
         HtShadingPoint sp;
+        uint fibre_material = HT_NO_PATH;
         if (hit.segment == HT_NO_HIT) {
             float3 le = ht_env_eval(&env, env_texels, dir);
             float w = 1.0f;
@@ -227,17 +229,25 @@ __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM, HT_SCENE_PARA
             cut = 1;
         } else {
             /* without an environment nothing is traced past the last vertex: a path counts as
-             * cut when it scatters there */
+             * cut when it scatters there -- except under --indirect dual, whose terms stand for
+             * the light beyond it */
+#if HT_FEATURE_INDIRECT_DUAL
+            cut = 0;
+#else
             cut = bounce + 1u == max_depth && !env.enabled;
+#endif
             HtSegment seg = HT_SEG(hit.segment);
 #if HT_FEATURE_MESHES
             if (seg.flags & HT_SEG_TRIANGLE)
                 ht_surface_point(HT_TRI_SHADING(seg.strand), &ray, &hit, textures, texture_count, texels, &sp);
             else
 #endif
-                ht_fibre_point(materials[strand_material[seg.strand]], HT_POINT(seg.point),
+            {
+                fibre_material = strand_material[seg.strand];
+                ht_fibre_point(materials[fibre_material], HT_POINT(seg.point),
                                HT_POINT(seg.point + 1u), &ray, &hit, st.flags, bounce, field_mode,
                                pixel_angle, &sp);
+            }
         }
 
         /* next-event estimation: one light sample, or at a camera path's first vertex M of them
@@ -249,14 +259,14 @@ __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM, HT_SCENE_PARA
         const HtRay no_shadow_ray = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f, -1.0f};
         for (uint j = 0u; j < lights_here; ++j) {
             HtRay shadow_ray = no_shadow_ray;
-            float3 contrib = (float3)(0.0f), wl = (float3)(0.0f);
+            float3 contrib = (float3)(0.0f), wl = (float3)(0.0f), lw = (float3)(0.0f);
             int queued = 0;
             if (scatters && nee_count > 0u) {
                 const uint nee_sample =
                     bounce == 0u ? ht_continuation_sample(sample, light_samples, j) : vertex_sample;
                 queued = ht_next_event(lights, light_count, &env, env_texels, env_marginal, env_conditional,
                                        nee_count, seed, st.pixel, nee_sample, bounce, j, lights_here, &sp,
-                                       thr * light_weight, share, counters, &shadow_ray, &contrib, &wl);
+                                       thr * light_weight, share, counters, &shadow_ray, &contrib, &wl, &lw);
             }
             if (!queued) shadow_ray = no_shadow_ray;
             const uint slot = k * lights_here + j;
@@ -265,6 +275,18 @@ __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM, HT_SCENE_PARA
             sc.contrib[0] = contrib.x; sc.contrib[1] = contrib.y; sc.contrib[2] = contrib.z;
             sc.path = p + j;
             shadow_contrib[slot] = sc;
+#if HT_FEATURE_INDIRECT_DUAL
+            HtDualRecord dr = {{0.0f, 0.0f, 0.0f}, HT_NO_PATH, 0.0f, 0.0f, 0.0f, 0.0f};
+            if (queued && !sp.is_surface) {
+                const float3 wil = ht_to_fiber_local(wl, sp.fx, sp.fy, sp.fz);
+                dr.weight[0] = lw.x; dr.weight[1] = lw.y; dr.weight[2] = lw.z;
+                dr.material = fibre_material;
+                dr.theta_i = asin(clamp(wil.x, -1.0f, 1.0f));
+                dr.theta_o = asin(clamp(sp.wo_l.x, -1.0f, 1.0f));
+                dr.phi = ht_relative_phi(sp.wo_l, wil);
+            }
+            dual_records[slot] = dr;
+#endif
 #if HT_FEATURE_AOVS
             const float4 f = !queued ? (float4)(0.0f)
                              : bounce == 0u ? ht_aov_lobe_fractions(&sp, wl)

@@ -36,4 +36,11 @@
 #define HT_ACCUMULATE_AOV_PARAMS
 #endif
 
+/* --indirect dual (kernels/fiber/dual.h): shade's per-shadow-slot records for the dual stage */
+#if HT_FEATURE_INDIRECT_DUAL
+#define HT_SHADE_DUAL_PARAMS , __global HtDualRecord *dual_records
+#else
+#define HT_SHADE_DUAL_PARAMS
+#endif
+
 #endif /* HT_STAGE_ARGS_H */

@@ -63,6 +63,11 @@ TEST(RenderIdentity, EachPartFollowsItsInputs) {
     RenderSettings light_samples = rs;
     light_samples.first_hit_light_samples = 2;
     only(render_identity(s, light_samples, 16), RenderIdentity::Settings);
+    RenderSettings afs = rs, dual = rs;
+    afs.indirect = RenderSettings::Indirect::Afs;
+    dual.indirect = RenderSettings::Indirect::Dual;
+    only(render_identity(s, dual, 16), RenderIdentity::Settings);
+    EXPECT_NE(render_identity(s, dual, 16), render_identity(s, afs, 16));
     only(render_identity(s, rs, 8), RenderIdentity::Settings);
     // the set of AOVs asked for, in whatever order
     const RenderIdentity aovs = render_identity(s, rs, 16, {"alpha", "depth"});
