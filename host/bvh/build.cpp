@@ -436,6 +436,7 @@ struct Flattener {
     std::vector<HtBvhNode>& out;
     const BvhOptions& opt;
     const std::vector<Prim>& prims;
+    unsigned threads = 1;
     double root_area = 1;
     double sah = 0;
     size_t leaves = 0, max_depth = 0, oriented = 0;
@@ -501,12 +502,40 @@ struct Flattener {
         }
 
         uint32_t child[4] = {0, 0, 0, 0};
+        // The root's subtrees are flattened on all build threads (the oriented boxes cost as much
+        // as the binary build), each into its own array, then appended in order: the same
+        // preorder and the same records as one thread writes.
+        const bool parallel = depth == 0 && threads > 1;
+        std::vector<HtBvhNode> part[4];
+        std::vector<Flattener> sub;
+        if (parallel) {
+            for (int k = 0; k < m; ++k) sub.push_back(Flattener{in, part[k], opt, prims, threads, root_area});
+            std::atomic<int> next{0};
+            auto work = [&] {
+                for (int k; (k = next++) < m;)
+                    if (slot[k].count == 0) child[k] = sub[k].visit(slot[k].child, depth + 1, child_area[k]);
+            };
+            std::vector<std::thread> pool;
+            for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work);
+            work();
+            for (std::thread& t : pool) t.join();
+        }
         for (int k = 0; k < m; ++k) {
             if (slot[k].count > 0) {
                 child[k] = slot[k].child;
                 ++leaves;
                 max_depth = std::max(max_depth, depth + 1);
                 sah += opt.c_isect * slot[k].count * child_area[k] / root_area;
+            } else if (parallel) {
+                const uint32_t base = (uint32_t)out.size();
+                if (part[k].size() + base >= HT_NODE_ORIENTED) throw std::runtime_error("BVH: too many nodes");
+                relocate(part[k], child[k], base);
+                child[k] += base;  // keeps HT_NODE_ORIENTED
+                out.insert(out.end(), part[k].begin(), part[k].end());
+                sah += sub[k].sah;
+                leaves += sub[k].leaves;
+                oriented += sub[k].oriented;
+                max_depth = std::max(max_depth, sub[k].max_depth);
             } else {
                 child[k] = visit(slot[k].child, depth + 1, child_area[k]);
             }
@@ -540,6 +569,16 @@ struct Flattener {
                 }
         }
         return orient ? me | HT_NODE_ORIENTED : me;
+    }
+
+    // Adds `base` to the inner child references below node `ref` of a subtree flattened on its own.
+    static void relocate(std::vector<HtBvhNode>& v, uint32_t ref, uint32_t base) {
+        HtBvhNode& n = v[ref & ~HT_NODE_ORIENTED];
+        for (int k = 0; k < 4; ++k)
+            if (n.count[k] == 0 && n.child[k] != 0) {
+                relocate(v, n.child[k], base);
+                n.child[k] += base;
+            }
     }
 };
 
@@ -615,7 +654,8 @@ void build_bvh_from(const std::vector<HtSegment>& base, SceneGeometry& geo, cons
 
     geo.nodes.clear();
     geo.nodes.reserve(std::max<size_t>(refs.size(), 1));
-    Flattener fl{builder.nodes_, geo.nodes, opt, prims};
+    Flattener fl{builder.nodes_, geo.nodes, opt, prims,
+                 opt.threads ? opt.threads : std::max(1u, std::thread::hardware_concurrency())};
     Box rb = builder.nodes_[root].box[0];
     rb.grow(builder.nodes_[root].box[1]);
     fl.root_area = std::max(rb.half_area(), 1e-30);

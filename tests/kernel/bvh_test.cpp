@@ -390,6 +390,21 @@ TEST(BvhOriented, TraversalMatchesBruteForce) {
     check_host_against_brute(oriented_on(), mix);
 }
 
+// The root's subtrees are flattened on several threads: the same records as on one.
+TEST(BvhOriented, ParallelFlatteningIsIdentical) {
+    const Strands s = random_strands(23, 400, 12, 0.08, 0.004);
+    ht::BvhOptions one = oriented_on(), two = oriented_on();
+    one.threads = 1;
+    two.threads = 2;
+    const SceneGeometry a = ht::build_geometry(s, one), b = ht::build_geometry(s, two);
+    ASSERT_EQ(a.nodes.size(), b.nodes.size());
+    EXPECT_EQ(std::memcmp(a.nodes.data(), b.nodes.data(), a.nodes.size() * sizeof(HtBvhNode)), 0);
+    EXPECT_EQ(a.stats.oriented, b.stats.oriented);
+    EXPECT_EQ(a.stats.leaves, b.stats.leaves);
+    EXPECT_EQ(a.stats.max_depth, b.stats.max_depth);
+    EXPECT_NEAR(a.stats.sah_cost, b.stats.sah_cost, 1e-9 * a.stats.sah_cost);
+}
+
 TEST(BvhOriented, TinyScenes) {
     // 0 and 1 segments: the root alone, never oriented.
     const SceneGeometry g0 = ht::build_geometry(Strands{}, oriented_on());
