@@ -441,20 +441,33 @@ Agreement compare_device_host(const SceneGeometry& g, const std::vector<HtRay>& 
     return a;
 }
 
+// The closest-hit and shadow kernels against the host traversal on `rays`; returns the kernel's hits.
+std::vector<HtHit> expect_kernel_matches_host(const SceneGeometry& g, Device& dev, const std::vector<HtRay>& rays,
+                                              size_t min_hits, const char* label) {
+    const auto hits = dev.tracer->trace_closest(rays);
+    const Agreement a = compare_device_host(g, rays, hits);
+    std::printf("[kernel vs host%s] %zu rays, %zu hits: hit/miss %zu, segment %zu, t %zu\n", label, a.n,
+                a.hits, a.hitmiss, a.seg, a.t);
+    EXPECT_GT(a.hits, min_hits);
+    // Float vs double may flip grazing rays only.
+    EXPECT_GE(a.hitmiss, a.n - a.n / 2000);
+    EXPECT_GE(a.seg, a.hits - a.hits / 500);
+    EXPECT_GE(a.t, a.hits - a.hits / 500);
+    // Shadow kernel = "closest hit exists".
+    const auto occ = dev.tracer->trace_shadow(rays);
+    size_t disagree = 0;
+    for (size_t i = 0; i < rays.size(); ++i)
+        disagree += occ[i] != (hits[i].segment != HT_NO_HIT ? 1u : 0u);
+    EXPECT_LE(disagree, rays.size() / 2000);
+    return hits;
+}
+
 TEST(BvhKernel, MatchesHostOnRandomRays) {
     const Strands s = random_strands(4, 400, 16, 0.08, 0.006);
     const SceneGeometry g = ht::build_geometry(s);
     Device dev(g);
     const auto rays = random_rays(5, 20000, 1.0);
-    const auto hits = dev.tracer->trace_closest(rays);
-    const Agreement a = compare_device_host(g, rays, hits);
-    std::printf("[kernel vs host] %zu rays, %zu hits: hit/miss %zu, segment %zu, t %zu\n", a.n,
-                a.hits, a.hitmiss, a.seg, a.t);
-    EXPECT_GT(a.hits, 2000u);
-    // Float vs double may flip grazing rays only.
-    EXPECT_GE(a.hitmiss, a.n - a.n / 2000);
-    EXPECT_GE(a.seg, a.hits - a.hits / 500);
-    EXPECT_GE(a.t, a.hits - a.hits / 500);
+    const auto hits = expect_kernel_matches_host(g, dev, rays, 2000, "");
     // u, h, tangent agree with the host on the same hits.
     size_t checked = 0;
     for (size_t i = 0; i < rays.size(); ++i) {
@@ -467,12 +480,6 @@ TEST(BvhKernel, MatchesHostOnRandomRays) {
         EXPECT_NEAR(h.radius, hits[i].radius, 1e-7);
     }
     EXPECT_GT(checked, 2000u);
-    // Shadow kernel = "closest hit exists".
-    const auto occ = dev.tracer->trace_shadow(rays);
-    size_t disagree = 0;
-    for (size_t i = 0; i < rays.size(); ++i)
-        disagree += occ[i] != (hits[i].segment != HT_NO_HIT ? 1u : 0u);
-    EXPECT_LE(disagree, rays.size() / 2000);
 }
 
 // The kernels map the ray into oriented nodes' frames like the host (float against double).
@@ -485,18 +492,7 @@ TEST(BvhKernel, OrientedNodesMatchHost) {
     std::vector<HtRay> rays = random_rays(21, 10000, 1.0);
     const auto aimed = aimed_rays(g, 22, 10000, 0.5);
     rays.insert(rays.end(), aimed.begin(), aimed.end());
-    const auto hits = dev.tracer->trace_closest(rays);
-    const Agreement a = compare_device_host(g, rays, hits);
-    std::printf("[kernel vs host, oriented] %zu rays, %zu hits: hit/miss %zu, segment %zu, t %zu\n", a.n,
-                a.hits, a.hitmiss, a.seg, a.t);
-    EXPECT_GT(a.hits, 8000u);
-    EXPECT_GE(a.hitmiss, a.n - a.n / 2000);
-    EXPECT_GE(a.seg, a.hits - a.hits / 500);
-    EXPECT_GE(a.t, a.hits - a.hits / 500);
-    const auto occ = dev.tracer->trace_shadow(rays);
-    size_t disagree = 0;
-    for (size_t i = 0; i < rays.size(); ++i) disagree += occ[i] != (hits[i].segment != HT_NO_HIT ? 1u : 0u);
-    EXPECT_LE(disagree, rays.size() / 2000);
+    expect_kernel_matches_host(g, dev, rays, 8000, ", oriented");
 }
 
 // Geometry paged over several buffers (kernels/geometry/pages.h, forced by a small allocation
