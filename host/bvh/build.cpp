@@ -333,20 +333,39 @@ struct DBox {
     }
 };
 
-// The frame of references [b, e): first axis along the dominant segment direction (largest
-// eigenvector of sum d d^T, d = segment vector, so long segments weigh most and a strand's two
-// directions count alike), the others across it.  False when no capsule has a direction.
-bool dominant_frame(const std::vector<Prim>& prims, uint32_t b, uint32_t e, const Box& bounds,
-                    Frame& f) {
+// Sum of d d^T over a range's capsules (d = segment vector) and its triangle count: additive, so
+// a node's is the sum of its children's (Flattener::moments_of) and each reference is read once.
+struct Moments {
     double m[3][3] = {};
+    uint32_t triangles = 0;
+    void add(const Moments& o) {
+        for (int j = 0; j < 3; ++j)
+            for (int k = 0; k < 3; ++k) m[j][k] += o.m[j][k];
+        triangles += o.triangles;
+    }
+};
+
+Moments range_moments(const std::vector<Prim>& prims, uint32_t b, uint32_t e) {
+    Moments mo;
     for (uint32_t i = b; i < e; ++i) {
         const Prim& q = prims[i];
-        if (q.points != 2) continue;
+        if (q.points != 2) {
+            ++mo.triangles;
+            continue;
+        }
         double d[3];
         for (int k = 0; k < 3; ++k) d[k] = q.p[1][k] - q.p[0][k];
         for (int j = 0; j < 3; ++j)
-            for (int k = 0; k < 3; ++k) m[j][k] += d[j] * d[k];
+            for (int k = 0; k < 3; ++k) mo.m[j][k] += d[j] * d[k];
     }
+    return mo;
+}
+
+// The frame of a range with moments `mo`: first axis along the dominant segment direction
+// (largest eigenvector of sum d d^T, so long segments weigh most and a strand's two directions
+// count alike), the others across it.  False when no capsule has a direction.
+bool dominant_frame(const Moments& mo, const Box& bounds, Frame& f) {
+    const double (&m)[3][3] = mo.m;
     int big = 0;
     for (int k = 1; k < 3; ++k)
         if (m[k][k] > m[big][big]) big = k;
@@ -436,6 +455,7 @@ struct Flattener {
     std::vector<HtBvhNode>& out;
     const BvhOptions& opt;
     const std::vector<Prim>& prims;
+    const std::vector<Moments>& moments;  // per intermediate node (moments_of)
     unsigned threads = 1;
     double root_area = 1;
     double sah = 0;
@@ -481,9 +501,10 @@ struct Flattener {
         bool orient = depth > 0 && opt.obb_ratio > 0 && m > 0;
         double aligned = 0, turned = 0;
         for (int k = 0; k < m && orient; ++k) {
-            for (uint32_t i = range[k][0]; i < range[k][1] && orient; ++i) orient = prims[i].points == 2;
+            const Moments mo = slot[k].count ? range_moments(prims, range[k][0], range[k][1]) : moments[slot[k].child];
+            orient = mo.triangles == 0;
             if (!orient) break;
-            if (!dominant_frame(prims, range[k][0], range[k][1], slot[k].box, frame[k]))
+            if (!dominant_frame(mo, slot[k].box, frame[k]))
                 axis_frame(slot[k].box, frame[k]);
             obox[k] = frame_box(prims, range[k][0], range[k][1], frame[k]);
             pad_outward(frame[k], obox[k]);
@@ -509,7 +530,7 @@ struct Flattener {
         std::vector<HtBvhNode> part[4];
         std::vector<Flattener> sub;
         if (parallel) {
-            for (int k = 0; k < m; ++k) sub.push_back(Flattener{in, part[k], opt, prims, threads, root_area});
+            for (int k = 0; k < m; ++k) sub.push_back(Flattener{in, part[k], opt, prims, moments, threads, root_area});
             std::atomic<int> next{0};
             auto work = [&] {
                 for (int k; (k = next++) < m;)
@@ -569,6 +590,20 @@ struct Flattener {
                 }
         }
         return orient ? me | HT_NODE_ORIENTED : me;
+    }
+
+    // Fills out[id] with the moments of intermediate node id's references, bottom-up.
+    static const Moments& moments_of(const std::vector<BNode>& in, const std::vector<Prim>& prims, uint32_t id,
+                                     std::vector<Moments>& out) {
+        const BNode& bn = in[id];
+        Moments mo;
+        for (int s = 0; s < 2; ++s) {
+            if (bn.count[s] > 0)
+                mo.add(range_moments(prims, bn.child[s], bn.child[s] + bn.count[s]));
+            else if (bn.child[s] != 0)
+                mo.add(moments_of(in, prims, bn.child[s], out));
+        }
+        return out[id] = mo;
     }
 
     // Adds `base` to the inner child references below node `ref` of a subtree flattened on its own.
@@ -654,7 +689,12 @@ void build_bvh_from(const std::vector<HtSegment>& base, SceneGeometry& geo, cons
 
     geo.nodes.clear();
     geo.nodes.reserve(std::max<size_t>(refs.size(), 1));
-    Flattener fl{builder.nodes_, geo.nodes, opt, prims,
+    std::vector<Moments> moments;
+    if (opt.obb_ratio > 0) {
+        moments.resize(builder.nodes_.size());
+        Flattener::moments_of(builder.nodes_, prims, root, moments);
+    }
+    Flattener fl{builder.nodes_, geo.nodes, opt, prims, moments,
                  opt.threads ? opt.threads : std::max(1u, std::thread::hardware_concurrency())};
     Box rb = builder.nodes_[root].box[0];
     rb.grow(builder.nodes_[root].box[1]);
