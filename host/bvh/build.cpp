@@ -298,8 +298,8 @@ private:
 // What an oriented box must hold for one reference: a capsule (two end points, radius r) or a
 // triangle (three vertices, r = 0); the whole segment even for a split reference's piece.
 struct Prim {
-    double p[3][3];
-    double r;
+    float p[3][3];  // the points as stored (float), so nothing is lost; the boxes are computed in double
+    double r;       // 0.5 (r_a + r_b) exactly, at least the radius either precision intersects with
     int points;     // 2 (capsule) or 3 (triangle)
 };
 
@@ -354,7 +354,7 @@ Moments range_moments(const std::vector<Prim>& prims, uint32_t b, uint32_t e) {
             continue;
         }
         double d[3];
-        for (int k = 0; k < 3; ++k) d[k] = q.p[1][k] - q.p[0][k];
+        for (int k = 0; k < 3; ++k) d[k] = (double)q.p[1][k] - (double)q.p[0][k];
         for (int j = 0; j < 3; ++j)
             for (int k = 0; k < 3; ++k) mo.m[j][k] += d[j] * d[k];
     }
@@ -378,7 +378,9 @@ bool dominant_frame(const Moments& mo, const Box& bounds, Frame& f) {
         for (int j = 0; j < 3; ++j) w[j] = dot3(m[j], v);
         normalize3(w);
         if (!(dot3(w, w) > 0)) break;
+        const double moved = std::fabs(w[0] - v[0]) + std::fabs(w[1] - v[1]) + std::fabs(w[2] - v[2]);
         for (int k = 0; k < 3; ++k) v[k] = w[k];
+        if (moved < 1e-9) break;
     }
     // The second axis from the world axis least aligned with the first.
     int least = 0;
@@ -407,7 +409,7 @@ DBox frame_box(const std::vector<Prim>& prims, uint32_t b, uint32_t e, const Fra
     for (uint32_t i = b; i < e; ++i) {
         const Prim& q = prims[i];
         for (int v = 0; v < q.points; ++v) {
-            const double p[3] = {q.p[v][0] - f.c[0], q.p[v][1] - f.c[1], q.p[v][2] - f.c[2]};
+            const double p[3] = {(double)q.p[v][0] - f.c[0], (double)q.p[v][1] - f.c[1], (double)q.p[v][2] - f.c[2]};
             for (int j = 0; j < 3; ++j) {
                 const double x = dot3(f.row[j], p);
                 box.lo[j] = std::min(box.lo[j], x - q.r);
@@ -530,7 +532,10 @@ struct Flattener {
         std::vector<HtBvhNode> part[4];
         std::vector<Flattener> sub;
         if (parallel) {
-            for (int k = 0; k < m; ++k) sub.push_back(Flattener{in, part[k], opt, prims, moments, threads, root_area});
+            for (int k = 0; k < m; ++k) {
+                part[k].reserve(range[k][1] - range[k][0]);  // as build_bvh_from reserves for the whole
+                sub.push_back(Flattener{in, part[k], opt, prims, moments, threads, root_area});
+            }
             std::atomic<int> next{0};
             auto work = [&] {
                 for (int k; (k = next++) < m;)
