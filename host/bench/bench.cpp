@@ -444,7 +444,8 @@ void declare_bench_options(ArgParser& p) {
         .option("--bins", "N", "SAH bins per axis", std::to_string(d.bins))
         .option("--cisect", "X", "SAH cost of a capsule test relative to a node visit", "1.5")
         .option("--split", "R", "early split clipping: split a segment's box while its halves' area is below R x its own (0: off)", "0")
-        .option("--split-depth", "N", "early split clipping: levels of halving", std::to_string(d.split_depth));
+        .option("--split-depth", "N", "early split clipping: levels of halving", std::to_string(d.split_depth))
+        .option("--obb", "R", "oriented nodes where their children's weighted box area is below R x the axis-aligned one (0: off; default 0.8)", "");
     p.group("devices")
         .option("--device", "I", "OpenCL device index (default: first CPU/GPU)")
         .option("--options", "\"...\"", "OpenCL build options for the trace kernels", DeviceTracer::default_options());
@@ -471,6 +472,7 @@ BenchRequest parse_bench_request(const ArgParser& p) {
     if (p.has("--cisect")) r.bvh.c_isect = float(p.get_double("--cisect", 0, 1e6));
     if (p.has("--split")) r.bvh.split_ratio = float(p.get_double("--split", 0, 1e6));
     if (p.has("--split-depth")) r.bvh.split_depth = p.get_int("--split-depth", 0, 16);
+    if (p.has("--obb")) r.bvh.obb_ratio = float(p.get_double("--obb", 0, 1e6));
     if (p.has("--device")) r.device = p.get_int("--device", 0, 1000);
     r.options = p.get("--options");
     return r;
@@ -533,12 +535,13 @@ int bench_main(const std::vector<std::string>& args, const SceneSource& source_i
                      {"max_depth", st.max_depth}, {"references", st.references},
                      {"sah_cost", st.sah_cost}, {"bytes_per_segment", st.bytes_per_segment},
                      {"max_leaf", bopt.max_leaf}, {"c_isect", bopt.c_isect},
-                     {"split_ratio", bopt.split_ratio}, {"split_depth", bopt.split_depth}};
+                     {"split_ratio", bopt.split_ratio}, {"split_depth", bopt.split_depth},
+                     {"oriented", st.oriented}, {"obb_ratio", bopt.obb_ratio}};
         if (!json_out)
             std::printf("\nscene %s: %zu segments, %zu points\n  BVH build %.1f ms (median of 5), "
-                        "%zu nodes, %zu leaves, depth %zu, %zu refs, SAH %.2f, %.1f bytes/segment\n",
+                        "%zu nodes (%zu oriented), %zu leaves, depth %zu, %zu refs, SAH %.2f, %.1f bytes/segment\n",
                         sa.name.c_str(), geo.segment_count, geo.points.size(), median(build_ms),
-                        st.nodes, st.leaves, st.max_depth, st.references, st.sah_cost,
+                        st.nodes, st.oriented, st.leaves, st.max_depth, st.references, st.sah_cost,
                         st.bytes_per_segment);
 
         std::unique_ptr<EmbreeTracer> embree;

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 #include <memory>
+#include <stdexcept>
 #include <thread>
 
 #include "kernels/geometry/bvh_traverse.h"
@@ -58,6 +59,7 @@ struct BNode {
     Box box[2];
     uint32_t child[2] = {0, 0};
     uint32_t count[2] = {0, 0};
+    uint32_t begin = 0, end = 0;  // the node's references [begin, end): a subtree is contiguous
 };
 
 struct Slot {
@@ -111,6 +113,7 @@ public:
         nodes_[root].box[0] = top.box;
         nodes_[root].child[0] = top.child;
         nodes_[root].count[0] = top.count;
+        nodes_[root].end = top.count;
         return root;
     }
 
@@ -276,6 +279,8 @@ private:
         node.child[1] = right.child;
         node.count[0] = left.count;
         node.count[1] = right.count;
+        node.begin = b;
+        node.end = e;
         Slot s;
         s.box = bounds;
         s.child = id;
@@ -290,6 +295,159 @@ private:
     std::atomic<uint32_t> used_{0};
 };
 
+// What an oriented box must hold for one reference: a capsule (two end points, radius r) or a
+// triangle (three vertices, r = 0); the whole segment even for a split reference's piece.
+struct Prim {
+    float p[3][3];  // the points as stored (float), so nothing is lost; the boxes are computed in double
+    double r;       // 0.5 (r_a + r_b) exactly, at least the radius either precision intersects with
+    int points;     // 2 (capsule) or 3 (triangle)
+};
+
+// An affine frame p' = R (p - c): orthonormal rows, so boxes in it are as tight as the capsules.
+struct Frame {
+    double row[3][3];
+    double c[3];
+};
+
+double dot3(const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+void normalize3(double* v) {
+    const double l = std::sqrt(dot3(v, v));
+    if (l > 0)
+        for (int k = 0; k < 3; ++k) v[k] /= l;
+}
+
+void cross3(const double* a, const double* b, double* out) {
+    out[0] = a[1] * b[2] - a[2] * b[1];
+    out[1] = a[2] * b[0] - a[0] * b[2];
+    out[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+struct DBox {
+    double lo[3] = {INFINITY, INFINITY, INFINITY};
+    double hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    double half_area() const {
+        if (!(lo[0] <= hi[0])) return 0.0;
+        const double dx = hi[0] - lo[0], dy = hi[1] - lo[1], dz = hi[2] - lo[2];
+        return dx * dy + dy * dz + dz * dx;
+    }
+};
+
+// Sum of d d^T over a range's capsules (d = segment vector) and its triangle count: additive, so
+// a node's is the sum of its children's (Flattener::moments_of) and each reference is read once.
+struct Moments {
+    double m[3][3] = {};
+    uint32_t triangles = 0;
+    void add(const Moments& o) {
+        for (int j = 0; j < 3; ++j)
+            for (int k = 0; k < 3; ++k) m[j][k] += o.m[j][k];
+        triangles += o.triangles;
+    }
+};
+
+Moments range_moments(const std::vector<Prim>& prims, uint32_t b, uint32_t e) {
+    Moments mo;
+    for (uint32_t i = b; i < e; ++i) {
+        const Prim& q = prims[i];
+        if (q.points != 2) {
+            ++mo.triangles;
+            continue;
+        }
+        double d[3];
+        for (int k = 0; k < 3; ++k) d[k] = (double)q.p[1][k] - (double)q.p[0][k];
+        for (int j = 0; j < 3; ++j)
+            for (int k = 0; k < 3; ++k) mo.m[j][k] += d[j] * d[k];
+    }
+    return mo;
+}
+
+// The frame of a range with moments `mo`: first axis along the dominant segment direction
+// (largest eigenvector of sum d d^T, so long segments weigh most and a strand's two directions
+// count alike), the others across it.  False when no capsule has a direction.
+bool dominant_frame(const Moments& mo, const Box& bounds, Frame& f) {
+    const double (&m)[3][3] = mo.m;
+    int big = 0;
+    for (int k = 1; k < 3; ++k)
+        if (m[k][k] > m[big][big]) big = k;
+    if (!(m[big][big] > 0)) return false;
+    // Power iteration from the largest column: 3x3, a few dozen steps are free next to the scan.
+    double v[3] = {m[0][big], m[1][big], m[2][big]};
+    normalize3(v);
+    for (int it = 0; it < 32; ++it) {
+        double w[3];
+        for (int j = 0; j < 3; ++j) w[j] = dot3(m[j], v);
+        normalize3(w);
+        if (!(dot3(w, w) > 0)) break;
+        const double moved = std::fabs(w[0] - v[0]) + std::fabs(w[1] - v[1]) + std::fabs(w[2] - v[2]);
+        for (int k = 0; k < 3; ++k) v[k] = w[k];
+        if (moved < 1e-9) break;
+    }
+    // The second axis from the world axis least aligned with the first.
+    int least = 0;
+    for (int k = 1; k < 3; ++k)
+        if (std::fabs(v[k]) < std::fabs(v[least])) least = k;
+    double a[3] = {0, 0, 0};
+    a[least] = 1;
+    double u[3], w[3];
+    cross3(v, a, u);
+    normalize3(u);
+    cross3(v, u, w);
+    normalize3(w);
+    for (int k = 0; k < 3; ++k) {
+        f.row[0][k] = v[k];
+        f.row[1][k] = u[k];
+        f.row[2][k] = w[k];
+        f.c[k] = 0.5 * ((double)bounds.lo[k] + (double)bounds.hi[k]);
+    }
+    return true;
+}
+
+// Box of references [b, e) in frame f: a capsule's extent along a unit axis is its end points'
+// extent widened by r.
+DBox frame_box(const std::vector<Prim>& prims, uint32_t b, uint32_t e, const Frame& f) {
+    DBox box;
+    for (uint32_t i = b; i < e; ++i) {
+        const Prim& q = prims[i];
+        for (int v = 0; v < q.points; ++v) {
+            const double p[3] = {(double)q.p[v][0] - f.c[0], (double)q.p[v][1] - f.c[1], (double)q.p[v][2] - f.c[2]};
+            for (int j = 0; j < 3; ++j) {
+                const double x = dot3(f.row[j], p);
+                box.lo[j] = std::min(box.lo[j], x - q.r);
+                box.hi[j] = std::max(box.hi[j], x + q.r);
+            }
+        }
+    }
+    return box;
+}
+
+// The world axes as a frame (a child without a direction in an oriented node).
+void axis_frame(const Box& bounds, Frame& f) {
+    for (int j = 0; j < 3; ++j) {
+        for (int k = 0; k < 3; ++k) f.row[j][k] = j == k ? 1.0 : 0.0;
+        f.c[j] = 0.5 * ((double)bounds.lo[j] + (double)bounds.hi[j]);
+    }
+}
+
+// The size of the coordinates the kernel computes with for this box: the frame's centre plus the
+// box's own reach from it.
+double magnitude(const Frame& f, const DBox& b) {
+    double m = 0;
+    for (int k = 0; k < 3; ++k)
+        m = std::max({m, std::fabs(f.c[k]), std::fabs(b.lo[k]), std::fabs(b.hi[k])});
+    return m;
+}
+
+// Oriented bounds are widened by 2^-19 of that magnitude: the map is stored in float and the
+// kernel applies it in float (rounding ~ulp(|p|) per product, ~30x less than this), and a box
+// must never cut a capsule off.
+void pad_outward(const Frame& f, DBox& b) {
+    const double pad = std::ldexp(magnitude(f, b), -19);
+    for (int k = 0; k < 3; ++k) {
+        b.lo[k] -= pad;
+        b.hi[k] += pad;
+    }
+}
+
 // Binary build tree -> 4-wide nodes, depth-first preorder.  A 4-wide node takes the children of
 // both of its binary node's children (a leaf child stays a leaf slot), i.e. always two binary
 // levels: the stack bound above relies on it.  (Opening the largest-area child first, as Embree's
@@ -298,54 +456,169 @@ struct Flattener {
     const std::vector<BNode>& in;
     std::vector<HtBvhNode>& out;
     const BvhOptions& opt;
+    const std::vector<Prim>& prims;
+    const std::vector<Moments>& moments;  // per intermediate node (moments_of)
+    unsigned threads = 1;
     double root_area = 1;
     double sah = 0;
-    size_t leaves = 0, max_depth = 0;
+    size_t leaves = 0, max_depth = 0, oriented = 0;
 
-    // Returns the output index of intermediate node `id`.
-    uint32_t visit(uint32_t id, size_t depth) {
+    // Returns the reference (output index | HT_NODE_ORIENTED) of intermediate node `id`, whose box
+    // as its parent tests it has half-area `area`.
+    uint32_t visit(uint32_t id, size_t depth, double area) {
         const uint32_t me = (uint32_t)out.size();
+        if (me >= HT_NODE_ORIENTED - 2u) throw std::runtime_error("BVH: too many nodes");
         out.emplace_back();
         max_depth = std::max(max_depth, depth);
         const BNode& bn = in[id];
         Slot slot[4];
+        uint32_t range[4][2];
         int m = 0;
         Box all;
         for (int s = 0; s < 2; ++s) {
             if (bn.count[s] == 0 && bn.child[s] == 0) continue;  // empty (0- or 1-segment scene)
             all.grow(bn.box[s]);
             if (bn.count[s] > 0) {
+                range[m][0] = bn.child[s];
+                range[m][1] = bn.child[s] + bn.count[s];
                 slot[m++] = Slot{bn.box[s], bn.child[s], bn.count[s]};
                 continue;
             }
             const BNode& g = in[bn.child[s]];
-            for (int t = 0; t < 2; ++t)
-                if (g.count[t] > 0 || g.child[t] != 0) slot[m++] = Slot{g.box[t], g.child[t], g.count[t]};
+            for (int t = 0; t < 2; ++t) {
+                if (g.count[t] == 0 && g.child[t] == 0) continue;
+                range[m][0] = g.count[t] > 0 ? g.child[t] : in[g.child[t]].begin;
+                range[m][1] = g.count[t] > 0 ? g.child[t] + g.count[t] : in[g.child[t]].end;
+                slot[m++] = Slot{g.box[t], g.child[t], g.count[t]};
+            }
         }
-        sah += opt.c_trav * all.half_area() / root_area;
+        sah += opt.c_trav * area / root_area;
+
+        // Oriented or axis-aligned: the children's boxes weighted by what they hold (the SAH's
+        // expected cost below them, to first order), oriented only if clearly smaller, since
+        // mapping the ray per child costs about twice the axis-aligned test.  The root stays
+        // axis-aligned; so do nodes with triangles (flat boxes have no unit-cube map).
+        Frame frame[4];
+        DBox obox[4];
+        bool orient = depth > 0 && opt.obb_ratio > 0 && m > 0;
+        double aligned = 0, turned = 0;
+        for (int k = 0; k < m && orient; ++k) {
+            const Moments mo = slot[k].count ? range_moments(prims, range[k][0], range[k][1]) : moments[slot[k].child];
+            orient = mo.triangles == 0;
+            if (!orient) break;
+            if (!dominant_frame(mo, slot[k].box, frame[k]))
+                axis_frame(slot[k].box, frame[k]);
+            obox[k] = frame_box(prims, range[k][0], range[k][1], frame[k]);
+            pad_outward(frame[k], obox[k]);
+            for (int j = 0; j < 3; ++j)
+                orient = orient && obox[k].hi[j] - obox[k].lo[j] > 0x1p-40 * (1.0 + magnitude(frame[k], obox[k]));
+            const double n = range[k][1] - range[k][0];
+            aligned += n * slot[k].box.half_area();
+            turned += n * obox[k].half_area();
+        }
+        orient = orient && turned < opt.obb_ratio * aligned;
+        double child_area[4];
+        for (int k = 0; k < m; ++k) child_area[k] = orient ? obox[k].half_area() : slot[k].box.half_area();
+        if (orient) {
+            ++oriented;
+            out.emplace_back();
+        }
+
         uint32_t child[4] = {0, 0, 0, 0};
+        // The root's subtrees are flattened on all build threads (the oriented boxes cost as much
+        // as the binary build), each into its own array, then appended in order: the same
+        // preorder and the same records as one thread writes.
+        const bool parallel = depth == 0 && threads > 1;
+        std::vector<HtBvhNode> part[4];
+        std::vector<Flattener> sub;
+        if (parallel) {
+            for (int k = 0; k < m; ++k) {
+                part[k].reserve(range[k][1] - range[k][0]);  // as build_bvh_from reserves for the whole
+                sub.push_back(Flattener{in, part[k], opt, prims, moments, threads, root_area});
+            }
+            std::atomic<int> next{0};
+            auto work = [&] {
+                for (int k; (k = next++) < m;)
+                    if (slot[k].count == 0) child[k] = sub[k].visit(slot[k].child, depth + 1, child_area[k]);
+            };
+            std::vector<std::thread> pool;
+            for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work);
+            work();
+            for (std::thread& t : pool) t.join();
+        }
         for (int k = 0; k < m; ++k) {
             if (slot[k].count > 0) {
                 child[k] = slot[k].child;
                 ++leaves;
                 max_depth = std::max(max_depth, depth + 1);
-                sah += opt.c_isect * slot[k].count * slot[k].box.half_area() / root_area;
+                sah += opt.c_isect * slot[k].count * child_area[k] / root_area;
+            } else if (parallel) {
+                const uint32_t base = (uint32_t)out.size();
+                if (part[k].size() + base >= HT_NODE_ORIENTED) throw std::runtime_error("BVH: too many nodes");
+                relocate(part[k], child[k], base);
+                child[k] += base;  // keeps HT_NODE_ORIENTED
+                out.insert(out.end(), part[k].begin(), part[k].end());
+                sah += sub[k].sah;
+                leaves += sub[k].leaves;
+                oriented += sub[k].oriented;
+                max_depth = std::max(max_depth, sub[k].max_depth);
             } else {
-                child[k] = visit(slot[k].child, depth + 1);
+                child[k] = visit(slot[k].child, depth + 1, child_area[k]);
             }
         }
         HtBvhNode& n = out[me];
         for (int k = 0; k < 4; ++k) {
             const bool used = k < m;
+            n.child[k] = child[k];
+            n.count[k] = used ? slot[k].count : 0u;
+            if (orient) continue;
             for (int a = 0; a < 3; ++a) {
                 float* axis = a == 0 ? n.x : a == 1 ? n.y : n.z;
                 axis[k] = used ? slot[k].box.lo[a] : 0.0f;
                 axis[k + 4] = used ? slot[k].box.hi[a] : 0.0f;
             }
-            n.child[k] = child[k];
-            n.count[k] = used ? slot[k].count : 0u;
         }
-        return me;
+        if (orient) {
+            // coefficient c of child k at [4 * (c & 1) + k] of the c / 2-th array (kernels/types.h)
+            HtBvhNode& f = out[me + 1];
+            float* arrays[6] = {n.x, n.y, n.z, f.x, f.y, f.z};
+            for (float* a : arrays) std::fill(a, a + 8, 0.0f);
+            for (int k = 0; k < m; ++k)
+                for (int j = 0; j < 3; ++j) {
+                    const double s = 1.0 / (obox[k].hi[j] - obox[k].lo[j]);
+                    const double coef[4] = {frame[k].row[j][0] * s, frame[k].row[j][1] * s, frame[k].row[j][2] * s,
+                                            (-dot3(frame[k].row[j], frame[k].c) - obox[k].lo[j]) * s};
+                    for (int c = 0; c < 4; ++c) {
+                        const int cc = 4 * j + c;
+                        arrays[cc / 2][4 * (cc & 1) + k] = (float)coef[c];
+                    }
+                }
+        }
+        return orient ? me | HT_NODE_ORIENTED : me;
+    }
+
+    // Fills out[id] with the moments of intermediate node id's references, bottom-up.
+    static const Moments& moments_of(const std::vector<BNode>& in, const std::vector<Prim>& prims, uint32_t id,
+                                     std::vector<Moments>& out) {
+        const BNode& bn = in[id];
+        Moments mo;
+        for (int s = 0; s < 2; ++s) {
+            if (bn.count[s] > 0)
+                mo.add(range_moments(prims, bn.child[s], bn.child[s] + bn.count[s]));
+            else if (bn.child[s] != 0)
+                mo.add(moments_of(in, prims, bn.child[s], out));
+        }
+        return out[id] = mo;
+    }
+
+    // Adds `base` to the inner child references below node `ref` of a subtree flattened on its own.
+    static void relocate(std::vector<HtBvhNode>& v, uint32_t ref, uint32_t base) {
+        HtBvhNode& n = v[ref & ~HT_NODE_ORIENTED];
+        for (int k = 0; k < 4; ++k)
+            if (n.count[k] == 0 && n.child[k] != 0) {
+                relocate(v, n.child[k], base);
+                n.child[k] += base;
+            }
     }
 };
 
@@ -404,19 +677,41 @@ void build_bvh_from(const std::vector<HtSegment>& base, SceneGeometry& geo, cons
     Builder builder(refs, opt);
     const uint32_t root = builder.run();
 
+    std::vector<Prim> prims;
+    if (opt.obb_ratio > 0) {
+        prims.resize(refs.size());
+        for (size_t i = 0; i < refs.size(); ++i) {
+            const HtSegment& s = base[refs[i].seg];
+            Prim& q = prims[i];
+            q.points = s.flags & HT_SEG_TRIANGLE ? 3 : 2;
+            for (int v = 0; v < q.points; ++v) {
+                const HtPoint& p = geo.points[s.point + v];
+                q.p[v][0] = p.x, q.p[v][1] = p.y, q.p[v][2] = p.z;
+            }
+            q.r = q.points == 2 ? 0.5 * ((double)geo.points[s.point].r + (double)geo.points[s.point + 1].r) : 0.0;
+        }
+    }
+
     geo.nodes.clear();
     geo.nodes.reserve(std::max<size_t>(refs.size(), 1));
-    Flattener fl{builder.nodes_, geo.nodes, opt};
+    std::vector<Moments> moments;
+    if (opt.obb_ratio > 0) {
+        moments.resize(builder.nodes_.size());
+        Flattener::moments_of(builder.nodes_, prims, root, moments);
+    }
+    Flattener fl{builder.nodes_, geo.nodes, opt, prims, moments,
+                 opt.threads ? opt.threads : std::max(1u, std::thread::hardware_concurrency())};
     Box rb = builder.nodes_[root].box[0];
     rb.grow(builder.nodes_[root].box[1]);
     fl.root_area = std::max(rb.half_area(), 1e-30);
-    fl.visit(root, 0);
+    fl.visit(root, 0, fl.root_area);
 
     geo.segments.resize(refs.size());
     for (size_t i = 0; i < refs.size(); ++i) geo.segments[i] = base[refs[i].seg];
 
     BvhStats& st = geo.stats;
     st.nodes = geo.nodes.size();
+    st.oriented = fl.oriented;
     st.leaves = fl.leaves;
     st.max_depth = fl.max_depth;
     st.references = refs.size();

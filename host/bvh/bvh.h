@@ -29,6 +29,10 @@ struct BvhOptions {
     float split_ratio = 0.0f;
     int split_depth = 2;
     unsigned threads = 0;   // build threads; 0 = std::thread::hardware_concurrency()
+    // Oriented nodes (host/bvh/NOTES.md "Oriented nodes"): a 4-wide node keeps its children's
+    // boxes in a frame along its segments' dominant direction when their count-weighted half-area
+    // there is below obb_ratio x the axis-aligned one.  0 = axis-aligned nodes only.
+    float obb_ratio = 0.8f;
 
     // The defaults favour speed: SAH then stops at ~1.3 segments per leaf, ~81 bytes/segment
     // (strand/ball anchors).  compact() trades ~10-20 % of traversal speed for ~44 bytes/segment
@@ -42,7 +46,8 @@ struct BvhOptions {
 };
 
 struct BvhStats {
-    size_t nodes = 0;       // HtBvhNode count (4-wide inner nodes)
+    size_t nodes = 0;       // HtBvhNode records (4-wide inner nodes + one frame per oriented node)
+    size_t oriented = 0;    // oriented nodes among them
     size_t leaves = 0;
     size_t max_depth = 0;
     size_t references = 0;  // leaf entries (= segments unless split_ratio > 0)

@@ -3,8 +3,10 @@
  *
  * Node 0 is the root; each node holds its (up to) four children's boxes.  Child slot k:
  * count[k] > 0 is a leaf = segments [child[k], child[k] + count[k]) of the leaf segment array;
- * count[k] == 0 is an inner node index.  A slot with child == 0 and count == 0 is empty (node 0
- * is the root, never a child): that is how a scene of 0 or 1 segments is stored.
+ * count[k] == 0 is an inner node reference.  A slot with child == 0 and count == 0 is empty (node 0
+ * is the root, never a child): that is how a scene of 0 or 1 segments is stored.  A reference
+ * with HT_NODE_ORIENTED names a node whose children's boxes are oriented (kernels/types.h): the
+ * ray is mapped by each child's affine map and cut with the unit cube (ht_node_oriented_slabs).
  *
  * Why it looks like this (measured on PoCL 3.1 CPU, docs/POCL.md §1, host/bvh/NOTES.md):
  *   - one float8 slab step per axis covers the four children's lower and upper planes (the
@@ -93,6 +95,25 @@ HT_FN HtSlabRay ht_slab_ray(real3 o, real3 d) {
     return r;
 }
 
+#ifdef HT_OPENCL
+/* Four children's slab distances per axis (the two planes in either order) -> entry distance and
+ * hit, with compare-selects (fmin/fmax were 13-24 % slower, see the top of this file). */
+HT_FN void ht_slabs4(float4 ax, float4 bx, float4 ay, float4 by, float4 az, float4 bz, float tmin, float tfar,
+                     float* near, int* hit) {
+    const float4 nx = ax < bx ? ax : bx, fx = ax < bx ? bx : ax;
+    const float4 ny = ay < by ? ay : by, fy = ay < by ? by : ay;
+    const float4 nz = az < bz ? az : bz, fz = az < bz ? bz : az;
+    const float4 t0 = (float4)(tmin), t1 = (float4)(tfar);
+    const float4 nxy = nx < ny ? ny : nx, nzt = nz < t0 ? t0 : nz;
+    const float4 fxy = fx < fy ? fx : fy, fzt = fz < t1 ? fz : t1;
+    const float4 tn = nxy < nzt ? nzt : nxy;
+    const float4 tf = fxy < fzt ? fxy : fzt;
+    const int4 h = tn <= tf;
+    near[0] = tn.s0, near[1] = tn.s1, near[2] = tn.s2, near[3] = tn.s3;
+    hit[0] = h.s0, hit[1] = h.s1, hit[2] = h.s2, hit[3] = h.s3;
+}
+#endif
+
 /* Node n's four children against the ray segment [tmin, tfar]: entry distances near[k] and
  * whether each child is hit (hit[k]: its box overlaps the segment and the slot is not empty). */
 HT_FN void ht_node_slabs(HT_CONST_GLOBAL HtBvhNode* n, const HtSlabRay* r, real tmin, real tfar, real* near,
@@ -102,17 +123,7 @@ HT_FN void ht_node_slabs(HT_CONST_GLOBAL HtBvhNode* n, const HtSlabRay* r, real 
     const float8 tx = vload8(0, n->x) * r->ix - r->ox;
     const float8 ty = vload8(0, n->y) * r->iy - r->oy;
     const float8 tz = vload8(0, n->z) * r->iz - r->oz;
-    const float4 nx = tx.lo < tx.hi ? tx.lo : tx.hi, fx = tx.lo < tx.hi ? tx.hi : tx.lo;
-    const float4 ny = ty.lo < ty.hi ? ty.lo : ty.hi, fy = ty.lo < ty.hi ? ty.hi : ty.lo;
-    const float4 nz = tz.lo < tz.hi ? tz.lo : tz.hi, fz = tz.lo < tz.hi ? tz.hi : tz.lo;
-    const float4 t0 = (float4)(tmin), t1 = (float4)(tfar);
-    const float4 nxy = nx < ny ? ny : nx, nzt = nz < t0 ? t0 : nz;
-    const float4 fxy = fx < fy ? fx : fy, fzt = fz < t1 ? fz : t1;
-    const float4 tn = nxy < nzt ? nzt : nxy;
-    const float4 tf = fxy < fzt ? fxy : fzt;
-    const int4 h = tn <= tf;
-    near[0] = tn.s0, near[1] = tn.s1, near[2] = tn.s2, near[3] = tn.s3;
-    hit[0] = h.s0, hit[1] = h.s1, hit[2] = h.s2, hit[3] = h.s3;
+    ht_slabs4(tx.lo, tx.hi, ty.lo, ty.hi, tz.lo, tz.hi, tmin, tfar, near, hit);
 #else
     for (int k = 0; k < 4; ++k) {
         const real ax = (real)n->x[k] * r->ix - r->ox, bx = (real)n->x[k + 4] * r->ix - r->ox;
@@ -124,7 +135,66 @@ HT_FN void ht_node_slabs(HT_CONST_GLOBAL HtBvhNode* n, const HtSlabRay* r, real 
         hit[k] = tn <= tf;
     }
 #endif
+}
+
+/* Coefficient c (row c / 4, column c % 4: x, y, z, offset) of child k's map in an oriented node
+ * n with its second record f: rows 0-1 in n's x, y, z, rows 1-2 in f's, 4 children per 4 floats. */
+HT_FN real ht_oriented_coef(HT_CONST_GLOBAL HtBvhNode* n, HT_CONST_GLOBAL HtBvhNode* f, int c, int k) {
+    HT_CONST_GLOBAL float* a = c < 2 ? n->x : c < 4 ? n->y : c < 6 ? n->z : c < 8 ? f->x : c < 10 ? f->y : f->z;
+    return (real)a[4 * (c & 1) + k];
+}
+
+/* The same for an oriented node (kernels/types.h): child k's affine map takes its box to the
+ * unit cube, p' = A_k p + b_k, so the slab planes are 0 and 1 of the mapped ray; the map is
+ * affine, so the distances are the world ray's t.  n holds rows 0 and the first half of 1, f the
+ * rest, each coefficient as 4 children side by side. */
+HT_FN void ht_node_oriented_slabs(HT_CONST_GLOBAL HtBvhNode* n, HT_CONST_GLOBAL HtBvhNode* f, real3 o, real3 d,
+                                  real tmin, real tfar, real* near, int* hit) {
+#ifdef HT_OPENCL
+    const float8 a0 = vload8(0, n->x), b0 = vload8(0, n->y);
+    const float8 a1 = vload8(0, n->z), b1 = vload8(0, f->x);
+    const float8 a2 = vload8(0, f->y), b2 = vload8(0, f->z);
+    const float4 dx = a0.lo * d.x + a0.hi * d.y + b0.lo * d.z;
+    const float4 dy = a1.lo * d.x + a1.hi * d.y + b1.lo * d.z;
+    const float4 dz = a2.lo * d.x + a2.hi * d.y + b2.lo * d.z;
+    const float4 ox = a0.lo * o.x + a0.hi * o.y + b0.lo * o.z + b0.hi;
+    const float4 oy = a1.lo * o.x + a1.hi * o.y + b1.lo * o.z + b1.hi;
+    const float4 oz = a2.lo * o.x + a2.hi * o.y + b2.lo * o.z + b2.hi;
+    const float4 eps = (float4)(HT_DIR_EPS);
+    const float4 ix = 1.0f / (fabs(dx) < eps ? (dx < 0.0f ? -eps : eps) : dx);
+    const float4 iy = 1.0f / (fabs(dy) < eps ? (dy < 0.0f ? -eps : eps) : dy);
+    const float4 iz = 1.0f / (fabs(dz) < eps ? (dz < 0.0f ? -eps : eps) : dz);
+    const float4 lx = -ox * ix, ly = -oy * iy, lz = -oz * iz;
+    ht_slabs4(lx, lx + ix, ly, ly + iy, lz, lz + iz, tmin, tfar, near, hit);
+#else
+    for (int k = 0; k < 4; ++k) {
+        real tn = tmin, tf = tfar;
+        for (int j = 0; j < 3; ++j) {
+            real a[4];
+            for (int c = 0; c < 4; ++c) a[c] = ht_oriented_coef(n, f, 4 * j + c, k);
+            const real inv = ht_safe_inv(a[0] * d.x + a[1] * d.y + a[2] * d.z);
+            const real lo = -(a[0] * o.x + a[1] * o.y + a[2] * o.z + a[3]) * inv, hi = lo + inv;
+            tn = ht_max(tn, ht_min(lo, hi));
+            tf = ht_min(tf, ht_max(lo, hi));
+        }
+        near[k] = tn;
+        hit[k] = tn <= tf;
+    }
+#endif
+}
+
+/* Node reference `ref` (index | HT_NODE_ORIENTED) against the ray: near[k] / hit[k] as above,
+ * empty slots never hit.  Returns the node. */
+HT_FN HT_CONST_GLOBAL HtBvhNode* ht_node_test(HT_NODES_PARAM, uint ref, real3 o, real3 d, const HtSlabRay* r,
+                                              real tmin, real tfar, real* near, int* hit) {
+    const uint i = ref & ~HT_NODE_ORIENTED;
+    HT_CONST_GLOBAL HtBvhNode* n = HT_NODE_PTR(i);
+    if (ref & HT_NODE_ORIENTED)
+        ht_node_oriented_slabs(n, HT_NODE_PTR(i + 1u), o, d, tmin, tfar, near, hit);
+    else
+        ht_node_slabs(n, r, tmin, tfar, near, hit);
     for (int k = 0; k < 4; ++k) hit[k] = hit[k] && (n->child[k] | n->count[k]) != 0u;
+    return n;
 }
 
 /* Core traversal.  any_hit: stop at the first intersection in (tmin, tmax).  Returns the leaf
@@ -145,10 +215,9 @@ HT_FN uint ht_traverse(HT_GEOMETRY_PARAMS, HtRay ray, int any_hit, real* t_out) 
     uint cur = 0;
 
     for (;;) {
-        HT_CONST_GLOBAL HtBvhNode* n = HT_NODE_PTR(cur);
         real near[4];
         int hit[4];
-        ht_node_slabs(n, &slab, tmin, tbest, near, hit);
+        HT_CONST_GLOBAL HtBvhNode* n = ht_node_test(HT_NODES_ARG, cur, o, d, &slab, tmin, tbest, near, hit);
 
         /* Leaves now: they may shorten the ray before the inner children are ordered. */
         int stop = 0;

@@ -120,10 +120,9 @@ HT_FN void ht_translucent_shadow(HT_GEOMETRY_PARAMS, __global const uint* strand
     int sp = 0;
     uint cur = 0;
     for (;;) {
-        HT_CONST_GLOBAL HtBvhNode* n = HT_NODE_PTR(cur);
         float near[4];
         int hit[4];
-        ht_node_slabs(n, &slab, tmin, tmax, near, hit);
+        HT_CONST_GLOBAL HtBvhNode* n = ht_node_test(HT_NODES_ARG, cur, o, d, &slab, tmin, tmax, near, hit);
         int stop = 0;
         for (int k = 0; k < 4 && !stop; ++k) {
             if (!hit[k]) continue;

@@ -149,8 +149,10 @@ TEST(Bvh, StructureIsConsistent) {
                 EXPECT_LE(child + count, g.segments.size());
                 leaf_refs += count;
             } else {
-                EXPECT_LT(child, g.nodes.size());
-                EXPECT_NE(child, 0u);
+                const uint32_t index = child & ~HT_NODE_ORIENTED;
+                // an oriented node's frame is the record after it
+                EXPECT_LT(index + (child & HT_NODE_ORIENTED ? 1u : 0u), g.nodes.size());
+                EXPECT_NE(index, 0u);
             }
         }
     EXPECT_EQ(leaf_refs, g.segments.size());
@@ -199,8 +201,9 @@ TEST(Bvh, EmptyAndTinyScenes) {
 
 // --------------------------------------------------------------------------- host vs brute force
 
-void check_host_against_brute(const ht::BvhOptions& opt) {
-    const Strands s = random_strands(2, 150, 10, 0.1, 0.01);
+void check_host_against_brute(const ht::BvhOptions& opt,
+                              const Strands& s = random_strands(2, 150, 10, 0.1, 0.01),
+                              size_t min_hits = 300) {
     const SceneGeometry g = ht::build_geometry(s, opt);
     const auto rays = random_rays(3, 3000, 1.0);
     size_t hits = 0;
@@ -236,7 +239,7 @@ void check_host_against_brute(const ht::BvhOptions& opt) {
         sr.tmax = (float)(b.t * 1.001);
         EXPECT_EQ(ht_trace_any(g.nodes.data(), g.segments.data(), g.points.data(), sr), 1u);
     }
-    EXPECT_GT(hits, 300u);
+    EXPECT_GT(hits, min_hits);
 }
 
 TEST(Bvh, HostTraversalMatchesBruteForce) { check_host_against_brute({}); }
@@ -246,6 +249,173 @@ TEST(Bvh, HostTraversalWithSplitReferences) {
     opt.split_ratio = 0.8f;
     opt.max_leaf = 2;
     check_host_against_brute(opt);
+}
+
+// --------------------------------------------------------------------------- oriented nodes
+
+// Straight strands of `nseg` segments along `dir` (not normalised), roots spread over [-1,1]^3.
+Strands parallel_strands(uint32_t seed, int ns, int nseg, const double* dir, double seg_len, double r) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(-1, 1);
+    const double l = std::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+    Strands s;
+    s.first_point.push_back(0);
+    for (int i = 0; i < ns; ++i) {
+        const double p[3] = {u(rng), u(rng), u(rng)};
+        for (int j = 0; j <= nseg; ++j) {
+            const double f = l > 0 ? j * seg_len / l : 0.0;
+            s.points.push_back({(float)(p[0] + dir[0] * f), (float)(p[1] + dir[1] * f), (float)(p[2] + dir[2] * f)});
+            s.radius.push_back((float)r);
+        }
+        s.first_point.push_back((uint32_t)s.points.size());
+        s.material.push_back(0);
+    }
+    return s;
+}
+
+ht::BvhOptions oriented_on() {
+    ht::BvhOptions o;
+    o.obb_ratio = 0.9f;
+    return o;
+}
+
+// Walks the tree from the root: every capsule under a child lies inside that child's box, in
+// the node's own frame for an oriented node (exactly, in double, with the frame as stored).
+struct BoxChecker {
+    const SceneGeometry& g;
+    size_t oriented = 0, capsules = 0;
+
+    void under(uint32_t ref, std::vector<uint32_t>& leaf_entries) const {
+        const HtBvhNode& n = g.nodes[ref & ~HT_NODE_ORIENTED];
+        for (int k = 0; k < 4; ++k) {
+            if (n.count[k])
+                for (uint32_t i = n.child[k]; i < n.child[k] + n.count[k]; ++i) leaf_entries.push_back(i);
+            else if (n.child[k])
+                under(n.child[k], leaf_entries);
+        }
+    }
+
+    void visit(uint32_t ref) {
+        const uint32_t index = ref & ~HT_NODE_ORIENTED;
+        const HtBvhNode& n = g.nodes[index];
+        const bool turned = (ref & HT_NODE_ORIENTED) != 0;
+        oriented += turned;
+        const float* axis[3] = {n.x, n.y, n.z};
+        for (int k = 0; k < 4; ++k) {
+            if (!n.child[k] && !n.count[k]) continue;
+            // child k's map to its box coordinates: the world axes, or to the unit cube
+            double row[3][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};
+            double lo[3], hi[3];
+            for (int j = 0; j < 3; ++j) {
+                if (turned)
+                    for (int c = 0; c < 4; ++c) row[j][c] = ht_oriented_coef(&n, &g.nodes[index + 1], 4 * j + c, k);
+                lo[j] = turned ? 0.0 : (double)axis[j][k];
+                hi[j] = turned ? 1.0 : (double)axis[j][k + 4];
+            }
+            std::vector<uint32_t> entries;
+            if (n.count[k])
+                for (uint32_t i = n.child[k]; i < n.child[k] + n.count[k]; ++i) entries.push_back(i);
+            else
+                under(n.child[k], entries);
+            for (uint32_t e : entries) {
+                const HtSegment& s = g.segments[e];
+                const HtPoint& a = g.points[s.point];
+                const HtPoint& b = g.points[s.point + 1];
+                ++capsules;
+                for (int j = 0; j < 3; ++j) {
+                    const double xa = row[j][0] * a.x + row[j][1] * a.y + row[j][2] * a.z + row[j][3];
+                    const double xb = row[j][0] * b.x + row[j][1] * b.y + row[j][2] * b.z + row[j][3];
+                    // the capsule's reach along this row of the map
+                    const double r = 0.5 * ((double)a.r + (double)b.r) *
+                                     std::sqrt(row[j][0] * row[j][0] + row[j][1] * row[j][1] + row[j][2] * row[j][2]);
+                    // axis-aligned boxes are p -/+ r rounded to float, oriented ones padded outward
+                    const double tol = turned ? 0.0 : 1e-7 * (1.0 + std::fabs(xa) + std::fabs(xb));
+                    ASSERT_GE(std::min(xa, xb) - r, lo[j] - tol) << "node " << index << " child " << k;
+                    ASSERT_LE(std::max(xa, xb) + r, hi[j] + tol) << "node " << index << " child " << k;
+                }
+            }
+            if (!n.count[k]) visit(n.child[k]);
+        }
+    }
+};
+
+TEST(BvhOriented, EveryCapsuleIsInsideItsBox) {
+    const SceneGeometry g = ht::build_geometry(random_strands(7, 300, 12, 0.08, 0.004), oriented_on());
+    BoxChecker c{g};
+    c.visit(0);
+    EXPECT_EQ(c.oriented, g.stats.oriented);
+    EXPECT_GT(c.oriented, 0u);
+    EXPECT_GE(c.capsules, g.segments.size());
+    // far from the origin: the padding must cover the larger rounding there
+    const SceneGeometry far = ht::build_geometry(random_strands(8, 200, 12, 0.8, 0.04, 0.3, 50.0), oriented_on());
+    BoxChecker cf{far};
+    cf.visit(0);
+    EXPECT_GT(cf.oriented, 0u);
+}
+
+// The SAH choice: diagonal hair gets oriented nodes (and a lower SAH cost), hair along an axis
+// none (its oriented boxes are the axis-aligned ones), and neither do scenes without a direction.
+TEST(BvhOriented, ChosenBySahWhereTheyPay) {
+    const double diag[3] = {1, 1, 1}, along_y[3] = {0, 1, 0}, none[3] = {0, 0, 0};
+    ht::BvhOptions off;
+    off.obb_ratio = 0;
+    const Strands d = parallel_strands(9, 200, 10, diag, 0.1, 0.005);
+    const SceneGeometry gd = ht::build_geometry(d, oriented_on()), gd0 = ht::build_geometry(d, off);
+    EXPECT_GT(gd.stats.oriented, gd0.stats.nodes / 2);
+    EXPECT_EQ(gd0.stats.oriented, 0u);
+    EXPECT_LT(gd.stats.sah_cost, 0.8 * gd0.stats.sah_cost);
+    EXPECT_EQ(gd.nodes.size(), gd0.nodes.size() + gd.stats.oriented);  // one frame record each
+    EXPECT_EQ(ht::build_geometry(parallel_strands(10, 200, 10, along_y, 0.1, 0.005), oriented_on()).stats.oriented, 0u);
+    EXPECT_EQ(ht::build_geometry(parallel_strands(11, 200, 10, none, 0.1, 0.005), oriented_on()).stats.oriented, 0u);
+}
+
+TEST(BvhOriented, TraversalMatchesBruteForce) {
+    const double diag[3] = {1, 2, -1}, along_x[3] = {1, 0, 0}, none[3] = {0, 0, 0};
+    check_host_against_brute(oriented_on());
+    check_host_against_brute(oriented_on(), parallel_strands(12, 150, 10, diag, 0.1, 0.01));
+    check_host_against_brute(oriented_on(), parallel_strands(13, 150, 10, along_x, 0.1, 0.01));
+    // zero-length segments: spheres only, no direction to orient by
+    check_host_against_brute(oriented_on(), parallel_strands(14, 400, 3, none, 0.1, 0.03), 50);
+    // a mix of both in one tree
+    Strands mix = parallel_strands(15, 150, 10, diag, 0.1, 0.01);
+    const Strands z = parallel_strands(16, 100, 3, none, 0.1, 0.03);
+    for (size_t i = 0; i + 1 < z.first_point.size(); ++i) {
+        for (uint32_t p = z.first_point[i]; p < z.first_point[i + 1]; ++p) {
+            mix.points.push_back(z.points[p]);
+            mix.radius.push_back(z.radius[p]);
+        }
+        mix.first_point.push_back((uint32_t)mix.points.size());
+        mix.material.push_back(0);
+    }
+    check_host_against_brute(oriented_on(), mix);
+}
+
+// The root's subtrees are flattened on several threads: the same records as on one.
+TEST(BvhOriented, ParallelFlatteningIsIdentical) {
+    const Strands s = random_strands(23, 400, 12, 0.08, 0.004);
+    ht::BvhOptions one = oriented_on(), two = oriented_on();
+    one.threads = 1;
+    two.threads = 2;
+    const SceneGeometry a = ht::build_geometry(s, one), b = ht::build_geometry(s, two);
+    ASSERT_EQ(a.nodes.size(), b.nodes.size());
+    EXPECT_EQ(std::memcmp(a.nodes.data(), b.nodes.data(), a.nodes.size() * sizeof(HtBvhNode)), 0);
+    EXPECT_EQ(a.stats.oriented, b.stats.oriented);
+    EXPECT_EQ(a.stats.leaves, b.stats.leaves);
+    EXPECT_EQ(a.stats.max_depth, b.stats.max_depth);
+    EXPECT_NEAR(a.stats.sah_cost, b.stats.sah_cost, 1e-9 * a.stats.sah_cost);
+}
+
+TEST(BvhOriented, TinyScenes) {
+    // 0 and 1 segments: the root alone, never oriented.
+    const SceneGeometry g0 = ht::build_geometry(Strands{}, oriented_on());
+    EXPECT_EQ(g0.nodes.size(), 1u);
+    const double diag[3] = {1, 1, 1};
+    const SceneGeometry g1 = ht::build_geometry(parallel_strands(17, 1, 1, diag, 1.0, 0.1), oriented_on());
+    EXPECT_EQ(g1.nodes.size(), 1u);
+    EXPECT_EQ(g1.stats.oriented, 0u);
+    check_host_against_brute(oriented_on(), parallel_strands(18, 1, 1, diag, 1.0, 0.1), 5);
+    // one diagonal strand: a chain of nodes below the root
+    check_host_against_brute(oriented_on(), parallel_strands(19, 1, 64, diag, 0.05, 0.02), 3);
 }
 
 // --------------------------------------------------------------------------- kernel vs host
@@ -271,20 +441,33 @@ Agreement compare_device_host(const SceneGeometry& g, const std::vector<HtRay>& 
     return a;
 }
 
+// The closest-hit and shadow kernels against the host traversal on `rays`; returns the kernel's hits.
+std::vector<HtHit> expect_kernel_matches_host(const SceneGeometry& g, Device& dev, const std::vector<HtRay>& rays,
+                                              size_t min_hits, const char* label) {
+    const auto hits = dev.tracer->trace_closest(rays);
+    const Agreement a = compare_device_host(g, rays, hits);
+    std::printf("[kernel vs host%s] %zu rays, %zu hits: hit/miss %zu, segment %zu, t %zu\n", label, a.n,
+                a.hits, a.hitmiss, a.seg, a.t);
+    EXPECT_GT(a.hits, min_hits);
+    // Float vs double may flip grazing rays only.
+    EXPECT_GE(a.hitmiss, a.n - a.n / 2000);
+    EXPECT_GE(a.seg, a.hits - a.hits / 500);
+    EXPECT_GE(a.t, a.hits - a.hits / 500);
+    // Shadow kernel = "closest hit exists".
+    const auto occ = dev.tracer->trace_shadow(rays);
+    size_t disagree = 0;
+    for (size_t i = 0; i < rays.size(); ++i)
+        disagree += occ[i] != (hits[i].segment != HT_NO_HIT ? 1u : 0u);
+    EXPECT_LE(disagree, rays.size() / 2000);
+    return hits;
+}
+
 TEST(BvhKernel, MatchesHostOnRandomRays) {
     const Strands s = random_strands(4, 400, 16, 0.08, 0.006);
     const SceneGeometry g = ht::build_geometry(s);
     Device dev(g);
     const auto rays = random_rays(5, 20000, 1.0);
-    const auto hits = dev.tracer->trace_closest(rays);
-    const Agreement a = compare_device_host(g, rays, hits);
-    std::printf("[kernel vs host] %zu rays, %zu hits: hit/miss %zu, segment %zu, t %zu\n", a.n,
-                a.hits, a.hitmiss, a.seg, a.t);
-    EXPECT_GT(a.hits, 2000u);
-    // Float vs double may flip grazing rays only.
-    EXPECT_GE(a.hitmiss, a.n - a.n / 2000);
-    EXPECT_GE(a.seg, a.hits - a.hits / 500);
-    EXPECT_GE(a.t, a.hits - a.hits / 500);
+    const auto hits = expect_kernel_matches_host(g, dev, rays, 2000, "");
     // u, h, tangent agree with the host on the same hits.
     size_t checked = 0;
     for (size_t i = 0; i < rays.size(); ++i) {
@@ -297,18 +480,30 @@ TEST(BvhKernel, MatchesHostOnRandomRays) {
         EXPECT_NEAR(h.radius, hits[i].radius, 1e-7);
     }
     EXPECT_GT(checked, 2000u);
-    // Shadow kernel = "closest hit exists".
-    const auto occ = dev.tracer->trace_shadow(rays);
-    size_t disagree = 0;
-    for (size_t i = 0; i < rays.size(); ++i)
-        disagree += occ[i] != (hits[i].segment != HT_NO_HIT ? 1u : 0u);
-    EXPECT_LE(disagree, rays.size() / 2000);
+}
+
+// The kernels map the ray into oriented nodes' frames like the host (float against double).
+TEST(BvhKernel, OrientedNodesMatchHost) {
+    const double diag[3] = {1, 2, -1};
+    Strands s = parallel_strands(20, 600, 12, diag, 0.08, 0.006);
+    const SceneGeometry g = ht::build_geometry(s, oriented_on());
+    ASSERT_GT(g.stats.oriented, 100u);
+    Device dev(g);
+    std::vector<HtRay> rays = random_rays(21, 10000, 1.0);
+    const auto aimed = aimed_rays(g, 22, 10000, 0.5);
+    rays.insert(rays.end(), aimed.begin(), aimed.end());
+    expect_kernel_matches_host(g, dev, rays, 8000, ", oriented");
 }
 
 // Geometry paged over several buffers (kernels/geometry/pages.h, forced by a small allocation
 // limit) traces bit for bit like one buffer per array.
 TEST(BvhKernel, PagedGeometryGivesIdenticalHits) {
-    const SceneGeometry g = ht::build_geometry(random_strands(4, 600, 16, 0.08, 0.006));
+    // oriented nodes on (their second records are paged like the nodes); compact leaves keep the
+    // node array within 8 pages smaller than the segment array
+    ht::BvhOptions opt = ht::BvhOptions::compact();
+    opt.obb_ratio = 0.9f;
+    const SceneGeometry g = ht::build_geometry(random_strands(4, 600, 16, 0.08, 0.006), opt);
+    ASSERT_GT(g.stats.oriented, 0u);
     const uint64_t nb = g.nodes.size() * sizeof(HtBvhNode), sb = g.segments.size() * sizeof(HtSegment),
                    pb = g.points.size() * sizeof(HtPoint);
     uint64_t page = 64;  // the smallest power of two that still holds the node array in 8 pages

@@ -119,11 +119,11 @@ ht::ClContext& cl() {
     return *ctx;
 }
 
-SceneGeometry mixed_scene() {
+SceneGeometry mixed_scene(const ht::BvhOptions& opt = {}) {
     std::vector<ht::SurfaceMaterialDesc> mats(2);
     mats[1].albedo = {0.2f, 0.4f, 0.6f};
     return ht::build_geometry(random_strands(4, 300, 16, 0.08, 0.006), random_meshes(7, 400),
-                              mats);
+                              mats, opt);
 }
 
 TEST(MeshBvh, LayoutAndShadingData) {
@@ -231,7 +231,11 @@ TEST(MeshBvh, RebuildKeepsTriangles) {
 // Paged geometry with triangles: a triangle's three points and its shading record may sit in
 // different pages; the hits must be the unpaged ones bit for bit.
 TEST(MeshBvhKernel, PagedGeometryGivesIdenticalHits) {
-    const SceneGeometry g = mixed_scene();
+    // compact leaves: the node array (with oriented hair nodes, two records each) within 8 pages
+    // smaller than the point and segment arrays
+    ht::BvhOptions opt = ht::BvhOptions::compact();
+    opt.obb_ratio = 0.9f;
+    const SceneGeometry g = mixed_scene(opt);
     const uint64_t nb = g.nodes.size() * sizeof(HtBvhNode);
     uint64_t page = 64;
     while (page * 8 < nb) page *= 2;
