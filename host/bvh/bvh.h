@@ -31,8 +31,10 @@ struct BvhOptions {
     unsigned threads = 0;   // build threads; 0 = std::thread::hardware_concurrency()
     // Oriented nodes (host/bvh/NOTES.md "Oriented nodes"): a 4-wide node keeps its children's
     // boxes in a frame along its segments' dominant direction when their count-weighted half-area
-    // there is below obb_ratio x the axis-aligned one.  0 = axis-aligned nodes only.
-    float obb_ratio = 0.8f;
+    // there is below obb_ratio x the axis-aligned one.  0 = axis-aligned nodes only, the default:
+    // renders measured no faster with them and their build costs more (NOTES.md "Oriented nodes");
+    // 0.8 is the value measured there (`bench --obb 0.8`).
+    float obb_ratio = 0.0f;
 
     // The defaults favour speed: SAH then stops at ~1.3 segments per leaf, ~81 bytes/segment
     // (strand/ball anchors).  compact() trades ~10-20 % of traversal speed for ~44 bytes/segment

@@ -73,9 +73,9 @@ TEST(GeometryPaging, MemoryPlanCountsTheScenePagesNotOneAllocation) {
 
 #ifdef HT_BINARY
 namespace {
-// 10,000 segments: 160 KB of segments, 168 KB of points, 862 KB of BVH nodes (oriented nodes take
-// two records).  With 128 KiB allocations that is 2, 2 and 7 pages (each array split, none past
-// the limit of 8), and the 48x48 film (36 KB) still fits one allocation.
+// 10,000 segments: 160 KB of segments, 168 KB of points, 450 KB of BVH nodes.  With 64 KiB
+// allocations that is 3, 3 and 7 pages (each array split at least twice, none past the limit of
+// 8), and the 48x48 film (36 KB) still fits one allocation.
 const std::string kScene = "'builtin:strand?hairs=500&segments=20'";
 const std::string kRender = std::string(HT_BINARY) + " render " + kScene + " --width 48 --height 48 --max-depth 4 --seed 3";
 
@@ -84,12 +84,12 @@ const std::string kRender = std::string(HT_BINARY) + " render " + kScene + " --w
 TEST(GeometryPaging, PagedRenderEqualsTheUnpagedRender) {
     TempDir d("ht_page_");
     ASSERT_EQ(run(kRender + " --spp 3 --quiet -o " + (d / "flat.exr")), 0);
-    ASSERT_EQ(run("HAIRTRACE_MAX_ALLOC=128K " + kRender + " --spp 3 --verbose -o " + (d / "paged.exr") + " 2>" +
+    ASSERT_EQ(run("HAIRTRACE_MAX_ALLOC=64K " + kRender + " --spp 3 --verbose -o " + (d / "paged.exr") + " 2>" +
                   (d / "log.txt")), 0)
         << slurp(d / "log.txt");
     const std::string log = slurp(d / "log.txt");
     // the render really was paged (the options the program was built with say so)
-    EXPECT_NE(log.find("-DHT_GEOMETRY_PAGES=7 -DHT_GEOMETRY_PAGE_LOG2=17"), std::string::npos) << log;
+    EXPECT_NE(log.find("-DHT_GEOMETRY_PAGES=7 -DHT_GEOMETRY_PAGE_LOG2=16"), std::string::npos) << log;
     EXPECT_NE(log.find("geometry: 7 buffers per array"), std::string::npos) << log;
     const auto flat = image(d / "flat.exr");
     EXPECT_EQ(flat, image(d / "paged.exr"));
@@ -98,7 +98,7 @@ TEST(GeometryPaging, PagedRenderEqualsTheUnpagedRender) {
     for (float v : flat) sum += v;
     EXPECT_GT(sum, 0.0f);
     // a checkpoint of the paged render resumes unpaged (the paging is not part of the render identity)
-    ASSERT_EQ(run("HAIRTRACE_MAX_ALLOC=128K " + kRender + " --spp 1 --quiet --checkpoint " + (d / "c.ckpt") + " -o " +
+    ASSERT_EQ(run("HAIRTRACE_MAX_ALLOC=64K " + kRender + " --spp 1 --quiet --checkpoint " + (d / "c.ckpt") + " -o " +
                   (d / "one.exr")), 0);
     ASSERT_EQ(run(kRender + " --spp 3 --quiet --resume " + (d / "c.ckpt") + " -o " + (d / "resumed.exr")), 0);
     EXPECT_EQ(flat, image(d / "resumed.exr"));
@@ -106,10 +106,10 @@ TEST(GeometryPaging, PagedRenderEqualsTheUnpagedRender) {
 
 TEST(GeometryPaging, BenchHitsAreTheSameWhenPaged) {
     TempDir d("ht_page_");
-    // 32x32 rays: the ray and hit buffers fit the 128 KiB allocations too
+    // 32x32 rays: the ray and hit buffers fit the 64 KiB allocations too
     const std::string bench = std::string(HT_BINARY) + " bench --scene " + kScene + " --res 32 --reps 1 --no-wavefront";
     ASSERT_EQ(run(bench + " >" + (d / "flat.txt") + " 2>&1"), 0) << slurp(d / "flat.txt");
-    ASSERT_EQ(run("HAIRTRACE_MAX_ALLOC=128K " + bench + " >" + (d / "paged.txt") + " 2>&1"), 0) << slurp(d / "paged.txt");
+    ASSERT_EQ(run("HAIRTRACE_MAX_ALLOC=64K " + bench + " >" + (d / "paged.txt") + " 2>&1"), 0) << slurp(d / "paged.txt");
     auto answers = [](const std::string& text) {  // the hit counts and checksums, not the timings
         std::istringstream in(text);
         std::string line, out;
@@ -124,12 +124,12 @@ TEST(GeometryPaging, BenchHitsAreTheSameWhenPaged) {
 
 TEST(GeometryPaging, MorePagesThanSupportedExits3WithTheSizes) {
     TempDir d("ht_page_");
-    // 64 KiB allocations: the node array would need 14 pages
-    EXPECT_EQ(run("HAIRTRACE_MAX_ALLOC=64K " + kRender + " --spp 1 --quiet -o " + (d / "x.exr") +
+    // 32 KiB allocations: the node array would need 14 pages
+    EXPECT_EQ(run("HAIRTRACE_MAX_ALLOC=32K " + kRender + " --spp 1 --quiet -o " + (d / "x.exr") +
                   " 2>" + (d / "err.txt")), 3);
     const std::string err = slurp(d / "err.txt");
     EXPECT_NE(err.find("BVH node array needs"), std::string::npos) << err;
-    EXPECT_NE(err.find("14 buffers of 65536 bytes"), std::string::npos) << err;
+    EXPECT_NE(err.find("14 buffers of 32768 bytes"), std::string::npos) << err;
     EXPECT_NE(err.find("at most 8"), std::string::npos) << err;
     EXPECT_FALSE(fs::exists(d / "x.exr"));
 }
