@@ -183,7 +183,6 @@ __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM, HT_SCENE_PARA
     /* the stage slots (continuations) and shadow slots (light samples) of each ray */
     const uint continuations = bounce == 0u && extend ? splits : 1u;
     const uint lights_here = bounce == 0u ? light_samples : 1u;
-    __local uint lcount, lbase;
     uint k = get_global_id(0);
     int active = k < count;
     uint shadows = 0u;
@@ -341,7 +340,9 @@ __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM, HT_SCENE_PARA
         paths[p] = st;
     }
 
-    /* statistics only: the shadow queue is not compacted, its count is reported */
+    /* statistics only: the shadow queue is not compacted, its count is reported.  One aggregated
+     * append per kernel (kernels/queue.h says why); cut paths are few and take a plain atomic. */
+    __local uint lcount, lbase;
     ht_queue_append(shadows, &lcount, &lbase, &counters[HT_COUNTER_SHADOW]);
-    ht_queue_append((uint)cut, &lcount, &lbase, &counters[HT_COUNTER_CUT]);
+    if (cut) atomic_inc(&counters[HT_COUNTER_CUT]);
 }
