@@ -31,10 +31,9 @@ int cmd_tonemap(const std::vector<std::string>& args) {
     const ToneMap tone_map = tone_map_from_name(p.get_choice("--tonemap", tone_map_names()));
 
     Film film;
-    std::vector<float> rgb;
-    std::vector<ImageChannel> alpha(1, ImageChannel{"A", {}});
+    std::vector<float> rgb, alpha;
     try {
-        rgb = read_rgb_image(in, film.width, film.height, &alpha[0].values);
+        rgb = read_rgb_image(in, film.width, film.height, &alpha);
     } catch (const ImageError& e) {
         throw UsageError(std::string("tonemap: ") + e.what());
     }
@@ -48,9 +47,11 @@ int cmd_tonemap(const std::vector<std::string>& args) {
     meta.text["hairtrace:source"] = in;
     meta.floats["hairtrace:exposure"] = exposure;
     meta.text["hairtrace:tonemap"] = tone_map_name(tone_map);
+    // An input with alpha keeps it: straight in a PNG, as `render --aovs alpha` writes it.
+    std::vector<ImageChannel> extra;
+    if (!alpha.empty()) extra.push_back({"A", std::move(alpha)});
     for (const auto& o : outputs) {
-        // An input with alpha keeps it: straight in a PNG, as `render --aovs alpha` writes it.
-        write_image(o, film, meta, exposure, tone_map, alpha[0].values.empty() ? std::vector<ImageChannel>{} : alpha);
+        write_image(o, film, meta, exposure, tone_map, extra);
         if (!p.has("--quiet")) std::fprintf(stderr, "wrote %s (exposure %.6g, %s)\n", o.c_str(), exposure, tone_map_name(tone_map).c_str());
     }
     return kExitOk;
