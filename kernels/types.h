@@ -25,6 +25,9 @@ typedef struct {
  * consecutive HtPoint vertices (r unused), `segment` its global primitive id (segment_count +
  * triangle index) and `strand` the triangle index into the HtTriangleShading array. */
 #define HT_SEG_TRIANGLE 2u
+/* A strand's last segment: no successor at `point + 2` (the joint rule of ht_strand_interior,
+ * kernels/geometry/capsule.h, reads the neighbours of every other segment). */
+#define HT_SEG_LAST 4u
 typedef struct {
     uint point;    /* index of the first point */
     uint segment;  /* global segment id (Embree primID order: strands back to back) */

@@ -749,7 +749,7 @@ SceneGeometry build_geometry(const Strands& strands, const std::vector<Mesh>& me
             seg.point = p;
             seg.segment = (uint32_t)base.size();  // Embree primID: strands back to back
             seg.strand = (uint32_t)s;
-            seg.flags = p == b ? HT_SEG_FIRST : 0u;
+            seg.flags = (p == b ? HT_SEG_FIRST : 0u) | (p + 2 == e ? HT_SEG_LAST : 0u);
             base.push_back(seg);
         }
     }

@@ -43,6 +43,41 @@ HT_FN real ht_safe_inv(real x) {
 
 HT_FN real ht_hit_radius(HtPoint a, HtPoint b) { return HT_R(0.5) * ((real)a.r + (real)b.r); }
 
+/* Whether the root t of segment s (points a, b) lies inside one of its direct neighbours in the
+ * strand, i.e. on an interior surface (capsule.h, ht_inside_neighbour).  The neighbours' points
+ * are read only here, for roots that would otherwise be taken. */
+HT_FN int ht_strand_interior(HT_POINTS_PARAM, HtSegment s, HtPoint a, HtPoint b, real3 o, real3 d, real t) {
+    const real3 pa = ht_point_pos(a), pb = ht_point_pos(b);
+    const real3 p = o + d * t;
+    const real pmax = ht_max(ht_max(fabs(p.x), fabs(p.y)), fabs(p.z));
+    const real tol = ht_max(HT_SURFACE_TOL_REL * ht_hit_radius(a, b), HT_SURFACE_TOL_ULPS * HT_REAL_EPS * pmax);
+    if (!(s.flags & HT_SEG_LAST)) {
+        const HtPoint c = HT_POINT(s.point + 2u);
+        if (ht_inside_neighbour((o - pb) + d * t, ht_point_pos(c) - pb, ht_hit_radius(b, c), tol, 0)) return 1;
+    }
+    if (!(s.flags & HT_SEG_FIRST)) {
+        const HtPoint z = HT_POINT(s.point - 1u);
+        if (ht_inside_neighbour((o - pa) + d * t, ht_point_pos(z) - pa, ht_hit_radius(z, a), tol, 1)) return 1;
+    }
+    return 0;
+}
+
+/* The closest root in (tmin, tmax) of hair segment s that lies on its strand's surface (returns
+ * tmax for none): a root on an interior surface is dropped for the capsule's next one (at most
+ * six roots). */
+HT_FN real ht_strand_segment_intersect(HT_POINTS_PARAM, HtSegment s, real3 o, real3 d, real tmin, real tmax) {
+    const HtPoint a = HT_POINT(s.point);
+    const HtPoint b = HT_POINT(s.point + 1u);
+    const real3 pa = ht_point_pos(a), pb = ht_point_pos(b);
+    const real r = ht_hit_radius(a, b);
+    const uint first = s.flags & HT_SEG_FIRST;
+    /* one call site: the kernels inline it, and a second copy of the capsule test cost time */
+    real t = tmin;
+    do t = ht_capsule_intersect(o, d, pa, pb, r, first, t, tmax);
+    while (t < tmax && ht_strand_interior(HT_POINTS_ARG, s, a, b, o, d, t));
+    return t;
+}
+
 /* Intersects the leaf [first, first + count) against the ray; updates *tbest / *best.
  * Returns 1 if something was hit (any-hit callers stop then). */
 HT_FN int ht_intersect_leaf(HT_SEGS_PARAM, HT_POINTS_PARAM, uint first, uint count, real3 o, real3 d, real tmin, real* tbest,
@@ -65,11 +100,7 @@ HT_FN int ht_intersect_leaf(HT_SEGS_PARAM, HT_POINTS_PARAM, uint first, uint cou
             continue;
         }
 #endif
-        const HtPoint a = HT_POINT(s.point);
-        const HtPoint b = HT_POINT(s.point + 1u);
-        const real t = ht_capsule_intersect(o, d, ht_point_pos(a), ht_point_pos(b),
-                                            ht_hit_radius(a, b), s.flags & HT_SEG_FIRST, tmin,
-                                            *tbest);
+        const real t = ht_strand_segment_intersect(HT_POINTS_ARG, s, o, d, tmin, *tbest);
         if (t < *tbest) {
             *tbest = t;
             *best = k;

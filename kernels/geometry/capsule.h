@@ -5,6 +5,10 @@
  *   - the end sphere (at point + 1) always belongs to the segment;
  *   - the begin sphere only on a strand's first segment (HT_SEG_FIRST); every other begin joint
  *     is the previous segment's end sphere, so each joint is tested exactly once;
+ *   - a strand is the union of its capsules: where a capsule overlaps its direct neighbours
+ *     (the end sphere inside the next segment, the cylinders' slivers inside each other at a
+ *     bend) its surface is interior and no hit (ht_inside_neighbour below; the traversal's leaf
+ *     test, kernels/geometry/bvh_traverse.h, drops such roots and takes the capsule's next one);
  *   - entry and exit surfaces are both reported (no back-face culling), so a ray starting inside
  *     a fibre (overlapping fibres) hits the exit side;
  *   - a ray parallel to the segment axis misses the whole segment, spheres included (Embree's
@@ -131,6 +135,25 @@ HT_FN real ht_capsule_intersect(real3 o, real3 d, real3 p0, real3 p1, real r, ui
         }
     }
     return best;
+}
+
+/* Whether the point joint + x lies strictly inside, by more than tol, the part of a neighbour
+ * capsule (from the joint to joint + e, radius rn) that the neighbour owns: its cylinder and far
+ * end, and the joint's sphere only when owns_joint (the previous segment owns the joint it ends
+ * at; the next one does not, so a thicker next segment does not swallow the joint sphere that
+ * closes the bend's outside).  A root there is on an interior surface of the strand.  Strictly,
+ * because the outer surface is where a capsule's own surface is exactly rn from the neighbour's
+ * axis (a straight strand's joint, the outside of a bend); tol (the surface band of
+ * ht_capsule_intersect's self-intersection rule) keeps rounding from removing it.  x is relative
+ * to the joint, so far rays keep the fibre-scale digits. */
+HT_FN int ht_inside_neighbour(real3 x, real3 e, real rn, real tol, int owns_joint) {
+    const real ee = dot(e, e);
+    const real xe = dot(x, e);
+    if (!owns_joint && !(xe > HT_R(0))) return 0;
+    const real tau = ee > HT_R(0) ? ht_clamp(xe / ee, HT_R(0), HT_R(1)) : HT_R(0);
+    const real3 y = x - e * tau;
+    const real rin = rn - tol;
+    return rin > HT_R(0) && dot(y, y) < rin * rin;
 }
 
 /* Hit point relative to the segment, for a t returned by ht_capsule_intersect: the offset from

@@ -101,10 +101,7 @@ Brute brute_force(const SceneGeometry& g, const HtRay& ray) {
                                       ht_point_pos(g.points[s.point + 1]),
                                       ht_point_pos(g.points[s.point + 2]), ray.tmin, b.t, &b1, &b2);
         } else {
-            const HtPoint& a = g.points[s.point];
-            const HtPoint& c = g.points[s.point + 1];
-            t = ht_capsule_intersect(o, d, ht_point_pos(a), ht_point_pos(c), ht_hit_radius(a, c),
-                                     s.flags & HT_SEG_FIRST, ray.tmin, b.t);
+            t = ht_strand_segment_intersect(g.points.data(), s, o, d, ray.tmin, b.t);
         }
         if (t < b.t) {
             b.t = t;
