@@ -110,6 +110,9 @@ void open_devices(PreparedRender& job, const RenderRequest& request, bool quiet)
         std::fprintf(stderr, "indirect light clamped at %g per sample (--clamp-indirect)\n",
                      double(renderer.stats().clamp_indirect));
     if (!request.verbose) return;
+    const BvhStats& bvh = job.prepared->geometry.stats;
+    std::fprintf(stderr, "bvh: %zu nodes (%zu oriented), %zu leaves, depth %zu, %.1f bytes/segment, built in %.0f ms\n",
+                 bvh.nodes, bvh.oriented, bvh.leaves, bvh.max_depth, bvh.bytes_per_segment, bvh.build_ms);
     // after the upload: the geometry's paging depends on the device
     for (auto& line : describe_features(renderer.features())) std::fprintf(stderr, "feature %s\n", line.c_str());
     std::fprintf(stderr, "kernel options: %s\n", renderer.stats().kernel_options.c_str());

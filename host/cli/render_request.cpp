@@ -71,6 +71,7 @@ const OptionRow kOptions[] = {
 
     {"devices", "--device", "I|I,J,..|all", "OpenCL device index from `hairtrace devices` (default: first CPU/GPU); several devices split the chunks between them (one host thread each, work stealing), with the same image", "", Kind::Value, kBoth},
     {"devices", "--max-memory", "SIZE", "upper bound for host memory while loading and for device memory while rendering, e.g. 512M or 8G; inputs that need more are refused before allocating, with the size named", "", Kind::Value, kBoth},
+    {"devices", "--bvh-oriented", "R|off", "oriented-box BVH nodes where their children's count-weighted box area is below R x the axis-aligned one (0.8 measured): each child box along its segments' dominant direction. Pays on long or diagonal strands (3.2M-segment head: 1.3-1.5x less render time; straight.hair: ~1.17x less CPU), not on short-segment locks (the anchor strand: equal at depth 5, slower at depth 1 from the ~2x longer build); +17-48 bytes/segment; docs/PERFORMANCE.md section 1", "off", Kind::Value, kBoth},
     {"devices", "--kernel-dir", "DIR", "load kernel sources from DIR instead of the embedded copies", "", Kind::InputFolder, kBoth},
 
     {"reporting", "--reference", "REF", "linear image to compare with: prints RMSE, relMSE, max error, NaN count and the share of sparkles (pixels off by more than 10x the reference's 3x3 local standard deviation, docs/PERFORMANCE.md)", "", Kind::InputFile, kRender},
@@ -163,6 +164,7 @@ ImageRequest parse_image_request(const ArgParser& p) {
     s.features = feature_mode(p.get_choice("--features", {"scene", "all", "all-lobes"}));
     s.clamp_indirect = float(p.get_double_or("--clamp-indirect", "off", 1e-30, 3.0e38).value_or(0.0));
     s.regularize_deg = float(p.get_double_or("--regularize", "off", 0.1, 90).value_or(0.0));
+    s.bvh_oriented = float(p.get_double_or("--bvh-oriented", "off", 0.01, 1).value_or(0.0));
     if (p.get_choice("--spawn-offset", {"capsule", "pbrt"}) == "pbrt") s.spawn_offset = RenderSettings::SpawnOffset::Pbrt;
     if (p.get_choice("--sampler", {"sobol", "independent"}) == "independent") s.sampler = RenderSettings::Sampler::Independent;
     s.first_hit_splits = p.get_int("--first-hit-splits", 1, kMaxFirstHitSplits);

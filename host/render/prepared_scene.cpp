@@ -28,7 +28,9 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& s, const R
                                                   s.spawn_offset == RenderSettings::SpawnOffset::Pbrt,
                                                   s.sampler == RenderSettings::Sampler::Sobol);
     if (recipe_ready) recipe_ready(p);
-    p.geometry = build_geometry(scene);
+    BvhOptions bvh;
+    bvh.obb_ratio = s.bvh_oriented;
+    p.geometry = build_geometry(scene, bvh);
     p.strand_material.assign(scene.strands.material.begin(), scene.strands.material.end());
     p.materials = make_kernel_materials(scene.materials);
     p.lights = make_kernel_lights(scene.lights);

@@ -96,6 +96,7 @@ uint64_t settings_digest(const RenderSettings& s, int chunk) {
         d.add(s.first_hit_splits).add(s.first_hit_light_samples);
     // only when adaptive: which pixels get which samples depends on both
     if (s.target_error > 0) d.add(s.target_error).add(s.adaptive_min_spp);
+    if (s.bvh_oriented > 0) d.add(s.bvh_oriented);
     return d.h;
 }
 

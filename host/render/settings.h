@@ -55,6 +55,9 @@ struct RenderSettings {
     // every sample.  The films then carry their even halves (core/film.h).
     float target_error = 0.0f;
     int adaptive_min_spp = 0;
+    // --bvh-oriented: BvhOptions::obb_ratio of the scene's BVH (0: axis-aligned nodes only).  Hits
+    // are the same but for the segment taken at exactly equal t (a joint), so it is identity.
+    float bvh_oriented = 0.0f;
 };
 
 }  // namespace ht

@@ -63,6 +63,9 @@ TEST(RenderIdentity, EachPartFollowsItsInputs) {
     RenderSettings light_samples = rs;
     light_samples.first_hit_light_samples = 2;
     only(render_identity(s, light_samples, 16), RenderIdentity::Settings);
+    RenderSettings oriented = rs;
+    oriented.bvh_oriented = 0.8f;
+    only(render_identity(s, oriented, 16), RenderIdentity::Settings);
     RenderSettings afs = rs, dual = rs;
     afs.indirect = RenderSettings::Indirect::Afs;
     dual.indirect = RenderSettings::Indirect::Dual;

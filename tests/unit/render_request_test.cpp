@@ -32,6 +32,7 @@ TEST(RenderRequest, RenderAndConvergeResolveTheSameWordsAlike) {
         {"--indirect", "afs"},
         {"--indirect", "none"},
         {"--indirect", "afs", "--max-depth", "4", "--clamp-indirect", "2.5", "--regularize", "10", "--seed", "7"},
+        {"--bvh-oriented", "0.8"},
     };
     for (const auto& args : cases) {
         const ht::RenderSettings r = settings(RenderCommand::Render, args), c = settings(RenderCommand::Converge, args);
@@ -40,6 +41,7 @@ TEST(RenderRequest, RenderAndConvergeResolveTheSameWordsAlike) {
         EXPECT_EQ(r.indirect, c.indirect) << args[1];
         EXPECT_EQ(r.clamp_indirect, c.clamp_indirect) << args[1];
         EXPECT_EQ(r.regularize_deg, c.regularize_deg) << args[1];
+        EXPECT_EQ(r.bvh_oriented, c.bvh_oriented) << args[1];
         EXPECT_EQ(r.seed, c.seed) << args[1];
     }
 }
