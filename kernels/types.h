@@ -25,8 +25,8 @@ typedef struct {
  * consecutive HtPoint vertices (r unused), `segment` its global primitive id (segment_count +
  * triangle index) and `strand` the triangle index into the HtTriangleShading array. */
 #define HT_SEG_TRIANGLE 2u
-/* A strand's last segment: no successor at `point + 2` (the joint rule of ht_strand_interior,
- * kernels/geometry/capsule.h, reads the neighbours of every other segment). */
+/* A strand's last segment: no successor at `point + 2` (the joint rule, ht_strand_interior in
+ * kernels/geometry/bvh_traverse.h, reads the neighbours of every other segment). */
 #define HT_SEG_LAST 4u
 typedef struct {
     uint point;    /* index of the first point */
