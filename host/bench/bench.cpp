@@ -443,6 +443,7 @@ void declare_bench_options(ArgParser& p) {
         .option("--leaf", "N", "segments per leaf", std::to_string(d.max_leaf))
         .option("--bins", "N", "SAH bins per axis", std::to_string(d.bins))
         .option("--cisect", "X", "SAH cost of a capsule test relative to a node visit", "1.5")
+        .option("--lanes", "N", "the SAH charges --cisect per group of N capsules of a leaf (1: per capsule)", std::to_string(d.leaf_lanes))
         .option("--split", "R", "early split clipping: split a segment's box while its halves' area is below R x its own (0: off)", "0")
         .option("--split-depth", "N", "early split clipping: levels of halving", std::to_string(d.split_depth))
         .option("--obb", "R", "oriented nodes where their children's weighted box area is below R x the axis-aligned one (0: off, the default; 0.8 measured in host/bvh/NOTES.md)", "");
@@ -470,6 +471,7 @@ BenchRequest parse_bench_request(const ArgParser& p) {
     if (p.has("--leaf")) r.bvh.max_leaf = p.get_int("--leaf", 1, 1024);
     if (p.has("--bins")) r.bvh.bins = p.get_int("--bins", 4, 64);
     if (p.has("--cisect")) r.bvh.c_isect = float(p.get_double("--cisect", 0, 1e6));
+    if (p.has("--lanes")) r.bvh.leaf_lanes = p.get_int("--lanes", 1, 64);
     if (p.has("--split")) r.bvh.split_ratio = float(p.get_double("--split", 0, 1e6));
     if (p.has("--split-depth")) r.bvh.split_depth = p.get_int("--split-depth", 0, 16);
     if (p.has("--obb")) r.bvh.obb_ratio = float(p.get_double("--obb", 0, 1e6));
@@ -534,7 +536,7 @@ int bench_main(const std::vector<std::string>& args, const SceneSource& source_i
         js["bvh"] = {{"build_ms", median(build_ms)}, {"nodes", st.nodes}, {"leaves", st.leaves},
                      {"max_depth", st.max_depth}, {"references", st.references},
                      {"sah_cost", st.sah_cost}, {"bytes_per_segment", st.bytes_per_segment},
-                     {"max_leaf", bopt.max_leaf}, {"c_isect", bopt.c_isect},
+                     {"max_leaf", bopt.max_leaf}, {"c_isect", bopt.c_isect}, {"leaf_lanes", bopt.leaf_lanes},
                      {"split_ratio", bopt.split_ratio}, {"split_depth", bopt.split_depth},
                      {"oriented", st.oriented}, {"obb_ratio", bopt.obb_ratio}};
         if (!json_out)

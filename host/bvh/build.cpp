@@ -95,7 +95,7 @@ struct Bins {
 class Builder {
 public:
     Builder(std::vector<Ref>& refs, const BvhOptions& opt)
-        : refs_(refs), opt_(opt), bins_(std::clamp(opt.bins, 4, Bins::kMax)) {
+        : refs_(refs), opt_(opt), bins_(std::clamp(opt.bins, 4, Bins::kMax)), lanes_((uint32_t)std::max(1, opt.leaf_lanes)) {
         unsigned t = opt.threads ? opt.threads : std::max(1u, std::thread::hardware_concurrency());
         tokens_ = (int)t - 1;
         // A binary tree over n references has at most n - 1 inner nodes (+1 for a leaf root).
@@ -159,9 +159,11 @@ private:
         return s;
     }
 
+    double groups(uint32_t n) const { return (double)((n + lanes_ - 1) / lanes_); }
+
     Slot build(uint32_t b, uint32_t e, const Box& bounds, const Box& cbounds, int depth) {
         const uint32_t n = e - b;
-        const double leaf_cost = opt_.c_isect * (double)n;
+        const double leaf_cost = opt_.c_isect * groups(n);
         if (n == 1 || depth >= kMaxBvhDepth) return leaf(b, e, bounds);
 
         // ---- binning (two threads for the big top-level ranges)
@@ -214,8 +216,8 @@ private:
                 ln += bins.n[a][i - 1];
                 if (ln == 0 || right_n[i] == 0) continue;
                 const double cost = opt_.c_trav + opt_.c_isect * inv_area *
-                                                      (left.half_area() * ln +
-                                                       right_box[i].half_area() * right_n[i]);
+                                                      (left.half_area() * groups(ln) +
+                                                       right_box[i].half_area() * groups(right_n[i]));
                 if (cost < best_cost) {
                     best_cost = cost;
                     best_axis = a;
@@ -291,6 +293,7 @@ private:
     std::vector<Ref>& refs_;
     BvhOptions opt_;
     int bins_;
+    uint32_t lanes_;
     std::atomic<int> tokens_{0};
     std::atomic<uint32_t> used_{0};
 };
@@ -551,7 +554,8 @@ struct Flattener {
                 child[k] = slot[k].child;
                 ++leaves;
                 max_depth = std::max(max_depth, depth + 1);
-                sah += opt.c_isect * slot[k].count * child_area[k] / root_area;
+                const uint32_t lanes = (uint32_t)std::max(1, opt.leaf_lanes);
+                sah += opt.c_isect * ((slot[k].count + lanes - 1) / lanes) * child_area[k] / root_area;
             } else if (parallel) {
                 const uint32_t base = (uint32_t)out.size();
                 if (part[k].size() + base >= HT_NODE_ORIENTED) throw std::runtime_error("BVH: too many nodes");

@@ -19,9 +19,14 @@ constexpr int kMaxBvhDepth = 60;
 
 struct BvhOptions {
     int bins = 16;          // SAH bins per axis (clamped to [4, 64])
-    int max_leaf = 4;       // segments per leaf (a leaf may exceed it only at kMaxBvhDepth)
+    int max_leaf = 8;       // segments per leaf (a leaf may exceed it only at kMaxBvhDepth)
     float c_trav = 1.0f;    // SAH cost of visiting an inner node ...
     float c_isect = 1.5f;   // ... relative to one capsule test
+    // The SAH charges c_isect per group of leaf_lanes references, not per reference: the OpenCL
+    // leaf test takes four capsules at once, one per float4 lane (kernels/geometry/bvh_traverse.h
+    // ht_intersect_leaf), so leaves fill up to max_leaf (host/bvh/NOTES.md "Leaves tested four at
+    // a time").  1 = per reference (the scalar leaves' model, the default before).
+    int leaf_lanes = 4;
     // Early split clipping of long diagonal segments: a segment's box is replaced by the boxes
     // of its halves (recursively, up to split_depth levels) while the halves' summed surface
     // area is below split_ratio x the parent box's.  Each piece is a separate BVH reference to
@@ -36,9 +41,10 @@ struct BvhOptions {
     // 0.8 is the value measured there (`bench --obb 0.8`).
     float obb_ratio = 0.0f;
 
-    // The defaults favour speed: SAH then stops at ~1.3 segments per leaf, ~81 bytes/segment
-    // (strand/ball anchors).  compact() trades ~10-20 % of traversal speed for ~44 bytes/segment
-    // (leaves up to 8, cheap intersections in the SAH so leaves fill up); measured in the bench.
+    // The defaults: ~4.7 segments per leaf and 45 bytes/segment on the strand anchor, measured
+    // faster than scalar leaves of ~1.3 (host/bvh/NOTES.md "Leaves tested four at a time").
+    // compact() makes intersections cheap in the SAH so leaves fill up further (43 bytes/segment
+    // with scalar leaves; not re-measured with the four-lane test).
     static BvhOptions compact() {
         BvhOptions o;
         o.max_leaf = 8;

@@ -78,34 +78,77 @@ HT_FN real ht_strand_segment_intersect(HT_POINTS_PARAM, HtSegment s, real3 o, re
     return t;
 }
 
+/* Leaf entry k (a capsule or, with meshes, a triangle) against the ray: updates *tbest / *best and
+ * returns 1 if it is the closest hit so far. */
+HT_FN int ht_leaf_entry(HT_SEGS_PARAM, HT_POINTS_PARAM, uint k, real3 o, real3 d, real tmin, real* tbest, uint* best) {
+    const HtSegment s = HT_SEG(k);
+    real t;
+#if HT_FEATURE_MESHES
+    if (s.flags & HT_SEG_TRIANGLE) {
+        real b1, b2;
+        t = ht_triangle_intersect(o, d, ht_point_pos(HT_POINT(s.point)), ht_point_pos(HT_POINT(s.point + 1u)),
+                                  ht_point_pos(HT_POINT(s.point + 2u)), tmin, *tbest, &b1, &b2);
+    } else
+#endif
+    t = ht_strand_segment_intersect(HT_POINTS_ARG, s, o, d, tmin, *tbest);
+    if (!(t < *tbest)) return 0;
+    *tbest = t;
+    *best = k;
+    return 1;
+}
+
 /* Intersects the leaf [first, first + count) against the ray; updates *tbest / *best.
- * Returns 1 if something was hit (any-hit callers stop then). */
+ * Returns 1 if something was hit (any-hit callers stop then).
+ *
+ * OpenCL takes the leaf four segments at a time, one capsule per float4 lane (ht_capsule_lane4,
+ * capsule.h): the group's loads are issued together and its arithmetic is shared, which is what
+ * lets the builder fill leaves (host/bvh/bvh.h BvhOptions::leaf_lanes; host/bvh/NOTES.md "Leaves
+ * tested four at a time").  A lane's answer is the scalar test's (same operations), and lanes are
+ * taken in order with a strict "<", so a group finds what the scalar loop finds: every lane's
+ * hit below the group's starting *tbest is a hit the loop would see, and the nearest wins.  A
+ * group holding a triangle, and the host build, take the scalar loop. */
 HT_FN int ht_intersect_leaf(HT_SEGS_PARAM, HT_POINTS_PARAM, uint first, uint count, real3 o, real3 d, real tmin, real* tbest,
                             uint* best) {
     int found = 0;
-    for (uint k = first; k < first + count; ++k) {
-        const HtSegment s = HT_SEG(k);
+    const uint end = first + count;
+    for (uint g = first; g < end; g += 4u) {
+        const uint n = end - g < 4u ? end - g : 4u;
+#ifdef HT_OPENCL
+        /* Lanes past the leaf repeat its first segment and are not read back. */
+        const HtSegment s0 = HT_SEG(g), s1 = HT_SEG(n > 1u ? g + 1u : g);
+        const HtSegment s2 = HT_SEG(n > 2u ? g + 2u : g), s3 = HT_SEG(n > 3u ? g + 3u : g);
 #if HT_FEATURE_MESHES
-        if (s.flags & HT_SEG_TRIANGLE) {
-            real b1, b2;
-            const real t = ht_triangle_intersect(o, d, ht_point_pos(HT_POINT(s.point)),
-                                                 ht_point_pos(HT_POINT(s.point + 1u)),
-                                                 ht_point_pos(HT_POINT(s.point + 2u)), tmin, *tbest,
-                                                 &b1, &b2);
-            if (t < *tbest) {
-                *tbest = t;
-                *best = k;
+        if (!((s0.flags | s1.flags | s2.flags | s3.flags) & HT_SEG_TRIANGLE))
+#endif
+        {
+            const HtPoint a0 = HT_POINT(s0.point), b0 = HT_POINT(s0.point + 1u);
+            const HtPoint a1 = HT_POINT(s1.point), b1 = HT_POINT(s1.point + 1u);
+            const HtPoint a2 = HT_POINT(s2.point), b2 = HT_POINT(s2.point + 1u);
+            const HtPoint a3 = HT_POINT(s3.point), b3 = HT_POINT(s3.point + 1u);
+            const uint4 flags = (uint4)(s0.flags, s1.flags, s2.flags, s3.flags);
+            const float4 t = ht_capsule_lane4(
+                o, d, (float4)(a0.x, a1.x, a2.x, a3.x), (float4)(a0.y, a1.y, a2.y, a3.y),
+                (float4)(a0.z, a1.z, a2.z, a3.z), (float4)(b0.x, b1.x, b2.x, b3.x), (float4)(b0.y, b1.y, b2.y, b3.y),
+                (float4)(b0.z, b1.z, b2.z, b3.z), 0.5f * ((float4)(a0.r, a1.r, a2.r, a3.r) + (float4)(b0.r, b1.r, b2.r, b3.r)),
+                (flags & (uint4)(HT_SEG_FIRST)) != (uint4)(0u), tmin, *tbest);
+            const float tl[4] = {t.s0, t.s1, t.s2, t.s3};
+            for (uint j = 0; j < n; ++j) {
+                if (!(tl[j] < *tbest)) continue;
+                const HtSegment sj = HT_SEG(g + j);
+                /* A root on an interior surface of its strand: that capsule's later roots, one at a
+                 * time, as the scalar loop takes them. */
+                if (ht_strand_interior(HT_POINTS_ARG, sj, HT_POINT(sj.point), HT_POINT(sj.point + 1u), o, d, tl[j])) {
+                    found |= ht_leaf_entry(HT_SEGS_ARG, HT_POINTS_ARG, g + j, o, d, tl[j], tbest, best);
+                    continue;
+                }
+                *tbest = tl[j];
+                *best = g + j;
                 found = 1;
             }
             continue;
         }
 #endif
-        const real t = ht_strand_segment_intersect(HT_POINTS_ARG, s, o, d, tmin, *tbest);
-        if (t < *tbest) {
-            *tbest = t;
-            *best = k;
-            found = 1;
-        }
+        for (uint k = g; k < g + n; ++k) found |= ht_leaf_entry(HT_SEGS_ARG, HT_POINTS_ARG, k, o, d, tmin, tbest, best);
     }
     return found;
 }

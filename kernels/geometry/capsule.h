@@ -49,92 +49,138 @@
 
 HT_FN real3 ht_point_pos(HtPoint p) { return make_real3(p.x, p.y, p.z); }
 
+/* The capsule test, written once for a lane type V: real (one capsule) and, in OpenCL, float4 (four
+ * capsules, one per lane: the leaf test of kernels/geometry/bvh_traverse.h).  Each lane runs the
+ * same operations in the same order, so a capsule's answer does not depend on the lane it is in.
+ * M is the comparison result type (int for real, int4 for float4: lanes true = nonzero / -1),
+ * SPLAT(x) widens a real to V, ANY(m) / ALL(m) reduce a mask to a branch condition.  Branches skip
+ * work only when no lane needs it; every lane's result is selected by its own mask, so early
+ * outs (the scalar instance returns at the first of them) cannot change an answer.
+ * Arguments: p0 = (ax, ay, az), p1 = (bx, by, bz), radius r, first = the lane owns its begin
+ * sphere (HT_SEG_FIRST), all per lane; returns the hit distance per lane, tmax for none. */
+#define HT_CAPSULE_LANES(NAME, V, M, SPLAT, ANY, ALL, DOT, DIF)                                         \
+    HT_FN V NAME(real3 o, real3 d, V ax, V ay, V az, V bx, V by, V bz, V r, M first, real tmin,         \
+                 real tmax) {                                                                           \
+        const V ex = bx - ax, ey = by - ay, ez = bz - az;                                               \
+        const V L2 = DOT(ex, ey, ez, ex, ey, ez);                                                       \
+        const V mx = (ax + bx) * HT_R(0.5), my = (ay + by) * HT_R(0.5), mz = (az + bz) * HT_R(0.5);     \
+        const V ox = o.x - mx, oy = o.y - my, oz = o.z - mz;                                            \
+        const real dd = dot(d, d);                                                                      \
+        const V t0 = -DOT(ox, oy, oz, d.x, d.y, d.z) / dd;                                              \
+        /* q: the ray point closest to the midpoint */                                                  \
+        const V qx = ox + d.x * t0, qy = oy + d.y * t0, qz = oz + d.z * t0;                             \
+        const V r2 = r * r;                                                                             \
+        /* Bounding sphere of the capsule around m, radius L/2 + r, tested without the square root:     \
+         * |q|^2 > L^2/4 + r^2 + L r  <=>  e > 0 and e^2 > L^2 r^2.  Most leaf candidates end here. */  \
+        const V e = DOT(qx, qy, qz, qx, qy, qz) - HT_R(0.25) * L2 - r2;                                 \
+        M miss = (e > HT_R(0)) & (e * e > L2 * r2);                                                     \
+        if (ALL(miss)) return SPLAT(tmax);                                                              \
+        const V L = sqrt(L2);                                                                           \
+        const M pos = L > HT_R(0);                                                                      \
+        const V invL = pos ? HT_R(1) / L : SPLAT(HT_R(0));                                              \
+        /* Degenerate segment (repeated point): any axis works, the cylinder has zero length. */        \
+        const V wx = pos ? ex * invL : SPLAT(HT_R(1)), wy = pos ? ey * invL : SPLAT(HT_R(0));           \
+        const V wz = pos ? ez * invL : SPLAT(HT_R(0));                                                  \
+        const V hl = HT_R(0.5) * L;                                                                     \
+        const V dw = DOT(d.x, d.y, d.z, wx, wy, wz);                                                    \
+        const V px = d.x - wx * dw, py = d.y - wy * dw, pz = d.z - wz * dw;                             \
+        const V A = DOT(px, py, pz, px, py, pz);                                                        \
+        miss |= A <= HT_PARALLEL_EPS * dd;                                                              \
+        if (ALL(miss)) return SPLAT(tmax);                                                              \
+        /* Origin on this segment's surface: see the header comment. */                                 \
+        const V so0 = DOT(ox, oy, oz, wx, wy, wz);                                                      \
+        const V so = so0 < -hl ? -hl : (so0 > hl ? hl : so0);                                           \
+        const V rox = ox - wx * so, roy = oy - wy * so, roz = oz - wz * so;                             \
+        const V ro2 = DOT(rox, roy, roz, rox, roy, roz);                                                \
+        const real omax = ht_max(ht_max(fabs(o.x), fabs(o.y)), fabs(o.z));                              \
+        const V band_r = HT_SURFACE_TOL_REL * r, band_o = SPLAT(HT_SURFACE_TOL_ULPS * HT_REAL_EPS * omax); \
+        const V band = band_r > band_o ? band_r : band_o;                                               \
+        const V rin = r - band > HT_R(0) ? r - band : SPLAT(HT_R(0)), rout = r + band;                  \
+        miss |= (ro2 > rin * rin) & (ro2 < rout * rout);                                                \
+        if (ALL(miss)) return SPLAT(tmax);                                                              \
+                                                                                                        \
+        V best = SPLAT(tmax);                                                                           \
+        const V qw = DOT(qx, qy, qz, wx, wy, wz);                                                       \
+        /* Cylinder: |q_perp + dt d_perp|^2 = r^2; accept roots whose axial coordinate is inside.       \
+         * The discriminant in the Lagrange form r^2 A - ((q x d) . w)^2. */                            \
+        const V cw = DOT(DIF(qy, d.z, qz, d.y), DIF(qz, d.x, qx, d.z), DIF(qx, d.y, qy, d.x), wx, wy, wz); \
+        const V disc = A * r2 - cw * cw;                                                                \
+        const M cyl = disc >= HT_R(0);                                                                  \
+        if (ANY(cyl)) {                                                                                 \
+            const V sq = sqrt(cyl ? disc : SPLAT(HT_R(0)));                                             \
+            const V B = DOT(qx, qy, qz, px, py, pz);                                                    \
+            const V invA = HT_R(1) / A;                                                                 \
+            const V dt1 = (-B - sq) * invA, dt2 = (-B + sq) * invA;                                     \
+            const V t1 = t0 + dt1, t2 = t0 + dt2;                                                       \
+            const V s1 = qw + dt1 * dw, s2 = qw + dt2 * dw;                                             \
+            best = (cyl & (t1 > tmin) & (t1 < best) & (fabs(s1) <= hl)) ? t1 : best;                    \
+            best = (cyl & (t2 > tmin) & (t2 < best) & (fabs(s2) <= hl)) ? t2 : best;                    \
+        }                                                                                               \
+        /* End sphere (always owned): only its part beyond the end cap (s >= hl) is outer surface. */   \
+        {                                                                                               \
+            const V rx = qx - wx * hl, ry = qy - wy * hl, rz = qz - wz * hl;                            \
+            const V b = DOT(rx, ry, rz, d.x, d.y, d.z);                                                 \
+            const V cx = DIF(ry, d.z, rz, d.y), cy = DIF(rz, d.x, rx, d.z), cz = DIF(rx, d.y, ry, d.x); \
+            const V sd = dd * r2 - DOT(cx, cy, cz, cx, cy, cz);                                         \
+            const M in = sd >= HT_R(0);                                                                 \
+            if (ANY(in)) {                                                                              \
+                const V sq = sqrt(in ? sd : SPLAT(HT_R(0)));                                            \
+                const V dt1 = (-b - sq) / dd, dt2 = (-b + sq) / dd;                                     \
+                const V t1 = t0 + dt1, t2 = t0 + dt2;                                                   \
+                best = (in & (t1 > tmin) & (t1 < best) & (qw + dt1 * dw >= hl)) ? t1 : best;            \
+                best = (in & (t2 > tmin) & (t2 < best) & (qw + dt2 * dw >= hl)) ? t2 : best;            \
+            }                                                                                           \
+        }                                                                                               \
+        /* Begin sphere: only on a strand's first segment. */                                           \
+        if (ANY(first)) {                                                                               \
+            const V rx = qx + wx * hl, ry = qy + wy * hl, rz = qz + wz * hl;                            \
+            const V b = DOT(rx, ry, rz, d.x, d.y, d.z);                                                 \
+            const V cx = DIF(ry, d.z, rz, d.y), cy = DIF(rz, d.x, rx, d.z), cz = DIF(rx, d.y, ry, d.x); \
+            const V sd = dd * r2 - DOT(cx, cy, cz, cx, cy, cz);                                         \
+            const M in = first & (sd >= HT_R(0));                                                       \
+            if (ANY(in)) {                                                                              \
+                const V sq = sqrt(in ? sd : SPLAT(HT_R(0)));                                            \
+                const V dt1 = (-b - sq) / dd, dt2 = (-b + sq) / dd;                                     \
+                const V t1 = t0 + dt1, t2 = t0 + dt2;                                                   \
+                best = (in & (t1 > tmin) & (t1 < best) & (qw + dt1 * dw <= -hl)) ? t1 : best;           \
+                best = (in & (t2 > tmin) & (t2 < best) & (qw + dt2 * dw <= -hl)) ? t2 : best;           \
+            }                                                                                           \
+        }                                                                                               \
+        return miss ? SPLAT(tmax) : best;                                                               \
+    }
+
+/* DOT(a, b) = a.x b.x + a.y b.y + a.z b.z and DIF(a, b, c, d) = a b - c d, computed as the dot()
+ * and cross() builtins of the real3 test they replaced: each product rounded before the sum (no
+ * fused multiply-add under -cl-mad-enable), so the float kernel's t is the real3 code's bit for
+ * bit (measured on the depth-5 strand render's rays, host/bvh/NOTES.md); plain C++ on the host. */
+#ifdef HT_OPENCL
+#define HT_LANE_ARITH(SUF, V)                                                                          \
+    HT_FN V ht_dot3##SUF(V ax, V ay, V az, V bx, V by, V bz) {                                          \
+        _Pragma("OPENCL FP_CONTRACT OFF") return ax * bx + ay * by + az * bz;                           \
+    }                                                                                                   \
+    HT_FN V ht_dif##SUF(V a, V b, V c, V d) {                                                           \
+        _Pragma("OPENCL FP_CONTRACT OFF") return a * b - c * d;                                         \
+    }
+HT_LANE_ARITH(1, float)
+HT_LANE_ARITH(4, float4)
+#else
+HT_FN real ht_dot31(real ax, real ay, real az, real bx, real by, real bz) { return ax * bx + ay * by + az * bz; }
+HT_FN real ht_dif1(real a, real b, real c, real d) { return a * b - c * d; }
+#endif
+#define HT_LANE1_SPLAT(x) (x)
+#define HT_LANE1_TEST(m) (m)
+HT_CAPSULE_LANES(ht_capsule_lane1, real, int, HT_LANE1_SPLAT, HT_LANE1_TEST, HT_LANE1_TEST, ht_dot31, ht_dif1)
+#ifdef HT_OPENCL
+#define HT_LANE4_SPLAT(x) ((float4)(x))
+HT_CAPSULE_LANES(ht_capsule_lane4, float4, int4, HT_LANE4_SPLAT, any, all, ht_dot34, ht_dif4)
+#endif
+
 /* Closest intersection of the ray o + t d, t in (tmin, tmax), with the segment p0-p1 of radius
  * r.  Returns the hit distance, or tmax when there is none (so the caller's "t < best" test is
  * the only branch it needs).  d need not be unit length; t is in units of |d|. */
 HT_FN real ht_capsule_intersect(real3 o, real3 d, real3 p0, real3 p1, real r, uint first,
                                 real tmin, real tmax) {
-    const real3 a = p1 - p0;
-    const real L2 = dot(a, a);
-    const real3 m = (p0 + p1) * HT_R(0.5);
-    const real3 oc = o - m;
-    const real dd = dot(d, d);
-    const real t0 = -dot(oc, d) / dd;
-    const real3 q = oc + d * t0; /* ray point closest to the midpoint */
-    const real r2 = r * r;
-
-    /* Bounding sphere of the capsule around m, radius L/2 + r, tested without the square root:
-     * |q|^2 > L^2/4 + r^2 + L r  <=>  e > 0 and e^2 > L^2 r^2.  Most leaf candidates end here. */
-    const real e = dot(q, q) - HT_R(0.25) * L2 - r2;
-    if (e > HT_R(0) && e * e > L2 * r2) return tmax;
-
-    const real L = sqrt(L2);
-    const real invL = ht_select(L > HT_R(0), HT_R(1) / L, HT_R(0));
-    /* Degenerate segment (repeated point): any axis works, the cylinder has zero length. */
-    const real3 w = ht_select(L > HT_R(0), a * invL, make_real3(HT_R(1), HT_R(0), HT_R(0)));
-    const real hl = HT_R(0.5) * L;
-
-    const real dw = dot(d, w);
-    const real3 dp = d - w * dw;
-    const real A = dot(dp, dp);
-    if (A <= HT_PARALLEL_EPS * dd) return tmax;
-
-    /* Origin on this segment's surface: see the header comment. */
-    const real so = ht_clamp(dot(oc, w), -hl, hl);
-    const real3 ro = oc - w * so;
-    const real ro2 = dot(ro, ro);
-    const real omax = ht_max(ht_max(fabs(o.x), fabs(o.y)), fabs(o.z));
-    const real band = ht_max(HT_SURFACE_TOL_REL * r, HT_SURFACE_TOL_ULPS * HT_REAL_EPS * omax);
-    const real rin = ht_max(r - band, HT_R(0)), rout = r + band;
-    if (ro2 > rin * rin && ro2 < rout * rout) return tmax;
-
-    real best = tmax;
-    const real qw = dot(q, w);
-
-    /* Cylinder: |q_perp + dt d_perp|^2 = r^2; accept roots whose axial coordinate is inside. */
-    const real cw = dot(cross(q, d), w);
-    const real disc = A * r2 - cw * cw;
-    if (disc >= HT_R(0)) {
-        const real sq = sqrt(disc);
-        const real B = dot(q, dp);
-        const real invA = HT_R(1) / A;
-        const real dt1 = (-B - sq) * invA;
-        const real dt2 = (-B + sq) * invA;
-        const real t1 = t0 + dt1, t2 = t0 + dt2;
-        const real s1 = qw + dt1 * dw, s2 = qw + dt2 * dw;
-        if (t1 > tmin && t1 < best && fabs(s1) <= hl) best = t1;
-        if (t2 > tmin && t2 < best && fabs(s2) <= hl) best = t2;
-    }
-
-    /* End sphere (always owned): only its part beyond the end cap (s >= hl) is outer surface. */
-    {
-        const real3 rel = q - w * hl;
-        const real b = dot(rel, d);
-        const real3 c = cross(rel, d);
-        const real sd = dd * r2 - dot(c, c);
-        if (sd >= HT_R(0)) {
-            const real sq = sqrt(sd);
-            const real dt1 = (-b - sq) / dd, dt2 = (-b + sq) / dd;
-            const real t1 = t0 + dt1, t2 = t0 + dt2;
-            if (t1 > tmin && t1 < best && qw + dt1 * dw >= hl) best = t1;
-            if (t2 > tmin && t2 < best && qw + dt2 * dw >= hl) best = t2;
-        }
-    }
-    /* Begin sphere: only on a strand's first segment. */
-    if (first) {
-        const real3 rel = q + w * hl;
-        const real b = dot(rel, d);
-        const real3 c = cross(rel, d);
-        const real sd = dd * r2 - dot(c, c);
-        if (sd >= HT_R(0)) {
-            const real sq = sqrt(sd);
-            const real dt1 = (-b - sq) / dd, dt2 = (-b + sq) / dd;
-            const real t1 = t0 + dt1, t2 = t0 + dt2;
-            if (t1 > tmin && t1 < best && qw + dt1 * dw <= -hl) best = t1;
-            if (t2 > tmin && t2 < best && qw + dt2 * dw <= -hl) best = t2;
-        }
-    }
-    return best;
+    return ht_capsule_lane1(o, d, p0.x, p0.y, p0.z, p1.x, p1.y, p1.z, r, first != 0u, tmin, tmax);
 }
 
 /* Whether the point joint + x lies strictly inside, by more than tol, the part of a neighbour

@@ -363,10 +363,13 @@ TEST(BvhOriented, EveryCapsuleIsInsideItsBox) {
 // none (its oriented boxes are the axis-aligned ones), and neither do scenes without a direction.
 TEST(BvhOriented, ChosenBySahWhereTheyPay) {
     const double diag[3] = {1, 1, 1}, along_y[3] = {0, 1, 0}, none[3] = {0, 0, 0};
-    ht::BvhOptions off;
+    // leaves costed per capsule: with leaves of 4-lane groups the SAH's leaf term, which the
+    // oriented boxes shrink most, weighs less (ratio 0.88 here)
+    ht::BvhOptions off, on = oriented_on();
     off.obb_ratio = 0;
+    off.leaf_lanes = on.leaf_lanes = 1;
     const Strands d = parallel_strands(9, 200, 10, diag, 0.1, 0.005);
-    const SceneGeometry gd = ht::build_geometry(d, oriented_on()), gd0 = ht::build_geometry(d, off);
+    const SceneGeometry gd = ht::build_geometry(d, on), gd0 = ht::build_geometry(d, off);
     EXPECT_GT(gd.stats.oriented, gd0.stats.nodes / 2);
     EXPECT_EQ(gd0.stats.oriented, 0u);
     EXPECT_LT(gd.stats.sah_cost, 0.8 * gd0.stats.sah_cost);
@@ -504,9 +507,10 @@ TEST(BvhKernel, OrientedNodesMatchHost) {
 // Geometry paged over several buffers (kernels/geometry/pages.h, forced by a small allocation
 // limit) traces bit for bit like one buffer per array.
 TEST(BvhKernel, PagedGeometryGivesIdenticalHits) {
-    // oriented nodes on (their second records are paged like the nodes); compact leaves keep the
-    // node array within 8 pages smaller than the segment array
+    // oriented nodes on (their second records are paged like the nodes); compact leaves costed per
+    // capsule keep the node array within 8 pages smaller than the segment array
     ht::BvhOptions opt = ht::BvhOptions::compact();
+    opt.leaf_lanes = 1;
     opt.obb_ratio = 0.9f;
     const SceneGeometry g = ht::build_geometry(random_strands(4, 600, 16, 0.08, 0.006), opt);
     ASSERT_GT(g.stats.oriented, 0u);
@@ -726,7 +730,10 @@ namespace {
 
 TEST(Bvh, RebuildWithOtherOptionsKeepsAnswers) {
     const Strands s = random_strands(21, 100, 10, 0.1, 0.01);
-    const SceneGeometry g = ht::build_geometry(s);
+    ht::BvhOptions per_capsule;  // the SAH of scalar leaves: small leaves, so compact() has fewer nodes
+    per_capsule.leaf_lanes = 1;
+    per_capsule.max_leaf = 4;
+    const SceneGeometry g = ht::build_geometry(s, per_capsule);
     SceneGeometry g2 = g;
     ht::BvhOptions opt = ht::BvhOptions::compact();
     opt.split_ratio = 0.9f;

@@ -228,9 +228,10 @@ TEST(MeshBvh, RebuildKeepsTriangles) {
 // Paged geometry with triangles: a triangle's three points and its shading record may sit in
 // different pages; the hits must be the unpaged ones bit for bit.
 TEST(MeshBvhKernel, PagedGeometryGivesIdenticalHits) {
-    // compact leaves: the node array (with oriented hair nodes, two records each) within 8 pages
+    // compact leaves costed per capsule: the node array (with oriented hair nodes, two records each) within 8 pages
     // smaller than the point and segment arrays
     ht::BvhOptions opt = ht::BvhOptions::compact();
+    opt.leaf_lanes = 1;
     opt.obb_ratio = 0.9f;
     const SceneGeometry g = mixed_scene(opt);
     const uint64_t nb = g.nodes.size() * sizeof(HtBvhNode);

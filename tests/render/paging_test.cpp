@@ -73,9 +73,9 @@ TEST(GeometryPaging, MemoryPlanCountsTheScenePagesNotOneAllocation) {
 
 #ifdef HT_BINARY
 namespace {
-// 10,000 segments: 160 KB of segments, 168 KB of points, 450 KB of BVH nodes.  With 64 KiB
-// allocations that is 3, 3 and 7 pages (each array split at least twice, none past the limit of
-// 8), and the 48x48 film (36 KB) still fits one allocation.
+// 10,000 segments: 160 KB of segments, 168 KB of points, 125 KB of BVH nodes (977).  With 64 KiB
+// allocations that is 3, 3 and 2 pages (each array split, none past the limit of 8), and the 48x48
+// film (36 KB) still fits one allocation.
 const std::string kScene = "'builtin:strand?hairs=500&segments=20'";
 const std::string kRender = std::string(HT_BINARY) + " render " + kScene + " --width 48 --height 48 --max-depth 4 --seed 3";
 
@@ -89,8 +89,8 @@ TEST(GeometryPaging, PagedRenderEqualsTheUnpagedRender) {
         << slurp(d / "log.txt");
     const std::string log = slurp(d / "log.txt");
     // the render really was paged (the options the program was built with say so)
-    EXPECT_NE(log.find("-DHT_GEOMETRY_PAGES=7 -DHT_GEOMETRY_PAGE_LOG2=16"), std::string::npos) << log;
-    EXPECT_NE(log.find("geometry: 7 buffers per array"), std::string::npos) << log;
+    EXPECT_NE(log.find("-DHT_GEOMETRY_PAGES=3 -DHT_GEOMETRY_PAGE_LOG2=16"), std::string::npos) << log;
+    EXPECT_NE(log.find("geometry: 3 buffers per array"), std::string::npos) << log;
     const auto flat = image(d / "flat.exr");
     EXPECT_EQ(flat, image(d / "paged.exr"));
     // and the picture is not empty: hair was hit
@@ -124,12 +124,12 @@ TEST(GeometryPaging, BenchHitsAreTheSameWhenPaged) {
 
 TEST(GeometryPaging, MorePagesThanSupportedExits3WithTheSizes) {
     TempDir d("ht_page_");
-    // 32 KiB allocations: the node array would need 14 pages
-    EXPECT_EQ(run("HAIRTRACE_MAX_ALLOC=32K " + kRender + " --spp 1 --quiet -o " + (d / "x.exr") +
+    // 16 KiB allocations: the point array (the largest) would need 11 pages
+    EXPECT_EQ(run("HAIRTRACE_MAX_ALLOC=16K " + kRender + " --spp 1 --quiet -o " + (d / "x.exr") +
                   " 2>" + (d / "err.txt")), 3);
     const std::string err = slurp(d / "err.txt");
-    EXPECT_NE(err.find("BVH node array needs"), std::string::npos) << err;
-    EXPECT_NE(err.find("14 buffers of 32768 bytes"), std::string::npos) << err;
+    EXPECT_NE(err.find("point array needs"), std::string::npos) << err;
+    EXPECT_NE(err.find("11 buffers of 16384 bytes"), std::string::npos) << err;
     EXPECT_NE(err.find("at most 8"), std::string::npos) << err;
     EXPECT_FALSE(fs::exists(d / "x.exr"));
 }
