@@ -92,10 +92,16 @@ struct Bins {
     }
 };
 
+// What the SAH charges c_isect for: the groups of leaf_lanes references a leaf of n is tested in.
+double leaf_groups(uint32_t n, const BvhOptions& opt) {
+    const uint32_t lanes = (uint32_t)std::max(1, opt.leaf_lanes);
+    return (double)((n + lanes - 1) / lanes);
+}
+
 class Builder {
 public:
     Builder(std::vector<Ref>& refs, const BvhOptions& opt)
-        : refs_(refs), opt_(opt), bins_(std::clamp(opt.bins, 4, Bins::kMax)), lanes_((uint32_t)std::max(1, opt.leaf_lanes)) {
+        : refs_(refs), opt_(opt), bins_(std::clamp(opt.bins, 4, Bins::kMax)) {
         unsigned t = opt.threads ? opt.threads : std::max(1u, std::thread::hardware_concurrency());
         tokens_ = (int)t - 1;
         // A binary tree over n references has at most n - 1 inner nodes (+1 for a leaf root).
@@ -159,7 +165,7 @@ private:
         return s;
     }
 
-    double groups(uint32_t n) const { return (double)((n + lanes_ - 1) / lanes_); }
+    double groups(uint32_t n) const { return leaf_groups(n, opt_); }
 
     Slot build(uint32_t b, uint32_t e, const Box& bounds, const Box& cbounds, int depth) {
         const uint32_t n = e - b;
@@ -293,7 +299,6 @@ private:
     std::vector<Ref>& refs_;
     BvhOptions opt_;
     int bins_;
-    uint32_t lanes_;
     std::atomic<int> tokens_{0};
     std::atomic<uint32_t> used_{0};
 };
@@ -554,8 +559,7 @@ struct Flattener {
                 child[k] = slot[k].child;
                 ++leaves;
                 max_depth = std::max(max_depth, depth + 1);
-                const uint32_t lanes = (uint32_t)std::max(1, opt.leaf_lanes);
-                sah += opt.c_isect * ((slot[k].count + lanes - 1) / lanes) * child_area[k] / root_area;
+                sah += opt.c_isect * leaf_groups(slot[k].count, opt) * child_area[k] / root_area;
             } else if (parallel) {
                 const uint32_t base = (uint32_t)out.size();
                 if (part[k].size() + base >= HT_NODE_ORIENTED) throw std::runtime_error("BVH: too many nodes");
