@@ -79,6 +79,8 @@
  *   HT_GEOMETRY_PAGES K, HT_GEOMETRY_PAGE_LOG2 S   geometry split over K buffers of 2^S records
  *                                                  (kernels/geometry/pages.h; default 1: one)
  *   HT_CLAMP_INDIRECT C          --clamp-indirect cap (undefined: off; kernels/stages/shade.cl)
+ *   HT_LIGHT_THRESHOLD T         --light-threshold (undefined: off; kernels/integrator/roulette.h,
+ *                                read in kernels/stages/shade.cl)
  *   HT_REGULARIZE_WIDTH W        --regularize width in radians (undefined: off;
  *                                kernels/integrator/shading_point.h)
  *   HT_SPAWN_PBRT                --spawn-offset pbrt (undefined: capsule offsets; same file)

@@ -19,7 +19,8 @@
  *                                                     surfaces: the cosine-weighted direction
  *   BSDF_PHI    BSDF_0 (0), BSDF_3 (1)                fibre: lobe pick u0 (its remainder is reused
  *                                                     with u3 for the azimuth, kernels/fiber/zinke.h)
- *   ROULETTE    RR (0)                                Russian roulette
+ *   ROULETTE    RR (0), LIGHT_RR (1)                  Russian roulette of the path; of its
+ *                                                     next-event estimate (--light-threshold)
  *
  * Every pair above is components 0/1 of its group: the first two Sobol' dimensions, a (0,2)-sequence
  * (tests/unit/sobol_test.cpp checks the nets).
@@ -51,6 +52,7 @@
 #define HT_DIM_LIGHT_V 4u
 #define HT_DIM_BSDF_0 5u /* 5..8: the four uniforms of the fibre sampler */
 #define HT_DIM_RR 9u
+#define HT_DIM_LIGHT_RR 10u
 
 /* Sobol' groups inside one bounce */
 #define HT_GROUPS_PER_BOUNCE 5u
@@ -82,6 +84,7 @@ HT_FN uint ht_slot_group(uint slot, uint* comp) {
     case HT_DIM_BSDF_0 + 2u: *comp = 1u; return HT_GROUP_BSDF_THETA;
     case HT_DIM_BSDF_0: *comp = 0u; return HT_GROUP_BSDF_PHI;
     case HT_DIM_BSDF_0 + 3u: *comp = 1u; return HT_GROUP_BSDF_PHI;
+    case HT_DIM_LIGHT_RR: *comp = 1u; return HT_GROUP_ROULETTE;
     default: *comp = 0u; return HT_GROUP_ROULETTE;
     }
 }

@@ -199,8 +199,8 @@ std::string kernel_build_options(const KernelFeatures& f) {
     return o;
 }
 
-std::string estimator_build_options(float clamp_indirect, float regularize_deg, bool spawn_offset_pbrt,
-                                    bool sampler_sobol) {
+std::string estimator_build_options(float clamp_indirect, float regularize_deg, float light_threshold,
+                                    bool spawn_offset_pbrt, bool sampler_sobol) {
     auto float_define = [](const char* name, double v) {
         char def[80];
         std::snprintf(def, sizeof def, " -D%s=%.9ef", name, v);
@@ -209,6 +209,7 @@ std::string estimator_build_options(float clamp_indirect, float regularize_deg, 
     std::string o;
     if (clamp_indirect > 0) o += float_define("HT_CLAMP_INDIRECT", clamp_indirect);
     if (regularize_deg > 0) o += float_define("HT_REGULARIZE_WIDTH", regularize_deg * HT_PI / 180.0);
+    if (light_threshold > 0) o += float_define("HT_LIGHT_THRESHOLD", light_threshold);
     if (spawn_offset_pbrt) o += " -DHT_SPAWN_PBRT=1";
     if (sampler_sobol) o += " -DHT_SAMPLER_SOBOL=1";
     return o;

@@ -68,9 +68,10 @@ std::string kernel_build_options(const Scene& scene, uint32_t fiber_field = 0, b
                                  FeatureMode mode = FeatureMode::Scene);
 
 // The estimator's value defines (kernels/features.h): --clamp-indirect C (0: off), --regularize
-// DEG (0: off), --spawn-offset pbrt, --sampler sobol; "" when everything is off.
-std::string estimator_build_options(float clamp_indirect, float regularize_deg, bool spawn_offset_pbrt,
-                                    bool sampler_sobol);
+// DEG (0: off), --light-threshold T (0: off), --spawn-offset pbrt, --sampler sobol; "" when
+// everything is off.
+std::string estimator_build_options(float clamp_indirect, float regularize_deg, float light_threshold,
+                                    bool spawn_offset_pbrt, bool sampler_sobol);
 
 // One line per chosen feature, for --verbose.
 std::vector<std::string> describe_features(const KernelFeatures& f);

@@ -24,7 +24,7 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& s, const R
     p.features = scene_features(scene, s.fiber_field, afs, s.features);
     p.features[Feature::AOVS] = s.aovs;
     p.features[Feature::INDIRECT_DUAL] = s.indirect == RenderSettings::Indirect::Dual;
-    p.estimator_options = estimator_build_options(s.clamp_indirect, s.regularize_deg,
+    p.estimator_options = estimator_build_options(s.clamp_indirect, s.regularize_deg, s.light_threshold,
                                                   s.spawn_offset == RenderSettings::SpawnOffset::Pbrt,
                                                   s.sampler == RenderSettings::Sampler::Sobol);
     if (recipe_ready) recipe_ready(p);

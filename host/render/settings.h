@@ -34,6 +34,10 @@ struct RenderSettings {
     float clamp_indirect = 0.0f;
     // Path regularisation: minimum lobe width (degrees) at hair reached after a scattering (0: off).
     float regularize_deg = 0.0f;
+    // --light-threshold: next-event estimates whose weight without the light is below it trace
+    // their shadow ray by Russian roulette (kernels/integrator/roulette.h); 0 here (off), the
+    // command line's default is chosen by measurement (docs/PERFORMANCE.md §8).
+    float light_threshold = 0.0f;
     // Random numbers: Owen-scrambled Sobol' or independent hashing (kernels/rng.h).
     enum class Sampler { Sobol, Independent } sampler = Sampler::Sobol;
     // Continuations per camera path from its first vertex, each with 1/N of the weight, while the

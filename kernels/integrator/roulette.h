@@ -22,4 +22,20 @@ HT_FN real3 ht_roulette(real3 throughput, real share, real u) {
     return u < m ? throughput / m : make_real3(0, 0, 0);
 }
 
+/* Light threshold (--light-threshold T; Cycles' "light threshold", appleseed's "low light
+ * threshold"): a next-event estimate c whose weight q is below T traces its shadow ray only with
+ * probability q / T and then carries c T / q.  q is the estimate without the light's radiance --
+ * the largest channel of throughput x scattering value (cosine and MIS weight in), for the whole
+ * camera sample it stands for -- so T is relative to the light and does not change with its
+ * intensity.  In a lit lock most deep estimates are faint (a fibre's lobe seen off its peak, a
+ * path that lost most of its energy) and most of their shadow rays meet hair anyway: they cost a
+ * traversal each and add almost nothing.  Unbiased: E[result] = c for u uniform in [0, 1); the
+ * variance it adds is at most c T per estimate in light units, a small share of a pixel's when T
+ * is small (docs/ESTIMATOR.md).  Returns the estimate to queue (zero: no shadow ray). */
+HT_FN real3 ht_light_roulette(real3 c, real q, real threshold, real u) {
+    if (!(q < threshold)) return c;
+    if (!(q > HT_R(0))) return make_real3(0, 0, 0);
+    return u * threshold < q ? c * (threshold / q) : make_real3(0, 0, 0);
+}
+
 #endif

@@ -157,6 +157,17 @@ HT_FN int ht_next_event(__global const HtLight* lights, uint light_count, const 
         atomic_inc(&counters[HT_COUNTER_NAN]);
         return 0;
     }
+#ifdef HT_LIGHT_THRESHOLD
+    /* from the second vertex on: the first vertex's direct light is what stratified numbers make
+     * converge fastest, and there the roulette's noise cost more than its rays saved (docs/
+     * PERFORMANCE.md §8); the weight is for the whole camera sample, as roulette judges a
+     * continuation (roulette.h) */
+    if (bounce > 0u) {
+        const float3 tv = thr * value;
+        const float q = max(tv.x, max(tv.y, tv.z)) * ((float)nee_count * w) / share;
+        c = ht_light_roulette(c, q, HT_LIGHT_THRESHOLD, ht_sample(seed, pixel, sample, bounce, HT_DIM_LIGHT_RR));
+    }
+#endif
     if (!(c.x + c.y + c.z > 0.0f)) return 0;
     float3 o = ht_point_spawn(sp, ls.wi);
     shadow_ray->ox = o.x; shadow_ray->oy = o.y; shadow_ray->oz = o.z;

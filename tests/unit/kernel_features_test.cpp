@@ -43,9 +43,9 @@ TEST(KernelFeatures, EveryEmittedDefineIsReadByAKernel) {
     for (bool& on : all.on) on = true;
     all.paging.pages = 4;
     all.paging.page_log2 = 10;
-    const std::string options = kernel_build_options(all) + estimator_build_options(2.0f, 10.0f, true, true);
+    const std::string options = kernel_build_options(all) + estimator_build_options(2.0f, 10.0f, 0.05f, true, true);
     const std::set<std::string> names = defined_names(options);
-    EXPECT_GE(names.size(), kFeatureCount + 6);
+    EXPECT_GE(names.size(), kFeatureCount + 7);
     const std::string src = render_program_source();
     for (const std::string& name : names)
         EXPECT_EQ(options_read_by(src, "-D" + name + "=1"), "-D" + name + "=1")
@@ -79,6 +79,7 @@ TEST(KernelFeatures, OneDefinePerSwitchAndEveryMeaningSaid) {
 }
 
 TEST(KernelFeatures, EstimatorOptionsAreEmptyWhenOff) {
-    EXPECT_EQ(estimator_build_options(0, 0, false, false), "");
-    EXPECT_NE(estimator_build_options(3, 0, false, false).find("HT_CLAMP_INDIRECT"), std::string::npos);
+    EXPECT_EQ(estimator_build_options(0, 0, 0, false, false), "");
+    EXPECT_NE(estimator_build_options(3, 0, 0, false, false).find("HT_CLAMP_INDIRECT"), std::string::npos);
+    EXPECT_NE(estimator_build_options(0, 0, 0.05f, false, false).find("HT_LIGHT_THRESHOLD"), std::string::npos);
 }

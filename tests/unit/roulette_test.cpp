@@ -74,4 +74,46 @@ TEST(Roulette, EndsPathsWithoutEnergy) {
     EXPECT_EQ(nan.y + nan.z, 0.0);
 }
 
+TEST(LightRoulette, LeavesEstimatesAtOrAboveTheThresholdAlone) {
+    for (double u : {0.0, 0.5, 0.999999}) {
+        const real3 r = ht_light_roulette(v3(2, 1, 0.5), 0.05, 0.05, u);
+        EXPECT_EQ(r.x, 2.0);
+        EXPECT_EQ(r.y, 1.0);
+        EXPECT_EQ(r.z, 0.5);
+    }
+}
+
+TEST(LightRoulette, IsUnbiasedAndItsSurvivorsCarryTheThreshold) {
+    // E over u of the result is c (midpoint rule, exact up to the grid), and a survivor's weight
+    // is lifted to exactly the threshold: c T / q
+    const int n = 1 << 16;
+    const double threshold = 0.05;
+    for (double q : {0.04, 0.01, 1e-4}) {
+        const real3 c = v3(3, 0.5, 0.25) * q;  // an estimate with weight q and the light's radiance 3
+        double sx = 0, sy = 0, sz = 0;
+        int kept = 0;
+        for (int i = 0; i < n; ++i) {
+            const real3 r = ht_light_roulette(c, q, threshold, (i + 0.5) / n);
+            sx += r.x;
+            sy += r.y;
+            sz += r.z;
+            if (r.x > 0) {
+                ++kept;
+                EXPECT_DOUBLE_EQ(r.x, 3 * threshold);
+            }
+        }
+        EXPECT_NEAR(sx / n, c.x, 3 * threshold * 1.0 / n);
+        EXPECT_NEAR(sy / n, c.y, 0.5 * threshold * 1.0 / n);
+        EXPECT_NEAR(sz / n, c.z, 0.25 * threshold * 1.0 / n);
+        EXPECT_NEAR(double(kept) / n, q / threshold, 1.0 / n);
+    }
+}
+
+TEST(LightRoulette, DropsEstimatesWithoutWeightAndPassesNoNaN) {
+    const real3 zero = ht_light_roulette(v3(1, 1, 1), 0.0, 0.05, 0.0);
+    EXPECT_EQ(zero.x + zero.y + zero.z, 0.0);
+    const real3 nan = ht_light_roulette(v3(1, 1, 1), std::nan(""), 0.05, 0.0);
+    EXPECT_EQ(nan.x, 1.0);  // a NaN weight is not below the threshold: the estimate is left as it is
+}
+
 }  // namespace
