@@ -1,7 +1,10 @@
 // --light-threshold T (kernels/integrator/roulette.h ht_light_roulette, kernels/stages/shade.cl):
 // next-event estimates whose weight without the light is below T trace their shadow ray by Russian
 // roulette.  The image converges to the same mean as without it, with far fewer shadow rays and
-// little more error per sample; the command line turns it on, the library leaves it off.
+// little more error per sample; the command line turns it on, the library leaves it off.  That
+// it stays a pure function of (seed, pixel, sample) -- chunks, one thread, two devices, render-farm
+// parts and checkpoints giving the same bits -- is checked by FirstHitSplitsCli in
+// first_hit_split_test.cpp, whose renders run with the command line's default threshold.
 #include "render/renderer.h"
 #include "scene/scene.h"
 
