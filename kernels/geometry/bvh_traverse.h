@@ -16,7 +16,11 @@
  *   - no inf in comparisons: tmax is clamped to HT_T_FAR and reciprocal directions are bounded,
  *     so -cl-fast-relaxed-math (finite-math) is safe;
  *   - private stack of (node, entry distance), nearest inner child visited next and the others
- *     pushed farthest first, culled on pop.
+ *     pushed farthest first, culled on pop;
+ *   - few data-dependent branches per node step: hit leaf slots and a leaf's hit lanes are taken
+ *     by bit loops, an inner slot's three conditions are one branch, and the four-lane capsule
+ *     test computes every lane instead of branching (capsule.h).  The traversal's time goes to
+ *     mispredicted branches, not to memory (host/bvh/NOTES.md "Fewer data-dependent branches").
  * Leaves are intersected as soon as their box is hit, before descending, so a close leaf
  * shrinks t_best before the inner children are ordered.
  */
@@ -39,6 +43,16 @@
 
 HT_FN real ht_safe_inv(real x) {
     return HT_R(1) / ht_select(fabs(x) < HT_DIR_EPS, ht_select(x < HT_R(0), -HT_DIR_EPS, HT_DIR_EPS), x);
+}
+
+/* Index of the lowest set bit of a nonzero mask: the bit loops below visit set slots in slot order,
+ * one iteration per set slot instead of a data-dependent branch per slot. */
+HT_FN uint ht_lowest_bit(uint mask) {
+#ifdef HT_OPENCL
+    return 31u - clz(mask & (0u - mask));
+#else
+    return (uint)__builtin_ctz(mask);
+#endif
 }
 
 HT_FN real ht_hit_radius(HtPoint a, HtPoint b) { return HT_R(0.5) * ((real)a.r + (real)b.r); }
@@ -132,7 +146,12 @@ HT_FN int ht_intersect_leaf(HT_SEGS_PARAM, HT_POINTS_PARAM, uint first, uint cou
                 (float4)(b0.z, b1.z, b2.z, b3.z), 0.5f * ((float4)(a0.r, a1.r, a2.r, a3.r) + (float4)(b0.r, b1.r, b2.r, b3.r)),
                 (flags & (uint4)(HT_SEG_FIRST)) != (uint4)(0u), tmin, *tbest);
             const float tl[4] = {t.s0, t.s1, t.s2, t.s3};
-            for (uint j = 0; j < n; ++j) {
+            /* Lanes below *tbest as a mask, visited in lane order; an earlier lane's hit may
+             * shorten *tbest, hence the test inside the loop too. */
+            const int4 below = t < (float4)(*tbest);
+            uint lanes = ((below.s0 & 1) | (below.s1 & 2) | (below.s2 & 4) | (below.s3 & 8)) & ((1u << n) - 1u);
+            for (; lanes != 0u; lanes &= lanes - 1u) {
+                const uint j = ht_lowest_bit(lanes);
                 if (!(tl[j] < *tbest)) continue;
                 const HtSegment sj = HT_SEG(g + j);
                 /* A root on an interior surface of its strand: that capsule's later roots, one at a
@@ -293,11 +312,13 @@ HT_FN uint ht_traverse(HT_GEOMETRY_PARAMS, HtRay ray, int any_hit, real* t_out) 
         int hit[4];
         HT_CONST_GLOBAL HtBvhNode* n = ht_node_test(HT_NODES_ARG, cur, o, d, &slab, tmin, tbest, near, hit);
 
-        /* Leaves now: they may shorten the ray before the inner children are ordered. */
+        /* Leaves now: they may shorten the ray before the inner children are ordered.  A bit loop
+         * over the hit leaf slots (slot order, as before): a branch per hit leaf, not two per slot. */
         int stop = 0;
-        for (int k = 0; k < 4; ++k) {
-            if (!hit[k] || n->count[k] == 0u) continue;
-            hit[k] = 0;
+        uint leaves = 0u;
+        for (int k = 0; k < 4; ++k) leaves |= (hit[k] && n->count[k] != 0u) ? 1u << k : 0u;
+        for (; leaves != 0u; leaves &= leaves - 1u) {
+            const uint k = ht_lowest_bit(leaves);
             if (ht_intersect_leaf(HT_SEGS_ARG, HT_POINTS_ARG, n->child[k], n->count[k], o, d, tmin, &tbest, &best) &&
                 any_hit) {
                 stop = 1;
@@ -311,7 +332,8 @@ HT_FN uint ht_traverse(HT_GEOMETRY_PARAMS, HtRay ray, int any_hit, real* t_out) 
         real st[4];
         int m = 0;
         for (int k = 0; k < 4; ++k) {
-            if (!hit[k] || near[k] > tbest) continue;
+            /* one branch per slot: the three conditions combined with &, not && */
+            if (!(hit[k] & (n->count[k] == 0u) & (near[k] <= tbest))) continue;
             int j = m++;
             for (; j > 0 && st[j - 1] > near[k]; --j) {
                 st[j] = st[j - 1];

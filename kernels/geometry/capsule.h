@@ -53,12 +53,18 @@ HT_FN real3 ht_point_pos(HtPoint p) { return make_real3(p.x, p.y, p.z); }
  * capsules, one per lane: the leaf test of kernels/geometry/bvh_traverse.h).  Each lane runs the
  * same operations in the same order, so a capsule's answer does not depend on the lane it is in.
  * M is the comparison result type (int for real, int4 for float4: lanes true = nonzero / -1),
- * SPLAT(x) widens a real to V, ANY(m) / ALL(m) reduce a mask to a branch condition.  Branches skip
- * work only when no lane needs it; every lane's result is selected by its own mask, so early
- * outs (the scalar instance returns at the first of them) cannot change an answer.
+ * SPLAT(x) widens a real to V, ANY(m) / ALL(m) reduce a mask to a branch condition.  SKIP (a
+ * constant) says whether the test branches past work that no lane needs: the scalar instance does
+ * (it returns at the first early out), the float4 instance does not, but for the begin sphere
+ * (only a strand's first segment has one, so that branch is rarely taken and well predicted).
+ * Which of four capsules pass the bounding sphere, the surface band or a root's discriminant is
+ * data-dependent, so those branches were mispredicted; computing every lane is cheaper
+ * (host/bvh/NOTES.md "Fewer data-dependent branches").  Every lane's result is selected by its own
+ * mask (masked lanes may hold inf or NaN, compared false and replaced by tmax at the end), so
+ * neither the early outs nor their absence can change an answer.
  * Arguments: p0 = (ax, ay, az), p1 = (bx, by, bz), radius r, first = the lane owns its begin
  * sphere (HT_SEG_FIRST), all per lane; returns the hit distance per lane, tmax for none. */
-#define HT_CAPSULE_LANES(NAME, V, M, SPLAT, ANY, ALL, DOT, DIF)                                         \
+#define HT_CAPSULE_LANES(NAME, V, M, SPLAT, ANY, ALL, DOT, DIF, SKIP)                                   \
     HT_FN V NAME(real3 o, real3 d, V ax, V ay, V az, V bx, V by, V bz, V r, M first, real tmin,         \
                  real tmax) {                                                                           \
         const V ex = bx - ax, ey = by - ay, ez = bz - az;                                               \
@@ -71,10 +77,10 @@ HT_FN real3 ht_point_pos(HtPoint p) { return make_real3(p.x, p.y, p.z); }
         const V qx = ox + d.x * t0, qy = oy + d.y * t0, qz = oz + d.z * t0;                             \
         const V r2 = r * r;                                                                             \
         /* Bounding sphere of the capsule around m, radius L/2 + r, tested without the square root:     \
-         * |q|^2 > L^2/4 + r^2 + L r  <=>  e > 0 and e^2 > L^2 r^2.  Most leaf candidates end here. */  \
+         * |q|^2 > L^2/4 + r^2 + L r  <=>  e > 0 and e^2 > L^2 r^2.  Most candidates miss it. */        \
         const V e = DOT(qx, qy, qz, qx, qy, qz) - HT_R(0.25) * L2 - r2;                                 \
         M miss = (e > HT_R(0)) & (e * e > L2 * r2);                                                     \
-        if (ALL(miss)) return SPLAT(tmax);                                                              \
+        if (SKIP && ALL(miss)) return SPLAT(tmax);                                                      \
         const V L = sqrt(L2);                                                                           \
         const M pos = L > HT_R(0);                                                                      \
         const V invL = pos ? HT_R(1) / L : SPLAT(HT_R(0));                                              \
@@ -86,7 +92,7 @@ HT_FN real3 ht_point_pos(HtPoint p) { return make_real3(p.x, p.y, p.z); }
         const V px = d.x - wx * dw, py = d.y - wy * dw, pz = d.z - wz * dw;                             \
         const V A = DOT(px, py, pz, px, py, pz);                                                        \
         miss |= A <= HT_PARALLEL_EPS * dd;                                                              \
-        if (ALL(miss)) return SPLAT(tmax);                                                              \
+        if (SKIP && ALL(miss)) return SPLAT(tmax);                                                      \
         /* Origin on this segment's surface: see the header comment. */                                 \
         const V so0 = DOT(ox, oy, oz, wx, wy, wz);                                                      \
         const V so = so0 < -hl ? -hl : (so0 > hl ? hl : so0);                                           \
@@ -97,7 +103,7 @@ HT_FN real3 ht_point_pos(HtPoint p) { return make_real3(p.x, p.y, p.z); }
         const V band = band_r > band_o ? band_r : band_o;                                               \
         const V rin = r - band > HT_R(0) ? r - band : SPLAT(HT_R(0)), rout = r + band;                  \
         miss |= (ro2 > rin * rin) & (ro2 < rout * rout);                                                \
-        if (ALL(miss)) return SPLAT(tmax);                                                              \
+        if (SKIP && ALL(miss)) return SPLAT(tmax);                                                      \
                                                                                                         \
         V best = SPLAT(tmax);                                                                           \
         const V qw = DOT(qx, qy, qz, wx, wy, wz);                                                       \
@@ -106,7 +112,7 @@ HT_FN real3 ht_point_pos(HtPoint p) { return make_real3(p.x, p.y, p.z); }
         const V cw = DOT(DIF(qy, d.z, qz, d.y), DIF(qz, d.x, qx, d.z), DIF(qx, d.y, qy, d.x), wx, wy, wz); \
         const V disc = A * r2 - cw * cw;                                                                \
         const M cyl = disc >= HT_R(0);                                                                  \
-        if (ANY(cyl)) {                                                                                 \
+        if (!SKIP || ANY(cyl)) {                                                                        \
             const V sq = sqrt(cyl ? disc : SPLAT(HT_R(0)));                                             \
             const V B = DOT(qx, qy, qz, px, py, pz);                                                    \
             const V invA = HT_R(1) / A;                                                                 \
@@ -123,7 +129,7 @@ HT_FN real3 ht_point_pos(HtPoint p) { return make_real3(p.x, p.y, p.z); }
             const V cx = DIF(ry, d.z, rz, d.y), cy = DIF(rz, d.x, rx, d.z), cz = DIF(rx, d.y, ry, d.x); \
             const V sd = dd * r2 - DOT(cx, cy, cz, cx, cy, cz);                                         \
             const M in = sd >= HT_R(0);                                                                 \
-            if (ANY(in)) {                                                                              \
+            if (!SKIP || ANY(in)) {                                                                     \
                 const V sq = sqrt(in ? sd : SPLAT(HT_R(0)));                                            \
                 const V dt1 = (-b - sq) / dd, dt2 = (-b + sq) / dd;                                     \
                 const V t1 = t0 + dt1, t2 = t0 + dt2;                                                   \
@@ -169,10 +175,10 @@ HT_FN real ht_dif1(real a, real b, real c, real d) { return a * b - c * d; }
 #endif
 #define HT_LANE1_SPLAT(x) (x)
 #define HT_LANE1_TEST(m) (m)
-HT_CAPSULE_LANES(ht_capsule_lane1, real, int, HT_LANE1_SPLAT, HT_LANE1_TEST, HT_LANE1_TEST, ht_dot31, ht_dif1)
+HT_CAPSULE_LANES(ht_capsule_lane1, real, int, HT_LANE1_SPLAT, HT_LANE1_TEST, HT_LANE1_TEST, ht_dot31, ht_dif1, 1)
 #ifdef HT_OPENCL
 #define HT_LANE4_SPLAT(x) ((float4)(x))
-HT_CAPSULE_LANES(ht_capsule_lane4, float4, int4, HT_LANE4_SPLAT, any, all, ht_dot34, ht_dif4)
+HT_CAPSULE_LANES(ht_capsule_lane4, float4, int4, HT_LANE4_SPLAT, any, all, ht_dot34, ht_dif4, 0)
 #endif
 
 /* Closest intersection of the ray o + t d, t in (tmin, tmax), with the segment p0-p1 of radius
