@@ -63,6 +63,9 @@ TEST(RenderIdentity, EachPartFollowsItsInputs) {
     RenderSettings light_samples = rs;
     light_samples.first_hit_light_samples = 2;
     only(render_identity(s, light_samples, 16), RenderIdentity::Settings);
+    RenderSettings threshold = rs;
+    threshold.light_threshold = 0.1f;
+    only(render_identity(s, threshold, 16), RenderIdentity::Settings);
     RenderSettings oriented = rs;
     oriented.bvh_oriented = 0.8f;
     only(render_identity(s, oriented, 16), RenderIdentity::Settings);
