@@ -23,10 +23,13 @@ struct BvhOptions {
     float c_trav = 1.0f;    // SAH cost of visiting an inner node ...
     float c_isect = 1.5f;   // ... relative to one capsule test
     // The SAH charges c_isect per group of leaf_lanes references, not per reference: the OpenCL
-    // leaf test takes four capsules at once, one per float4 lane (kernels/geometry/bvh_traverse.h
-    // ht_intersect_leaf), so leaves fill up to max_leaf (host/bvh/NOTES.md "Leaves tested four at
-    // a time").  1 = per reference (the scalar leaves' model, the default before).
-    int leaf_lanes = 4;
+    // leaf test takes eight capsules at once, one per float8 lane (kernels/geometry/bvh_traverse.h
+    // ht_intersect_leaf), so a leaf of up to 8 costs one group and leaves fill up to max_leaf
+    // (host/bvh/NOTES.md "Leaves tested eight at a time": 7.6 segments per leaf on the strand
+    // anchor, 1.06-1.11x per CPU-second on its path rays; with 4, the four-lane groups of before, the
+    // tree is the one of "Leaves tested four at a time").  1 = per reference (the scalar leaves'
+    // model).
+    int leaf_lanes = 8;
     // Early split clipping of long diagonal segments: a segment's box is replaced by the boxes
     // of its halves (recursively, up to split_depth levels) while the halves' summed surface
     // area is below split_ratio x the parent box's.  Each piece is a separate BVH reference to
@@ -41,8 +44,8 @@ struct BvhOptions {
     // 0.8 is the value measured there (`bench --obb 0.8`).
     float obb_ratio = 0.0f;
 
-    // The defaults: ~4.7 segments per leaf and 45 bytes/segment on the strand anchor, measured
-    // faster than scalar leaves of ~1.3 (host/bvh/NOTES.md "Leaves tested four at a time").
+    // The defaults: ~7.6 segments per leaf and 41 bytes/segment on the strand anchor, measured
+    // faster than scalar leaves of ~1.3 (host/bvh/NOTES.md "Leaves tested four / eight at a time").
     // compact() makes intersections cheap in the SAH so leaves fill up further (43 bytes/segment
     // with scalar leaves; not re-measured with the four-lane test).
     static BvhOptions compact() {

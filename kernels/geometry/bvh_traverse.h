@@ -18,7 +18,7 @@
  *   - private stack of (node, entry distance), nearest inner child visited next and the others
  *     pushed farthest first, culled on pop;
  *   - few data-dependent branches per node step: hit leaf slots and a leaf's hit lanes are taken
- *     by bit loops, an inner slot's three conditions are one branch, and the four-lane capsule
+ *     by bit loops, an inner slot's three conditions are one branch, and the eight-lane capsule
  *     test computes every lane instead of branching (capsule.h).  The traversal's time goes to
  *     mispredicted branches, not to memory (host/bvh/NOTES.md "Fewer data-dependent branches").
  * Leaves are intersected as soon as their box is hit, before descending, so a close leaf
@@ -114,10 +114,11 @@ HT_FN int ht_leaf_entry(HT_SEGS_PARAM, HT_POINTS_PARAM, uint k, real3 o, real3 d
 /* Intersects the leaf [first, first + count) against the ray; updates *tbest / *best.
  * Returns 1 if something was hit (any-hit callers stop then).
  *
- * OpenCL takes the leaf four segments at a time, one capsule per float4 lane (ht_capsule_lane4,
- * capsule.h): the group's loads are issued together and its arithmetic is shared, which is what
- * lets the builder fill leaves (host/bvh/bvh.h BvhOptions::leaf_lanes; host/bvh/NOTES.md "Leaves
- * tested four at a time").  A lane's answer is the scalar test's (same operations), and lanes are
+ * OpenCL takes the leaf eight segments at a time, one capsule per float8 lane (ht_capsule_lane8,
+ * capsule.h), so a leaf of up to max_leaf = 8 is one branch-free test: the group's loads are issued
+ * together and its arithmetic is shared, which is what lets the builder fill leaves (host/bvh/bvh.h
+ * BvhOptions::leaf_lanes; host/bvh/NOTES.md "Leaves tested four at a time" and "Leaves tested
+ * eight at a time").  A lane's answer is the scalar test's (same operations), and lanes are
  * taken in order with a strict "<", so a group finds what the scalar loop finds: every lane's
  * hit below the group's starting *tbest is a hit the loop would see, and the nearest wins.  A
  * group holding a triangle, and the host build, take the scalar loop. */
@@ -125,31 +126,49 @@ HT_FN int ht_intersect_leaf(HT_SEGS_PARAM, HT_POINTS_PARAM, uint first, uint cou
                             uint* best) {
     int found = 0;
     const uint end = first + count;
-    for (uint g = first; g < end; g += 4u) {
-        const uint n = end - g < 4u ? end - g : 4u;
+    for (uint g = first; g < end; g += 8u) {
+        const uint n = end - g < 8u ? end - g : 8u;
 #ifdef HT_OPENCL
         /* Lanes past the leaf repeat its first segment and are not read back. */
         const HtSegment s0 = HT_SEG(g), s1 = HT_SEG(n > 1u ? g + 1u : g);
         const HtSegment s2 = HT_SEG(n > 2u ? g + 2u : g), s3 = HT_SEG(n > 3u ? g + 3u : g);
+        const HtSegment s4 = HT_SEG(n > 4u ? g + 4u : g), s5 = HT_SEG(n > 5u ? g + 5u : g);
+        const HtSegment s6 = HT_SEG(n > 6u ? g + 6u : g), s7 = HT_SEG(n > 7u ? g + 7u : g);
 #if HT_FEATURE_MESHES
-        if (!((s0.flags | s1.flags | s2.flags | s3.flags) & HT_SEG_TRIANGLE))
+        if (!((s0.flags | s1.flags | s2.flags | s3.flags | s4.flags | s5.flags | s6.flags | s7.flags) &
+              HT_SEG_TRIANGLE))
 #endif
         {
-            const HtPoint a0 = HT_POINT(s0.point), b0 = HT_POINT(s0.point + 1u);
-            const HtPoint a1 = HT_POINT(s1.point), b1 = HT_POINT(s1.point + 1u);
-            const HtPoint a2 = HT_POINT(s2.point), b2 = HT_POINT(s2.point + 1u);
-            const HtPoint a3 = HT_POINT(s3.point), b3 = HT_POINT(s3.point + 1u);
-            const uint4 flags = (uint4)(s0.flags, s1.flags, s2.flags, s3.flags);
-            const float4 t = ht_capsule_lane4(
-                o, d, (float4)(a0.x, a1.x, a2.x, a3.x), (float4)(a0.y, a1.y, a2.y, a3.y),
-                (float4)(a0.z, a1.z, a2.z, a3.z), (float4)(b0.x, b1.x, b2.x, b3.x), (float4)(b0.y, b1.y, b2.y, b3.y),
-                (float4)(b0.z, b1.z, b2.z, b3.z), 0.5f * ((float4)(a0.r, a1.r, a2.r, a3.r) + (float4)(b0.r, b1.r, b2.r, b3.r)),
-                (flags & (uint4)(HT_SEG_FIRST)) != (uint4)(0u), tmin, *tbest);
-            const float tl[4] = {t.s0, t.s1, t.s2, t.s3};
+            /* Each point as one float4 load (x, y, z, r), transposed into the lanes by shuffles:
+             * assembling the float8s from 16 scalar HtPoint fields per coordinate instead (one
+             * insert each) made the eight-lane leaf test 0.86x of the four-lane one (host/bvh/NOTES.md
+             * "Leaves tested eight at a time"). */
+#define HT_POINT4(i) vload4(0, (HT_CONST_GLOBAL float*)&HT_POINT(i))
+            const float4 a0 = HT_POINT4(s0.point), b0 = HT_POINT4(s0.point + 1u);
+            const float4 a1 = HT_POINT4(s1.point), b1 = HT_POINT4(s1.point + 1u);
+            const float4 a2 = HT_POINT4(s2.point), b2 = HT_POINT4(s2.point + 1u);
+            const float4 a3 = HT_POINT4(s3.point), b3 = HT_POINT4(s3.point + 1u);
+            const float4 a4 = HT_POINT4(s4.point), b4 = HT_POINT4(s4.point + 1u);
+            const float4 a5 = HT_POINT4(s5.point), b5 = HT_POINT4(s5.point + 1u);
+            const float4 a6 = HT_POINT4(s6.point), b6 = HT_POINT4(s6.point + 1u);
+            const float4 a7 = HT_POINT4(s7.point), b7 = HT_POINT4(s7.point + 1u);
+#undef HT_POINT4
+/* component F of the eight float4s P0..P7 */
+#define HT_LANES8(P, F) (float8)(P##0 .F, P##1 .F, P##2 .F, P##3 .F, P##4 .F, P##5 .F, P##6 .F, P##7 .F)
+            const uint8 flags = (uint8)(s0.flags, s1.flags, s2.flags, s3.flags, s4.flags, s5.flags, s6.flags, s7.flags);
+            const float8 t = ht_capsule_lane8(o, d, HT_LANES8(a, x), HT_LANES8(a, y), HT_LANES8(a, z), HT_LANES8(b, x),
+                                              HT_LANES8(b, y), HT_LANES8(b, z),
+                                              0.5f * (HT_LANES8(a, w) + HT_LANES8(b, w)),
+                                              (flags & (uint8)(HT_SEG_FIRST)) != (uint8)(0u), tmin, *tbest);
+#undef HT_LANES8
+            float tl[8];
+            vstore8(t, 0, tl);
             /* Lanes below *tbest as a mask, visited in lane order; an earlier lane's hit may
              * shorten *tbest, hence the test inside the loop too. */
-            const int4 below = t < (float4)(*tbest);
-            uint lanes = ((below.s0 & 1) | (below.s1 & 2) | (below.s2 & 4) | (below.s3 & 8)) & ((1u << n) - 1u);
+            const int8 bits = (t < (float8)(*tbest)) & (int8)(1, 2, 4, 8, 16, 32, 64, 128);
+            const int4 bits4 = bits.lo | bits.hi;
+            const int2 bits2 = bits4.lo | bits4.hi;
+            uint lanes = (uint)(bits2.x | bits2.y) & ((1u << n) - 1u); /* padding lanes dropped */
             for (; lanes != 0u; lanes &= lanes - 1u) {
                 const uint j = ht_lowest_bit(lanes);
                 if (!(tl[j] < *tbest)) continue;

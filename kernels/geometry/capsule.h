@@ -49,15 +49,15 @@
 
 HT_FN real3 ht_point_pos(HtPoint p) { return make_real3(p.x, p.y, p.z); }
 
-/* The capsule test, written once for a lane type V: real (one capsule) and, in OpenCL, float4 (four
- * capsules, one per lane: the leaf test of kernels/geometry/bvh_traverse.h).  Each lane runs the
+/* The capsule test, written once for a lane type V: real (one capsule) and, in OpenCL, float8 (a
+ * leaf's up to eight capsules, one per lane: the leaf test of kernels/geometry/bvh_traverse.h).  Each lane runs the
  * same operations in the same order, so a capsule's answer does not depend on the lane it is in.
- * M is the comparison result type (int for real, int4 for float4: lanes true = nonzero / -1),
+ * M is the comparison result type (int for real, int8 for float8: lanes true = nonzero / -1),
  * SPLAT(x) widens a real to V, ANY(m) / ALL(m) reduce a mask to a branch condition.  SKIP (a
  * constant) says whether the test branches past work that no lane needs: the scalar instance does
- * (it returns at the first early out), the float4 instance does not, but for the begin sphere
+ * (it returns at the first early out), the float8 instance does not, but for the begin sphere
  * (only a strand's first segment has one, so that branch is rarely taken and well predicted).
- * Which of four capsules pass the bounding sphere, the surface band or a root's discriminant is
+ * Which of a leaf's capsules pass the bounding sphere, the surface band or a root's discriminant is
  * data-dependent, so those branches were mispredicted; computing every lane is cheaper
  * (host/bvh/NOTES.md "Fewer data-dependent branches").  Every lane's result is selected by its own
  * mask (masked lanes may hold inf or NaN, compared false and replaced by tmax at the end), so
@@ -168,7 +168,7 @@ HT_FN real3 ht_point_pos(HtPoint p) { return make_real3(p.x, p.y, p.z); }
         _Pragma("OPENCL FP_CONTRACT OFF") return a * b - c * d;                                         \
     }
 HT_LANE_ARITH(1, float)
-HT_LANE_ARITH(4, float4)
+HT_LANE_ARITH(8, float8)
 #else
 HT_FN real ht_dot31(real ax, real ay, real az, real bx, real by, real bz) { return ax * bx + ay * by + az * bz; }
 HT_FN real ht_dif1(real a, real b, real c, real d) { return a * b - c * d; }
@@ -177,8 +177,8 @@ HT_FN real ht_dif1(real a, real b, real c, real d) { return a * b - c * d; }
 #define HT_LANE1_TEST(m) (m)
 HT_CAPSULE_LANES(ht_capsule_lane1, real, int, HT_LANE1_SPLAT, HT_LANE1_TEST, HT_LANE1_TEST, ht_dot31, ht_dif1, 1)
 #ifdef HT_OPENCL
-#define HT_LANE4_SPLAT(x) ((float4)(x))
-HT_CAPSULE_LANES(ht_capsule_lane4, float4, int4, HT_LANE4_SPLAT, any, all, ht_dot34, ht_dif4, 0)
+#define HT_LANE8_SPLAT(x) ((float8)(x))
+HT_CAPSULE_LANES(ht_capsule_lane8, float8, int8, HT_LANE8_SPLAT, any, all, ht_dot38, ht_dif8, 0)
 #endif
 
 /* Closest intersection of the ray o + t d, t in (tmin, tmax), with the segment p0-p1 of radius
