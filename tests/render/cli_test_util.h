@@ -95,4 +95,12 @@ inline void expect_same_channel_bits(const std::string& expected, const std::str
     EXPECT_EQ(a.size(), e.size()) << actual << " has other channels";
 }
 
+#ifdef HT_BINARY
+// `hairtrace render` of a small lit strand at depth 3 (100 fibres of 10 segments, 32 x 24): quick,
+// and every estimator stage takes part (first-hit splits, light samples, the light threshold).
+inline const std::string kSmallStrandRender = std::string(HT_BINARY) +
+                                              " render 'builtin:strand?hairs=100&segments=10' --width 32 --height 24 "
+                                              "--max-depth 3 --seed 4 --quiet";
+#endif
+
 }  // namespace clitest

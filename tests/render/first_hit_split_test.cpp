@@ -43,9 +43,7 @@ TEST(FirstHitSplits, ConvergeToTheMeanWithoutSplitsWithLessErrorPerCameraSample)
     // At 32 camera samples (seeds 5-8) the RMSE of N = 4 is 0.48-0.71x that of N = 1, of N = 3
     // 0.51-0.76x; continuations sharing their random numbers would give about 1x.
     const Scene scene = thick_strand();
-    RenderSettings ref_settings = settings(1, 1024, 99);
-    ref_settings.sampler = RenderSettings::Sampler::Independent;
-    const Film ref = render(scene, ref_settings);
+    const Film ref = rendertest::independent_reference(scene, settings(1, 1024, 99));
     const double reference = image_mean(ref);
     ASSERT_GT(reference, 0.0);
     for (int splits : {4, 3}) {
@@ -71,18 +69,14 @@ TEST(FirstHitSplits, LightSamplesConvergeToTheSameMeanWithLessErrorInDirectLight
     scene.lights.clear();
     ensure_camera_and_light(scene);
     ASSERT_EQ(scene.lights.size(), 3u);
-    RenderSettings ref_settings = settings(1, 2048, 99, 1);
-    ref_settings.sampler = RenderSettings::Sampler::Independent;
-    const Film ref = render(scene, ref_settings);
+    const Film ref = rendertest::independent_reference(scene, settings(1, 2048, 99, 1));
     const double reference = image_mean(ref);
     ASSERT_GT(reference, 0.0);
     EXPECT_NEAR(image_mean(render(scene, settings(1, 256, 3, 1, 4))) / reference, 1.0, 0.01);
     const double e1 = rmse(render(scene, settings(1, 32, 5, 1)), ref);
     const double e4 = rmse(render(scene, settings(1, 32, 5, 1, 4)), ref);
     EXPECT_LT(e4, 0.7 * e1) << "M = 4 " << e4 << ", one estimate " << e1;
-    RenderSettings deep_ref = settings(1, 1024, 99);
-    deep_ref.sampler = RenderSettings::Sampler::Independent;
-    const double deep = image_mean(render(scene, deep_ref));
+    const double deep = image_mean(rendertest::independent_reference(scene, settings(1, 1024, 99)));
     EXPECT_NEAR(image_mean(render(scene, settings(2, 256, 3, 3, 4))) / deep, 1.0, 0.02);
 }
 
@@ -128,9 +122,7 @@ using clitest::image;
 using clitest::run;
 
 namespace {
-const std::string kRender = std::string(HT_BINARY) +
-                            " render 'builtin:strand?hairs=100&segments=10' --width 32 --height 24 --max-depth 3 "
-                            "--seed 4 --quiet";
+const std::string& kRender = clitest::kSmallStrandRender;
 }  // namespace
 
 TEST(FirstHitSplitsCli, ChunksThreadsPartsAndCheckpointsGiveTheSameBits) {

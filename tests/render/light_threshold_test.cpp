@@ -17,6 +17,7 @@
 
 using namespace ht;
 using rendertest::image_mean;
+using rendertest::render;
 using rendertest::rmse;
 using rendertest::thick_strand;
 
@@ -26,14 +27,6 @@ RenderSettings settings(float threshold, int spp, uint32_t seed, int depth = 3) 
     RenderSettings rs = rendertest::small_settings(spp, seed, depth);
     rs.light_threshold = threshold;
     return rs;
-}
-
-Film render(const Scene& scene, const RenderSettings& rs, RenderStats* stats = nullptr) {
-    Film film;
-    Renderer r(rendertest::context(), scene, rs);
-    r.render(film);
-    if (stats) *stats = r.stats();
-    return film;
 }
 
 TEST(LightThreshold, TheLibrarysDefaultIsOff) { EXPECT_EQ(RenderSettings{}.light_threshold, 0.0f); }
@@ -48,9 +41,7 @@ TEST(LightThreshold, ConvergesToTheMeanWithoutItWithFewerShadowRays) {
     // 0.42x and 0.37x of those without (the first vertex's, about a third here, are never
     // played for); RMSE at 32 spp 1.01x that without (T = 0.1, seed 5).
     const Scene scene = thick_strand();
-    RenderSettings ref_settings = settings(0, 1024, 99);
-    ref_settings.sampler = RenderSettings::Sampler::Independent;
-    const Film ref = render(scene, ref_settings);
+    const Film ref = rendertest::independent_reference(scene, settings(0, 1024, 99));
     const double reference = image_mean(ref);
     ASSERT_GT(reference, 0.0);
     RenderStats off, on, high;
@@ -79,25 +70,19 @@ TEST(LightThreshold, LeavesTheFirstVertexAlone) {
 }  // namespace
 
 #ifdef HT_BINARY
-using clitest::TempDir;
-using clitest::image;
-using clitest::run;
-
-namespace {
-const std::string kRender = std::string(HT_BINARY) +
-                            " render 'builtin:strand?hairs=100&segments=10' --width 32 --height 24 --max-depth 3 "
-                            "--seed 4 --spp 4 --quiet";
-}  // namespace
-
 TEST(LightThresholdCli, TheDefaultIsOnAndTheRangeIsChecked) {
-    TempDir d("ht_light_threshold_");
-    ASSERT_EQ(run(kRender + " -o " + (d / "default.exr")), 0);
-    ASSERT_EQ(run(kRender + " --light-threshold 0.1 -o " + (d / "explicit.exr")), 0);
-    EXPECT_EQ(image(d / "default.exr"), image(d / "explicit.exr"));
-    ASSERT_EQ(run(kRender + " --light-threshold off -o " + (d / "off.exr")), 0);
-    EXPECT_NE(image(d / "default.exr"), image(d / "off.exr"));
+    clitest::TempDir d("ht_light_threshold_");
+    const std::string render4 = clitest::kSmallStrandRender + " --spp 4";
+    const auto rendered = [&](const std::string& options, const std::string& name) {
+        return clitest::run(render4 + options + " -o " + (d / name) + " 2>/dev/null");
+    };
+    ASSERT_EQ(rendered("", "default.exr"), 0);
+    ASSERT_EQ(rendered(" --light-threshold 0.1", "explicit.exr"), 0);
+    EXPECT_EQ(clitest::image(d / "default.exr"), clitest::image(d / "explicit.exr"));
+    ASSERT_EQ(rendered(" --light-threshold off", "off.exr"), 0);
+    EXPECT_NE(clitest::image(d / "default.exr"), clitest::image(d / "off.exr"));
     for (const std::string bad : {" --light-threshold 0", " --light-threshold 2", " --light-threshold -0.1",
                                   " --light-threshold none"})
-        EXPECT_EQ(run(kRender + bad + " -o " + (d / "x.exr") + " 2>/dev/null"), 2) << bad;
+        EXPECT_EQ(rendered(bad, "x.exr"), 2) << bad;
 }
 #endif

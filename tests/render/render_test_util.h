@@ -36,10 +36,20 @@ inline ht::RenderSettings small_settings(int spp, uint32_t seed, int depth) {
     return rs;
 }
 
-inline ht::Film render(const ht::Scene& scene, const ht::RenderSettings& rs) {
+// stats: when given, receives the render's statistics (rays, paths).
+inline ht::Film render(const ht::Scene& scene, const ht::RenderSettings& rs, ht::RenderStats* stats = nullptr) {
     ht::Film film;
-    ht::Renderer(context(), scene, rs).render(film);
+    ht::Renderer r(context(), scene, rs);
+    r.render(film);
+    if (stats) *stats = r.stats();
     return film;
+}
+
+// A reference for an estimator's statistical tests: rs rendered with independent numbers (no
+// stratification shared with the estimator under test).
+inline ht::Film independent_reference(const ht::Scene& scene, ht::RenderSettings rs) {
+    rs.sampler = ht::RenderSettings::Sampler::Independent;
+    return render(scene, rs);
 }
 
 inline double image_mean(const ht::Film& f) {
