@@ -8,8 +8,14 @@
 #include <cmath>
 #include <cstring>
 #include <memory>
+#include <new>
 #include <stdexcept>
 #include <thread>
+#include <type_traits>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "kernels/geometry/bvh_traverse.h"
 
@@ -21,16 +27,73 @@ static_assert(3 * (ht::kMaxBvhDepth / 2 + 1) < HT_STACK_SIZE, "BVH depth cap mus
 namespace ht {
 namespace {
 
-struct Box {
-    float lo[3] = {INFINITY, INFINITY, INFINITY};
-    float hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+// Four float lanes: x, y, z and a spare (see Box).  The host is built for the x86-64 baseline
+// (CMakeLists.txt sets no -m flags), of which SSE2 is part, so the binning below is SSE2; other
+// targets take per-lane loops that compute the same values (host/bvh/NOTES.md, "SSE2 binning").
+#if defined(__SSE2__)
+using F4 = __m128;
+inline F4 load4(const float* p) { return _mm_load_ps(p); }
+inline void store4(float* p, F4 v) { _mm_store_ps(p, v); }
+inline F4 set4(float x, float y, float z, float w) { return _mm_setr_ps(x, y, z, w); }
+inline F4 add4(F4 a, F4 b) { return _mm_add_ps(a, b); }
+inline F4 sub4(F4 a, F4 b) { return _mm_sub_ps(a, b); }
+inline F4 mul4(F4 a, F4 b) { return _mm_mul_ps(a, b); }
+// std::min(a, b) is (b < a ? b : a), std::max(a, b) is (a < b ? b : a); minps(x, y) is
+// (x < y ? x : y) and maxps(x, y) is (x > y ? x : y).  Swapped operands make them the same
+// function, so ties of -0 and +0 keep the zero the scalar builder kept: identical node boxes.
+inline F4 min4(F4 a, F4 b) { return _mm_min_ps(b, a); }
+inline F4 max4(F4 a, F4 b) { return _mm_max_ps(b, a); }
+// Lanes 0-2 of p, lane 3 = 0.
+inline F4 load_xyz(const float* p) {
+    return _mm_and_ps(_mm_load_ps(p), _mm_castsi128_ps(_mm_setr_epi32(-1, -1, -1, 0)));
+}
+// std::clamp((int)x, 0, top) per lane: cvttps2dq truncates as the scalar cast (cvttss2si) does.
+inline void clamp_to_int4(F4 x, int top, int32_t out[4]) {
+    __m128i k = _mm_cvttps_epi32(x);
+    k = _mm_and_si128(k, _mm_cmpgt_epi32(k, _mm_setzero_si128()));
+    const __m128i t = _mm_set1_epi32(top);
+    const __m128i over = _mm_cmpgt_epi32(k, t);
+    k = _mm_or_si128(_mm_and_si128(over, t), _mm_andnot_si128(over, k));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out), k);
+}
+#else
+struct F4 {
+    float v[4];
+};
+inline F4 load4(const float* p) { return F4{{p[0], p[1], p[2], p[3]}}; }
+inline void store4(float* p, F4 v) { std::memcpy(p, v.v, sizeof v.v); }
+inline F4 set4(float x, float y, float z, float w) { return F4{{x, y, z, w}}; }
+template <class Op>
+inline F4 lanewise(F4 a, F4 b, Op op) {
+    for (int k = 0; k < 4; ++k) a.v[k] = op(a.v[k], b.v[k]);
+    return a;
+}
+inline F4 add4(F4 a, F4 b) { return lanewise(a, b, [](float x, float y) { return x + y; }); }
+inline F4 sub4(F4 a, F4 b) { return lanewise(a, b, [](float x, float y) { return x - y; }); }
+inline F4 mul4(F4 a, F4 b) { return lanewise(a, b, [](float x, float y) { return x * y; }); }
+inline F4 min4(F4 a, F4 b) { return lanewise(a, b, [](float x, float y) { return std::min(x, y); }); }
+inline F4 max4(F4 a, F4 b) { return lanewise(a, b, [](float x, float y) { return std::max(x, y); }); }
+inline F4 load_xyz(const float* p) { return F4{{p[0], p[1], p[2], 0.0f}}; }
+inline void clamp_to_int4(F4 x, int top, int32_t out[4]) {
+    for (int k = 0; k < 4; ++k) out[k] = std::clamp((int)x.v[k], 0, top);
+}
+#endif
 
-    void grow(const Box& b) {
-        for (int k = 0; k < 3; ++k) {
-            lo[k] = std::min(lo[k], b.lo[k]);
-            hi[k] = std::max(hi[k], b.hi[k]);
-        }
+// Lanes 0-2 are x, y, z; lane 3 is no part of the box (0, except in a Ref's lo: see Ref), so
+// growing is one min and one max of four lanes.
+struct Box {
+    alignas(16) float lo[4] = {INFINITY, INFINITY, INFINITY, 0.0f};
+    alignas(16) float hi[4] = {-INFINITY, -INFINITY, -INFINITY, 0.0f};
+
+    void grow(F4 blo, F4 bhi) {
+        store4(lo, min4(load4(lo), blo));
+        store4(hi, max4(load4(hi), bhi));
     }
+    void grow(const Box& b) { grow(load4(b.lo), load4(b.hi)); }
+    // For centroid bounds: grow_point(c, 0) of before, except that hi takes c where that took
+    // c + 0 (+0 for a centroid of -0); cbounds.hi only enters as hi - lo > 0 (Builder::build),
+    // which that zero's sign does not change.
+    void grow_centroid(F4 c) { grow(c, c); }
     void grow_point(const float* p, float r) {
         for (int k = 0; k < 3; ++k) {
             lo[k] = std::min(lo[k], p[k] - r);
@@ -47,11 +110,24 @@ struct Box {
     float center(int k) const { return 0.5f * (lo[k] + hi[k]); }
 };
 
-// One BVH reference: a (piece of a) segment's box and the index of the segment in global order.
+// One BVH reference: a (piece of a) segment's box and, in the box's spare lane lo[3], the index
+// of the segment in global order, so that a Ref is 32 bytes (as Embree's PrimRef): the binning
+// and partition passes stream half the cache lines a 48-byte one would take.
 struct Ref {
     Box box;
-    uint32_t seg;
+    uint32_t seg() const {
+        uint32_t s;
+        std::memcpy(&s, &box.lo[3], sizeof s);
+        return s;
+    }
+    void set_seg(uint32_t s) { std::memcpy(&box.lo[3], &s, sizeof s); }
+    // The box's lanes with lane 3 = 0 in lo (the index is no float to compute with).
+    F4 lo4() const { return load_xyz(box.lo); }
+    F4 hi4() const { return load4(box.hi); }
+    // 0.5 (lo + hi) per lane, as Box::center.
+    F4 center4() const { return mul4(set4(0.5f, 0.5f, 0.5f, 0.5f), add4(lo4(), hi4())); }
 };
+static_assert(sizeof(Ref) == 32, "Ref: the segment index lives in the box's spare lane");
 
 // Intermediate node while building: both child slots as the final layout has them, children
 // referring to intermediate node indices.
@@ -105,7 +181,10 @@ public:
         unsigned t = opt.threads ? opt.threads : std::max(1u, std::thread::hardware_concurrency());
         tokens_ = (int)t - 1;
         // A binary tree over n references has at most n - 1 inner nodes (+1 for a leaf root).
-        nodes_.resize(std::max<size_t>(refs.size(), 1));
+        // Left uninitialised (alloc constructs each node): a build uses about n / 5 of them
+        // (leaves hold up to max_leaf references), and pages never written are never faulted
+        // in; constructing all n (96 bytes each with 4-lane boxes) took a tenth of the build.
+        storage_.reset(new NodeStorage[std::max<size_t>(refs.size(), 1)]);
     }
 
     // Returns the intermediate root node index.
@@ -116,38 +195,74 @@ public:
         Slot top = build(0, (uint32_t)refs_.size(), bounds, cbounds, 1);
         if (top.count == 0) return top.child;
         uint32_t root = alloc();  // the whole scene is one leaf: root with one used slot
-        nodes_[root].box[0] = top.box;
-        nodes_[root].child[0] = top.child;
-        nodes_[root].count[0] = top.count;
-        nodes_[root].end = top.count;
+        BNode& node = nodes()[root];
+        node.box[0] = top.box;
+        node.child[0] = top.child;
+        node.count[0] = top.count;
+        node.end = top.count;
         return root;
     }
 
-    std::vector<BNode> nodes_;
+    // The nodes alloc() handed out: [0, used()).
+    BNode* nodes() const { return std::launder(reinterpret_cast<BNode*>(storage_.get())); }
+    uint32_t used() const { return used_.load(); }
 
 private:
-    uint32_t alloc() { return used_.fetch_add(1); }
+    struct NodeStorage {
+        alignas(BNode) unsigned char bytes[sizeof(BNode)];
+    };
+    static_assert(std::is_trivially_destructible<BNode>::value, "nodes are never destroyed");
+
+    uint32_t alloc() {
+        const uint32_t id = used_.fetch_add(1);
+        new (&storage_[id]) BNode();
+        return id;
+    }
 
     void bounds_of(uint32_t b, uint32_t e, Box& bounds, Box& cbounds) const {
         for (uint32_t i = b; i < e; ++i) {
-            bounds.grow(refs_[i].box);
-            float c[3] = {refs_[i].box.center(0), refs_[i].box.center(1), refs_[i].box.center(2)};
-            cbounds.grow_point(c, 0.0f);
+            bounds.grow(refs_[i].lo4(), refs_[i].hi4());
+            cbounds.grow_centroid(refs_[i].center4());
         }
     }
 
-    void bin_range(uint32_t b, uint32_t e, const Box& cb, const float* scale, int nb,
-                   Bins& out) const {
-        for (uint32_t i = b; i < e; ++i) {
-            const Box& bx = refs_[i].box;
-            for (int a = 0; a < 3; ++a) {
-                int k = (int)((bx.center(a) - cb.lo[a]) * scale[a]);
-                k = std::clamp(k, 0, nb - 1);
-                out.box[a][k].grow(bx);
-                out.n[a][k]++;
-            }
+    // scale: 4 lanes, the last 0.  The bin of each axis is clamp((int)((c - lo) * scale)) of
+    // the centroid c as in the partition's predicate, for the three axes at once.
+    static void bin_ref(const Ref& r, F4 clo, F4 scale, int nb, Bins& out) {
+        const F4 lo = r.lo4(), hi = r.hi4();
+        alignas(16) int32_t k[4];
+        clamp_to_int4(mul4(sub4(r.center4(), clo), scale), nb - 1, k);
+        for (int a = 0; a < 3; ++a) {
+            out.box[a][k[a]].grow(lo, hi);
+            out.n[a][k[a]]++;
         }
     }
+
+    // Consecutive references of a strand mostly fall in the same bins, so one pass is a chain
+    // of load, min/max, store on the same bin boxes, each waiting for the previous store.  Two
+    // contiguous halves binned in one loop into separate bins are two independent chains, and
+    // merged in order they give the same boxes bit for bit: min/max that keep the first of equal
+    // values (-0 and +0, see min4) give the first occurrence of the extreme whatever the
+    // grouping of contiguous runs (the same holds for the two threads' halves in build()).
+    void bin_range(uint32_t b, uint32_t e, const Box& cb, const float* scale, int nb,
+                   Bins& out) const {
+        const F4 clo = load4(cb.lo), sc = load4(scale);
+        const uint32_t half = (e - b) / 2;
+        if (half < kTwoChainsFrom) {
+            for (uint32_t i = b; i < e; ++i) bin_ref(refs_[i], clo, sc, nb, out);
+            return;
+        }
+        thread_local Bins second_half;
+        second_half.reset(nb);
+        const uint32_t mid = b + half;
+        for (uint32_t i = b; i < mid; ++i) {
+            bin_ref(refs_[i], clo, sc, nb, out);
+            bin_ref(refs_[i + half], clo, sc, nb, second_half);
+        }
+        if (mid + half < e) bin_ref(refs_[e - 1], clo, sc, nb, second_half);
+        out.merge(second_half, nb);
+    }
+    static constexpr uint32_t kTwoChainsFrom = 64;  // references per half
 
     bool take_token() {
         int t = tokens_.load();
@@ -176,7 +291,7 @@ private:
         // Small nodes get fewer bins: the SAH sweep is O(bins) per axis and dominated the
         // build for the ~N/2 nodes near the leaves, where n bins resolve as much as 16.
         const int nb = std::min(bins_, std::max(4, (int)n));
-        float scale[3];
+        alignas(16) float scale[4] = {0.0f, 0.0f, 0.0f, 0.0f};
         for (int a = 0; a < 3; ++a) {
             const float ext = cbounds.hi[a] - cbounds.lo[a];
             scale[a] = ext > 0 ? (float)nb * (1.0f - 1e-6f) / ext : 0.0f;
@@ -259,14 +374,8 @@ private:
             cl = Box();
             cr = Box();
             // Centroid bounds of the children (one pass each; the boxes came from the bins).
-            for (uint32_t i = b; i < mid; ++i) {
-                float c[3] = {refs_[i].box.center(0), refs_[i].box.center(1), refs_[i].box.center(2)};
-                cl.grow_point(c, 0.0f);
-            }
-            for (uint32_t i = mid; i < e; ++i) {
-                float c[3] = {refs_[i].box.center(0), refs_[i].box.center(1), refs_[i].box.center(2)};
-                cr.grow_point(c, 0.0f);
-            }
+            for (uint32_t i = b; i < mid; ++i) cl.grow_centroid(refs_[i].center4());
+            for (uint32_t i = mid; i < e; ++i) cr.grow_centroid(refs_[i].center4());
         }
 
         const uint32_t id = alloc();
@@ -280,7 +389,7 @@ private:
             left = build(b, mid, best_l, cl, depth + 1);
             right = build(mid, e, best_r, cr, depth + 1);
         }
-        BNode& node = nodes_[id];
+        BNode& node = nodes()[id];
         node.box[0] = left.box;
         node.box[1] = right.box;
         node.child[0] = left.child;
@@ -297,6 +406,7 @@ private:
     }
 
     std::vector<Ref>& refs_;
+    std::unique_ptr<NodeStorage[]> storage_;
     BvhOptions opt_;
     int bins_;
     std::atomic<int> tokens_{0};
@@ -461,7 +571,7 @@ void pad_outward(const Frame& f, DBox& b) {
 // levels: the stack bound above relies on it.  (Opening the largest-area child first, as Embree's
 // and Cycles' collapses do, would pack more nodes full but could descend one level only.)
 struct Flattener {
-    const std::vector<BNode>& in;
+    const BNode* in;  // Builder::nodes()
     std::vector<HtBvhNode>& out;
     const BvhOptions& opt;
     const std::vector<Prim>& prims;
@@ -606,7 +716,7 @@ struct Flattener {
     }
 
     // Fills out[id] with the moments of intermediate node id's references, bottom-up.
-    static const Moments& moments_of(const std::vector<BNode>& in, const std::vector<Prim>& prims, uint32_t id,
+    static const Moments& moments_of(const BNode* in, const std::vector<Prim>& prims, uint32_t id,
                                      std::vector<Moments>& out) {
         const BNode& bn = in[id];
         Moments mo;
@@ -639,9 +749,9 @@ void add_refs(std::vector<Ref>& refs, uint32_t seg, const float* p0, const float
         pb[k] = p0[k] + (p1[k] - p0[k]) * b;
     }
     Ref ref;
-    ref.seg = seg;
     ref.box.grow_point(pa, r);
     ref.box.grow_point(pb, r);
+    ref.set_seg(seg);
     if (opt.split_ratio > 0 && depth < opt.split_depth) {
         const float m = 0.5f * (a + b);
         float pm[3];
@@ -667,7 +777,7 @@ void build_bvh_from(const std::vector<HtSegment>& base, SceneGeometry& geo, cons
         if (base[i].flags & HT_SEG_TRIANGLE) {
             // Triangles are never split: their boxes are tight already for mesh-like shapes.
             Ref ref;
-            ref.seg = i;
+            ref.set_seg(i);
             for (uint32_t v = 0; v < 3; ++v) {
                 const HtPoint& p = geo.points[base[i].point + v];
                 const float pv[3] = {p.x, p.y, p.z};
@@ -689,7 +799,7 @@ void build_bvh_from(const std::vector<HtSegment>& base, SceneGeometry& geo, cons
     if (opt.obb_ratio > 0) {
         prims.resize(refs.size());
         for (size_t i = 0; i < refs.size(); ++i) {
-            const HtSegment& s = base[refs[i].seg];
+            const HtSegment& s = base[refs[i].seg()];
             Prim& q = prims[i];
             q.points = s.flags & HT_SEG_TRIANGLE ? 3 : 2;
             for (int v = 0; v < q.points; ++v) {
@@ -704,18 +814,18 @@ void build_bvh_from(const std::vector<HtSegment>& base, SceneGeometry& geo, cons
     geo.nodes.reserve(std::max<size_t>(refs.size(), 1));
     std::vector<Moments> moments;
     if (opt.obb_ratio > 0) {
-        moments.resize(builder.nodes_.size());
-        Flattener::moments_of(builder.nodes_, prims, root, moments);
+        moments.resize(builder.used());
+        Flattener::moments_of(builder.nodes(), prims, root, moments);
     }
-    Flattener fl{builder.nodes_, geo.nodes, opt, prims, moments,
+    Flattener fl{builder.nodes(), geo.nodes, opt, prims, moments,
                  opt.threads ? opt.threads : std::max(1u, std::thread::hardware_concurrency())};
-    Box rb = builder.nodes_[root].box[0];
-    rb.grow(builder.nodes_[root].box[1]);
+    Box rb = builder.nodes()[root].box[0];
+    rb.grow(builder.nodes()[root].box[1]);
     fl.root_area = std::max(rb.half_area(), 1e-30);
     fl.visit(root, 0, fl.root_area);
 
     geo.segments.resize(refs.size());
-    for (size_t i = 0; i < refs.size(); ++i) geo.segments[i] = base[refs[i].seg];
+    for (size_t i = 0; i < refs.size(); ++i) geo.segments[i] = base[refs[i].seg()];
 
     BvhStats& st = geo.stats;
     st.nodes = geo.nodes.size();
