@@ -152,22 +152,23 @@ HT_FN int ht_next_event(__global const HtLight* lights, uint light_count, const 
     /* lights that BCSDF sampling can also reach (the environment map) share the estimate by MIS;
      * the others keep weight 1 */
     float w = ls.pdf > 0.0f ? ht_mis_power(ls.pdf / (float)nee_count, pdf_bsdf) : 1.0f;
-    float3 c = ht_clamp_indirect(thr * value * ls.li_over_pdf * ((float)nee_count * w), bounce + 1u, share);
+    float3 c = thr * value * ls.li_over_pdf * ((float)nee_count * w);
     if (!ht_finite3(c)) {
         atomic_inc(&counters[HT_COUNTER_NAN]);
         return 0;
     }
 #ifdef HT_LIGHT_THRESHOLD
-    /* from the second vertex on: the first vertex's direct light is what stratified numbers make
-     * converge fastest, and there the roulette's noise cost more than its rays saved (docs/
-     * PERFORMANCE.md §8); the weight is for the whole camera sample, as roulette judges a
-     * continuation (roulette.h) */
+    /* From the second vertex on: the first vertex's direct light is what stratified numbers make
+     * converge fastest, and there the roulette's noise cost more than its rays saved
+     * (docs/PERFORMANCE.md §8).  The weight is for the whole camera sample, as roulette judges a
+     * continuation (roulette.h); before --clamp-indirect, so that a survivor's T / q is capped too. */
     if (bounce > 0u) {
         const float3 tv = thr * value;
         const float q = max(tv.x, max(tv.y, tv.z)) * ((float)nee_count * w) / share;
         c = ht_light_roulette(c, q, HT_LIGHT_THRESHOLD, ht_sample(seed, pixel, sample, bounce, HT_DIM_LIGHT_RR));
     }
 #endif
+    c = ht_clamp_indirect(c, bounce + 1u, share);
     if (!(c.x + c.y + c.z > 0.0f)) return 0;
     float3 o = ht_point_spawn(sp, ls.wi);
     shadow_ray->ox = o.x; shadow_ray->oy = o.y; shadow_ray->oz = o.z;
