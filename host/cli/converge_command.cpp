@@ -66,7 +66,7 @@ std::vector<ConvergeConfig> parse_configs(const std::string& text, const ImageRe
             if (k == "splits") r.settings.first_hit_splits = parse_int("--configs splits", v, 1, kMaxFirstHitSplits);
             if (k == "light_samples") r.light_samples = parse_int("--configs light_samples", v, 1, kMaxFirstHitSplits);
             if (k == "light_threshold")
-                r.settings.light_threshold = v == "off" ? 0.0f : float(parse_double("--configs light_threshold", v, 1e-6, 1));
+                r.settings.light_threshold = v == "off" ? 0.0f : float(parse_double("--configs light_threshold", v, kMinLightThreshold, kMaxLightThreshold));
         }
         out.push_back(cfg);
     }

@@ -15,6 +15,10 @@ namespace ht {
 // (kernels/rng.h).
 constexpr int kMaxFirstHitSplits = 64;
 
+// --light-threshold's range (kernels/integrator/roulette.h): above 1 every estimate of a white
+// fibre would be played for.
+constexpr double kMinLightThreshold = 1e-6, kMaxLightThreshold = 1;
+
 struct RenderSettings {
     int width = 512, height = 512;
     int spp = 16;

@@ -99,6 +99,8 @@ HT_FN void ht_sincos(real x, real* s, real* c) {
 HT_FN real3 ht_exp3(real3 a) { return make_real3(exp(a.x), exp(a.y), exp(a.z)); }
 HT_FN real3 ht_max3s(real3 a, real b) { return make_real3(ht_max(a.x, b), ht_max(a.y, b), ht_max(a.z, b)); }
 HT_FN real3 ht_div3(real3 a, real3 b) { return make_real3(a.x / b.x, a.y / b.y, a.z / b.z); }
+/* The largest of the three channels: what roulette, the light threshold and the clamp judge. */
+HT_FN real ht_max_channel(real3 c) { return ht_max(c.x, ht_max(c.y, c.z)); }
 HT_FN real ht_luminance(real3 c) { return HT_R(0.2126) * c.x + HT_R(0.7152) * c.y + HT_R(0.0722) * c.z; }
 HT_FN real3 ht_splat(real a) { return make_real3(a, a, a); }
 HT_FN real3 ht_load3(const float* p) { return make_real3(p[0], p[1], p[2]); }

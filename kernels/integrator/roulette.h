@@ -14,9 +14,10 @@
 #define HT_INTEGRATOR_ROULETTE_H
 
 #include "../compat.h"
+#include "../fiber/math.h"
 
 HT_FN real3 ht_roulette(real3 throughput, real share, real u) {
-    real m = ht_max(throughput.x, ht_max(throughput.y, throughput.z)) / share;
+    real m = ht_max_channel(throughput) / share;
     if (m >= HT_R(1)) return throughput;
     if (!(m > HT_R(0))) return make_real3(0, 0, 0);
     return u < m ? throughput / m : make_real3(0, 0, 0);

@@ -57,7 +57,7 @@
  * Undefined: compiled out. */
 HT_FN float3 ht_clamp_indirect(float3 c, uint scatterings, float share) {
 #ifdef HT_CLAMP_INDIRECT
-    float m = max(c.x, max(c.y, c.z));
+    float m = ht_max_channel(c);
     if (scatterings >= 2u && m > HT_CLAMP_INDIRECT * share) c *= HT_CLAMP_INDIRECT * share / m;
 #endif
     return c;
@@ -163,9 +163,10 @@ HT_FN int ht_next_event(__global const HtLight* lights, uint light_count, const 
      * (docs/PERFORMANCE.md §8).  The weight is for the whole camera sample, as roulette judges a
      * continuation (roulette.h); before --clamp-indirect, so that a survivor's T / q is capped too. */
     if (bounce > 0u) {
-        const float3 tv = thr * value;
-        const float q = max(tv.x, max(tv.y, tv.z)) * ((float)nee_count * w) / share;
-        c = ht_light_roulette(c, q, HT_LIGHT_THRESHOLD, ht_sample(seed, pixel, sample, bounce, HT_DIM_LIGHT_RR));
+        const float q = ht_max_channel(thr * value) * ((float)nee_count * w) / share;
+        /* the survival draw only where it decides something (a Sobol' draw is not free) */
+        if (q < HT_LIGHT_THRESHOLD)
+            c = ht_light_roulette(c, q, HT_LIGHT_THRESHOLD, ht_sample(seed, pixel, sample, bounce, HT_DIM_LIGHT_RR));
     }
 #endif
     c = ht_clamp_indirect(c, bounce + 1u, share);
