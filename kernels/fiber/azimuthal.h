@@ -91,17 +91,19 @@ HT_FN real ht_wrapped_gaussian(real x, real sigma) {
 
 /* ---------------------------------------------------------------- Marschner root finding */
 
-/* Phi(p, gamma) for the far field with inv_ep = 1/eta'(theta_d), gamma = gamma_i' in [-pi/2, pi/2]. */
+/* Phi(p, gamma) for the far field with inv_ep = 1/eta'(theta_d), gamma = gamma_i' in [-pi/2, pi/2], and
+ * dPhi/dgamma; the _sc forms take sg, cg = sin, cos gamma (the root finder needs both per step). */
+HT_FN real ht_phi_gamma_sc(int p, real gamma, real sg, real inv_ep) {
+    return ht_phi_path(p, gamma, ht_asin(sg * inv_ep));
+}
+HT_FN real ht_dphi_dgamma_sc(int p, real sg, real cg, real inv_ep) {
+    real d = sqrt(ht_max(HT_R(1) - sg * sg * inv_ep * inv_ep, HT_R(1e-30)));
+    return HT_R(2) * (real)p * cg * inv_ep / d - HT_R(2);
+}
 HT_FN real ht_phi_gamma(int p, real gamma, real inv_ep) {
     real sg, cg;
     ht_sincos(gamma, &sg, &cg);
-    return ht_phi_path(p, gamma, ht_asin(sg * inv_ep));
-}
-HT_FN real ht_dphi_dgamma(int p, real gamma, real inv_ep) {
-    real sg, cg;
-    ht_sincos(gamma, &sg, &cg);
-    real d = sqrt(ht_max(HT_R(1) - sg * sg * inv_ep * inv_ep, HT_R(1e-30)));
-    return HT_R(2) * (real)p * cg * inv_ep / d - HT_R(2);
+    return ht_phi_gamma_sc(p, gamma, sg, inv_ep);
 }
 
 /* Newton step size at which the root is accepted: ~4 ulp of the working precision. */
@@ -115,9 +117,8 @@ HT_FN real ht_dphi_dgamma(int p, real gamma, real inv_ep) {
  *   Phi^(p, gamma) = (6 p c/pi - 2) gamma - (8 p c/pi^3) gamma^3 + p pi = target,  c = asin(1/eta'),
  * written as gamma^3 + P gamma + Q = 0 (trigonometric form for three roots, Cardano for one).
  * Returns the count (0..3).  Used only as Newton starting points. */
-HT_FN int ht_phi_cubic_roots(int p, real target, real inv_ep, real* g) {
+HT_FN int ht_phi_cubic_roots_c(int p, real target, real c, real* g) {
     if (p == 0) { g[0] = -HT_R(0.5) * target; return 1; }
-    real c = ht_asin(inv_ep);
     real A = -HT_R(8) * (real)p * c / (HT_PI * HT_PI * HT_PI);
     real B = HT_R(6) * (real)p * c / HT_PI - HT_R(2);
     real D = (real)p * HT_PI - target;
@@ -141,31 +142,40 @@ HT_FN int ht_phi_cubic_roots(int p, real target, real inv_ep, real* g) {
     g[0] = ca + cb;
     return 1;
 }
+HT_FN int ht_phi_cubic_roots(int p, real target, real inv_ep, real* g) {
+    return ht_phi_cubic_roots_c(p, target, ht_asin(inv_ep), g);
+}
 
 /* Root of Phi(p, gamma) = target on the monotone bracket [a, b] (Phi(a) - target and Phi(b) - target
- * of opposite sign or zero): starts at a root of Marschner's cubic approximation that lies inside the
- * bracket (else the secant of the bracket ends), then Newton steps safeguarded with bisection on the
- * exact Phi.  Bisection alone would reach pi/2^40 ~ 1.4e-12 within the 40-iteration cap; Newton
- * converges in 2-5 steps in practice. */
-HT_FN real ht_phi_root(int p, real target, real inv_ep, real a, real b, real phi_a, real phi_b) {
+ * of opposite sign or zero): starts at the root gc[0..nc) of Marschner's cubic approximation that
+ * lies inside the bracket and is closest in Phi (else the secant of the bracket ends), then Newton
+ * steps safeguarded with bisection on the exact Phi.  Bisection alone would reach pi/2^40 ~ 1.4e-12
+ * within the 40-iteration cap; Newton converges in 2-5 steps in practice.  Phi and its derivative
+ * share one sincos per step, and the starting root's Phi is not computed twice: this loop was the
+ * shade kernel's largest fibre-model cost (docs/PERFORMANCE.md §3). */
+HT_FN real ht_phi_root(int p, real target, real inv_ep, real a, real b, real phi_a, real phi_b, const real* gc,
+                       int nc) {
     real fa = phi_a - target; /* Phi(a), Phi(b) known to the caller */
     real fb = phi_b - target;
     real x = HT_R(0.5) * (a + b);
     if (fabs(fb - fa) > HT_R(1e-30)) x = ht_clamp(a - fa * (b - a) / (fb - fa), a, b);
-    real gc[3];
-    int nc = ht_phi_cubic_roots(p, target, inv_ep, gc);
-    real best = HT_REAL_MAX;
+    real best = HT_REAL_MAX, f_best = HT_R(0);
     for (int k = 0; k < nc; ++k) {
         if (gc[k] >= a && gc[k] <= b) {
-            real d = fabs(ht_phi_gamma(p, gc[k], inv_ep) - target);
-            if (d < best) { best = d; x = gc[k]; }
+            real f = ht_phi_gamma(p, gc[k], inv_ep) - target;
+            real d = fabs(f);
+            if (d < best) { best = d; x = gc[k]; f_best = f; }
         }
     }
+    int known = best < HT_REAL_MAX; /* Phi(x) - target is f_best */
     for (int it = 0; it < 40; ++it) {
-        real fx = ht_phi_gamma(p, x, inv_ep) - target;
+        real sg, cg;
+        ht_sincos(x, &sg, &cg);
+        real fx = known ? f_best : ht_phi_gamma_sc(p, x, sg, inv_ep) - target;
+        known = 0;
         if (fx == HT_R(0)) break;
         if ((fx < HT_R(0)) == (fa < HT_R(0))) { a = x; fa = fx; } else { b = x; }
-        real d = ht_dphi_dgamma(p, x, inv_ep);
+        real d = ht_dphi_dgamma_sc(p, sg, cg, inv_ep);
         real xn = fabs(d) > HT_R(1e-12) ? x - fx / d : HT_R(0.5) * (a + b);
         if (!(xn > a && xn < b)) xn = HT_R(0.5) * (a + b);
         if (fabs(xn - x) < HT_ROOT_TOL * (HT_R(1) + fabs(x))) { x = xn; break; }
@@ -173,7 +183,6 @@ HT_FN real ht_phi_root(int p, real target, real inv_ep, real a, real b, real phi
     }
     return x;
 }
-
 /* Up to 3 roots h of Phi(p, h) = phi (mod 2 pi), with cs = cos(gamma) = sqrt(1 - h^2) computed from the
  * root angle (accurate where |h| -> 1); returns the count.  Monotone pieces:
  * R and TT: one piece [-pi/2, pi/2]; TRT with eta' < 2: split at the caustics +-gamma_c. */
@@ -198,6 +207,8 @@ HT_FN int ht_phi_roots(int p, real phi, real inv_ep, real* hs, real* cs) {
         }
     }
     int n = 0;
+    real gc[3], t_cubic = HT_REAL_MAX; /* the cubic's roots for target t_cubic, shared by the pieces */
+    int nc = 0;
     for (int i = 0; i < pieces; ++i) {
         real fa = pa[i], fb = pb[i];
         real lo = ht_min(fa, fb), hi = ht_max(fa, fb);
@@ -205,7 +216,8 @@ HT_FN int ht_phi_roots(int p, real phi, real inv_ep, real* hs, real* cs) {
         real t = phi + HT_TWO_PI * floor((lo - phi) * HT_INV_TWO_PI + HT_R(1));
         if (t - HT_TWO_PI >= lo) t -= HT_TWO_PI;
         if (t < lo || t > hi) continue;
-        real g = ht_phi_root(p, t, inv_ep, ga[i], gb[i], fa, fb);
+        if (t != t_cubic) { nc = ht_phi_cubic_roots_c(p, t, c, gc); t_cubic = t; }
+        real g = ht_phi_root(p, t, inv_ep, ga[i], gb[i], fa, fb, gc, nc);
         real sg, cg;
         ht_sincos(g, &sg, &cg);
         cs[n] = fabs(cg);

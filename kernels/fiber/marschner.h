@@ -25,15 +25,19 @@ typedef struct {
     real sin_o, cos_o, sin_i, cos_i, theta_o, theta_i, theta_h, sin_d, cos_d, phi;
 } HtMarschnerAngles;
 
-HT_FN void ht_marschner_angles(real3 wo, real3 wi, HtMarschnerAngles* a) {
-    ht_theta(wo, &a->sin_o, &a->cos_o);
+/* The wi-dependent half of the angles; a->sin_o, cos_o, theta_o already set. */
+HT_FN void ht_marschner_angles_i(real3 wo, real3 wi, HtMarschnerAngles* a) {
     ht_theta(wi, &a->sin_i, &a->cos_i);
-    a->theta_o = ht_asin(a->sin_o);
     a->theta_i = ht_asin(a->sin_i);
     a->theta_h = HT_R(0.5) * (a->theta_i + a->theta_o);
     ht_sincos(HT_R(0.5) * (a->theta_o - a->theta_i), &a->sin_d, &a->cos_d);
     a->cos_d = fabs(a->cos_d);
     a->phi = ht_relative_phi(wo, wi);
+}
+HT_FN void ht_marschner_angles(real3 wo, real3 wi, HtMarschnerAngles* a) {
+    ht_theta(wo, &a->sin_o, &a->cos_o);
+    a->theta_o = ht_asin(a->sin_o);
+    ht_marschner_angles_i(wo, wi, a);
 }
 
 /* Longitudinal sampling proxy shared by marschner and zinke: the d'Eon lobe M(theta_i; theta_o', v)
@@ -49,27 +53,66 @@ HT_FN void ht_mz_tilt(const HtMaterial* m, int p, real sin_o, real cos_o, real* 
     *cp = fabs(cos_o * c2 + sin_o * s2);
     *v = HT_R(4) * b * b;
 }
-HT_FN real ht_mz_theta_pdf(const HtMaterial* m, int p, real sin_o, real cos_o, real sin_i, real cos_i) {
-    real sp, cp, v;
-    ht_mz_tilt(m, p, sin_o, cos_o, &sp, &cp, &v);
-    return ht_mp(cos_i, sin_i, cp, sp, v);
+
+/* What marschner and zinke need of wo (and, for zinke, h) alone: theta_o, each lobe's tilted cone
+ * with its M_p log normaliser, and the lobe selection probabilities.  A shading point makes it
+ * once (kernels/integrator/shading_point.h) for its next-event estimates and its samples, each of
+ * which evaluates the model again: the shade kernel spent a quarter of its time redoing these per
+ * call (docs/PERFORMANCE.md §3).  Lobes compiled out (lobes.h) are left 0 and never read. */
+typedef struct {
+    real sin_o, cos_o, theta_o;
+    real tilt_s[3], tilt_c[3], tilt_v[3], tilt_n[3];
+    real pr[3];
+} HtMzWo;
+
+HT_FN void ht_mz_wo_clear(HtMzWo* o) {
+    o->sin_o = o->cos_o = o->theta_o = HT_R(0);
+    for (int p = 0; p < 3; ++p) o->tilt_s[p] = o->tilt_c[p] = o->tilt_v[p] = o->tilt_n[p] = o->pr[p] = HT_R(0);
 }
-HT_FN void ht_mz_theta_sample(const HtMaterial* m, int p, real sin_o, real cos_o, real u1, real u2, real* sin_i,
-                              real* cos_i) {
-    real sp, cp, v;
-    ht_mz_tilt(m, p, sin_o, cos_o, &sp, &cp, &v);
-    ht_mp_sample(u1, u2, sp, cp, v, sin_i, cos_i);
+HT_FN void ht_mz_wo_theta(const HtMaterial* m, real3 wo, HtMzWo* o) {
+    ht_mz_wo_clear(o);
+    ht_theta(wo, &o->sin_o, &o->cos_o);
+    o->theta_o = ht_asin(o->sin_o);
+    for (int p = 0; p < 3; ++p) {
+        if (!HT_LOBE_ON(p)) continue;
+        ht_mz_tilt(m, p, o->sin_o, o->cos_o, &o->tilt_s[p], &o->tilt_c[p], &o->tilt_v[p]);
+        o->tilt_n[p] = ht_mp_log_norm(o->tilt_v[p]);
+    }
+}
+/* The proxy's density of theta_i for lobe p (per solid angle / dphi) and its sampler. */
+HT_FN real ht_mz_theta_pdf(const HtMzWo* o, int p, real sin_i, real cos_i) {
+    return ht_mp_n(cos_i, sin_i, o->tilt_c[p], o->tilt_s[p], o->tilt_v[p], o->tilt_n[p]);
+}
+HT_FN void ht_mz_theta_sample(const HtMzWo* o, int p, real u1, real u2, real* sin_i, real* cos_i) {
+    ht_mp_sample(u1, u2, o->tilt_s[p], o->tilt_c[p], o->tilt_v[p], sin_i, cos_i);
+}
+/* The angles between wo and wi, the wo half taken from o. */
+HT_FN void ht_mz_angles(const HtMzWo* o, real3 wo, real3 wi, HtMarschnerAngles* a) {
+    a->sin_o = o->sin_o;
+    a->cos_o = o->cos_o;
+    a->theta_o = o->theta_o;
+    ht_marschner_angles_i(wo, wi, a);
+}
+/* theta_d of a sampled sin theta_i: the azimuthal half of a sampler starts from it. */
+HT_FN void ht_mz_theta_d(const HtMzWo* o, real sin_i, real* sin_d, real* cos_d) {
+    real theta_i = ht_asin(sin_i);
+    ht_sincos(HT_R(0.5) * (o->theta_o - theta_i), sin_d, cos_d);
+    *cos_d = fabs(*cos_d);
 }
 
-/* A_p(h) at theta_d for index eta (p = 0, 1, 2), c = sqrt(1 - h^2). */
-HT_FN real3 ht_marschner_ap_c(const HtMaterial* m, int p, real h, real c, real eta, real sin_d, real cos_d) {
+/* A_p(h) at theta_d for index eta (p = 0, 1, 2), c = sqrt(1 - h^2); _k: given inv_ep = 1/eta' and
+ * ctt = cos theta_t at theta_d, which every root and lobe at one theta_d shares. */
+HT_FN real3 ht_marschner_ap_k(const HtMaterial* m, int p, real h, real c, real eta, real cos_d, real inv_ep, real ctt) {
     real f = ht_fresnel_dielectric(cos_d * c, eta);
     if (p == 0) return ht_splat(f);
-    real ht_ = h * ht_inv_eta_prime(eta, sin_d, cos_d);
+    real ht_ = h * inv_ep;
     real cgt = ht_safe_sqrt(HT_R(1) - ht_ * ht_);
-    real3 T = ht_chord_transmittance(ht_load3(m->sigma_a), cgt, ht_cos_theta_t(eta, sin_d));
+    real3 T = ht_chord_transmittance(ht_load3(m->sigma_a), cgt, ctt);
     real3 a = T * ((HT_R(1) - f) * (HT_R(1) - f));
     return p == 1 ? a : a * T * f;
+}
+HT_FN real3 ht_marschner_ap_c(const HtMaterial* m, int p, real h, real c, real eta, real sin_d, real cos_d) {
+    return ht_marschner_ap_k(m, p, h, c, eta, cos_d, ht_inv_eta_prime(eta, sin_d, cos_d), ht_cos_theta_t(eta, sin_d));
 }
 HT_FN real3 ht_marschner_ap(const HtMaterial* m, int p, real h, real eta, real sin_d, real cos_d) {
     return ht_marschner_ap_c(m, p, h, ht_safe_sqrt(HT_R(1) - h * h), eta, sin_d, cos_d);
@@ -100,14 +143,14 @@ HT_FN void ht_marschner_caustic(const HtMaterial* m, real inv_ep, real* phi_c, r
 /* sum over roots of A_p(h)/|2 dPhi/dh| (N_p, smooth circle) and of 1/|2 dPhi/dh| (h-uniform density). */
 HT_FN void ht_marschner_np_raw(const HtMaterial* m, int p, real phi, real eta, real sin_d, real cos_d,
                                real3* np, real* density) {
-    real inv_ep = ht_inv_eta_prime(eta, sin_d, cos_d);
+    real inv_ep = ht_inv_eta_prime(eta, sin_d, cos_d), ctt = ht_cos_theta_t(eta, sin_d);
     real hs[3], cs[3];
     int n = ht_phi_roots(p, phi, inv_ep, hs, cs);
     real3 acc = ht_splat(HT_R(0));
     real dens = HT_R(0);
     for (int k = 0; k < n; ++k) {
         real s = HT_R(0.5) * ht_inv_dphi_dh_c(p, hs[k], cs[k], inv_ep);
-        acc += ht_marschner_ap_c(m, p, hs[k], cs[k], eta, sin_d, cos_d) * s;
+        acc += ht_marschner_ap_k(m, p, hs[k], cs[k], eta, cos_d, inv_ep, ctt) * s;
         dens += s;
     }
     *np = acc;
@@ -168,19 +211,21 @@ HT_FN void ht_marschner_probs(const HtMaterial* m, real sin_o, real cos_o, real*
     }
     ht_lobe_probs_finish(pr, s);
 }
+HT_FN void ht_marschner_wo(const HtMaterial* m, real3 wo, HtMzWo* o) {
+    ht_mz_wo_theta(m, wo, o);
+    ht_marschner_probs(m, o->sin_o, o->cos_o, o->pr);
+}
 
 #define HT_MARSCHNER_TRT_UNIFORM HT_R(0.10)
 #define HT_MARSCHNER_TRT_GLINT HT_R(0.15)
 
 /* Solid-angle pdf of ht_marschner_sample.  dens[p] >= 0: the h-uniform density of lobe p at a->phi
  * (index eta) already known to the caller; < 0: computed here. */
-HT_FN real ht_marschner_pdf(const HtMaterial* m, const HtMarschnerAngles* a, const real* dens_in) {
-    real pr[3];
-    ht_marschner_probs(m, a->sin_o, a->cos_o, pr);
+HT_FN real ht_marschner_pdf(const HtMaterial* m, const HtMzWo* o, const HtMarschnerAngles* a, const real* dens_in) {
     real pd = HT_R(0);
     for (int p = 0; p < 3; ++p) {
         if (!HT_LOBE_ON(p)) continue;
-        real pth = ht_mz_theta_pdf(m, p, a->sin_o, a->cos_o, a->sin_i, a->cos_i); /* per solid angle / dphi */
+        real pth = ht_mz_theta_pdf(o, p, a->sin_i, a->cos_i); /* per solid angle / dphi */
         real dens = dens_in[p];
         if (dens < HT_R(0)) {
             real3 np;
@@ -196,14 +241,16 @@ HT_FN real ht_marschner_pdf(const HtMaterial* m, const HtMarschnerAngles* a, con
                                ht_wrapped_gaussian(a->phi + phi_c, m->caustic_wc));
             pphi = (HT_R(1) - eg - HT_MARSCHNER_TRT_UNIFORM) * dens + eg * g + HT_MARSCHNER_TRT_UNIFORM * HT_INV_TWO_PI;
         }
-        pd += pr[p] * pth * pphi;
+        pd += o->pr[p] * pth * pphi;
     }
     return pd;
 }
 
-HT_FN void ht_marschner_eval(const HtMaterial* m, real3 wo, real3 wi, real h, real3* lobes, real3* value, real* pdf) {
+/* o: ht_marschner_wo of this wo (h is not used by the far field) */
+HT_FN void ht_marschner_eval_o(const HtMaterial* m, const HtMzWo* o, real3 wo, real3 wi, real3* lobes, real3* value,
+                               real* pdf) {
     HtMarschnerAngles a;
-    ht_marschner_angles(wo, wi, &a);
+    ht_mz_angles(o, wo, wi, &a);
     real geo = HT_R(0.5) * a.cos_i / ht_max(a.cos_d * a.cos_d, HT_R(1e-6));
     real dens[3] = {HT_R(0), HT_R(0), HT_R(0)};
     real3 n0, n1 = ht_splat(HT_R(0)), n2 = ht_splat(HT_R(0));
@@ -230,7 +277,12 @@ HT_FN void ht_marschner_eval(const HtMaterial* m, real3 wo, real3 wi, real h, re
     lobes[3] = ht_splat(HT_R(0));
     for (int p = 0; p < 3; ++p) lobes[p] = ht_sanitize3(lobes[p]);
     *value = lobes[0] + lobes[1] + lobes[2];
-    *pdf = ht_sanitize(ht_marschner_pdf(m, &a, dens));
+    *pdf = ht_sanitize(ht_marschner_pdf(m, o, &a, dens));
+}
+HT_FN void ht_marschner_eval(const HtMaterial* m, real3 wo, real3 wi, real h, real3* lobes, real3* value, real* pdf) {
+    HtMzWo o;
+    ht_marschner_wo(m, wo, &o);
+    ht_marschner_eval_o(m, &o, wo, wi, lobes, value, pdf);
 }
 
 /* The end of a sampler that draws from a proxy and then evaluates the model at the drawn
@@ -244,19 +296,13 @@ HT_FN int ht_finish_sample(real3 w, real3 value, real pd, real3* wi, real3* weig
 }
 
 
-HT_FN int ht_marschner_sample(const HtMaterial* m, real3 wo, real h, real u0, real u1, real u2, real u3,
-                              real3* wi, real3* weight, real* pdf) {
-    real sin_o, cos_o;
-    ht_theta(wo, &sin_o, &cos_o);
-    real pr[3];
-    ht_marschner_probs(m, sin_o, cos_o, pr);
+HT_FN int ht_marschner_sample_o(const HtMaterial* m, const HtMzWo* o, real3 wo, real u0, real u1, real u2, real u3,
+                                real3* wi, real3* weight, real* pdf) {
     real ur;
-    int p = ht_pick_lobe(pr, u0, &ur);
+    int p = ht_pick_lobe(o->pr, u0, &ur);
     real sin_i, cos_i, sin_d, cos_d;
-    ht_mz_theta_sample(m, p, sin_o, cos_o, u1, u2, &sin_i, &cos_i);
-    real theta_o = ht_asin(sin_o), theta_i = ht_asin(sin_i);
-    ht_sincos(HT_R(0.5) * (theta_o - theta_i), &sin_d, &cos_d);
-    cos_d = fabs(cos_d);
+    ht_mz_theta_sample(o, p, u1, u2, &sin_i, &cos_i);
+    ht_mz_theta_d(o, sin_i, &sin_d, &cos_d);
     real inv_ep = ht_inv_eta_prime(m->eta, sin_d, cos_d);
     real hh = HT_R(2) * u3 - HT_R(1);
     real dphi;
@@ -284,8 +330,14 @@ HT_FN int ht_marschner_sample(const HtMaterial* m, real3 wo, real h, real u0, re
     real3 lobes[4];
     real3 value;
     real pd;
-    ht_marschner_eval(m, wo, w, h, lobes, &value, &pd);
+    ht_marschner_eval_o(m, o, wo, w, lobes, &value, &pd);
     return ht_finish_sample(w, value, pd, wi, weight, pdf);
+}
+HT_FN int ht_marschner_sample(const HtMaterial* m, real3 wo, real h, real u0, real u1, real u2, real u3,
+                              real3* wi, real3* weight, real* pdf) {
+    HtMzWo o;
+    ht_marschner_wo(m, wo, &o);
+    return ht_marschner_sample_o(m, &o, wo, u0, u1, u2, u3, wi, weight, pdf);
 }
 
 #endif
