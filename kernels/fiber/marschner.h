@@ -102,14 +102,26 @@ HT_FN void ht_mz_theta_d(const HtMzWo* o, real sin_i, real* sin_d, real* cos_d) 
 
 /* A_p(h) at theta_d for index eta (p = 0, 1, 2), c = sqrt(1 - h^2); _k: given inv_ep = 1/eta' and
  * ctt = cos theta_t at theta_d, which every root and lobe at one theta_d shares. */
+HT_FN real3 ht_marschner_chord_k(const HtMaterial* m, real h, real inv_ep, real ctt) {
+    real ht_ = h * inv_ep;
+    real cgt = ht_safe_sqrt(HT_R(1) - ht_ * ht_);
+    return ht_chord_transmittance(ht_load3(m->sigma_a), cgt, ctt);
+}
 HT_FN real3 ht_marschner_ap_k(const HtMaterial* m, int p, real h, real c, real eta, real cos_d, real inv_ep, real ctt) {
     real f = ht_fresnel_dielectric(cos_d * c, eta);
     if (p == 0) return ht_splat(f);
-    real ht_ = h * inv_ep;
-    real cgt = ht_safe_sqrt(HT_R(1) - ht_ * ht_);
-    real3 T = ht_chord_transmittance(ht_load3(m->sigma_a), cgt, ctt);
+    real3 T = ht_marschner_chord_k(m, h, inv_ep, ctt);
     real3 a = T * ((HT_R(1) - f) * (HT_R(1) - f));
     return p == 1 ? a : a * T * f;
+}
+/* All three at one h (zinke's lobe weights, the lobe probabilities): one Fresnel, one chord. */
+HT_FN void ht_marschner_ap3_k(const HtMaterial* m, real h, real c, real eta, real cos_d, real inv_ep, real ctt,
+                              real3* a) {
+    real f = ht_fresnel_dielectric(cos_d * c, eta);
+    a[0] = ht_splat(f);
+    real3 T = ht_marschner_chord_k(m, h, inv_ep, ctt);
+    a[1] = T * ((HT_R(1) - f) * (HT_R(1) - f));
+    a[2] = a[1] * T * f;
 }
 HT_FN real3 ht_marschner_ap_c(const HtMaterial* m, int p, real h, real c, real eta, real sin_d, real cos_d) {
     return ht_marschner_ap_k(m, p, h, c, eta, cos_d, ht_inv_eta_prime(eta, sin_d, cos_d), ht_cos_theta_t(eta, sin_d));
@@ -204,9 +216,12 @@ HT_FN int ht_pick_lobe(const real* pr, real u0, real* ur) {
 
 /* Lobe selection probabilities (depend on wo only). */
 HT_FN void ht_marschner_probs(const HtMaterial* m, real sin_o, real cos_o, real* pr) {
+    real3 a[3];
+    ht_marschner_ap3_k(m, HT_R(0.5), ht_safe_sqrt(HT_R(1) - HT_R(0.5) * HT_R(0.5)), m->eta, cos_o,
+                       ht_inv_eta_prime(m->eta, sin_o, cos_o), ht_cos_theta_t(m->eta, sin_o), a);
     real s = HT_R(0);
     for (int p = 0; p < 3; ++p) {
-        pr[p] = HT_LOBE_ON(p) ? ht_luminance(ht_marschner_ap(m, p, HT_R(0.5), m->eta, sin_o, cos_o)) : HT_R(0);
+        pr[p] = HT_LOBE_ON(p) ? ht_luminance(a[p]) : HT_R(0);
         s += pr[p];
     }
     ht_lobe_probs_finish(pr, s);

@@ -32,10 +32,8 @@ HT_FN void ht_zinke_w(const HtMaterial* m, real h, real sin_d, real cos_d, real3
     real inv_ep = ht_inv_eta_prime(eta, sin_d, cos_d), ctt = ht_cos_theta_t(eta, sin_d);
     real c = ht_safe_sqrt(HT_R(1) - h * h);
     real gi = ht_asin(h), gt = ht_asin(h * inv_ep);
-    for (int p = 0; p < 3; ++p) {
-        phis[p] = ht_phi_path(p, gi, gt);
-        w[p] = ht_marschner_ap_k(m, p, h, c, eta, cos_d, inv_ep, ctt);
-    }
+    for (int p = 0; p < 3; ++p) phis[p] = ht_phi_path(p, gi, gt);
+    ht_marschner_ap3_k(m, h, c, eta, cos_d, inv_ep, ctt, w);
 }
 
 HT_FN void ht_zinke_probs(const HtMaterial* m, real h, real sin_o, real cos_o, real* pr) {
