@@ -43,14 +43,14 @@
 #endif
 
 /* Finite, non-zero direction (x - x == 0 exactly for finite x; NaN otherwise). */
-HT_FN int ht_valid_dir(real3 w) {
+HT_FIBER_FN int ht_valid_dir(real3 w) {
     real s = w.x * w.x + w.y * w.y + w.z * w.z;
     return (s - s == HT_R(0)) && s > HT_R(1e-30) && (w.x - w.x == HT_R(0)) && (w.y - w.y == HT_R(0)) && (w.z - w.z == HT_R(0));
 }
-HT_FN real ht_sanitize_u(real u) { return (u == u) ? ht_clamp(u, HT_R(0), HT_R(0.99999994)) : HT_R(0); }
+HT_FIBER_FN real ht_sanitize_u(real u) { return (u == u) ? ht_clamp(u, HT_R(0), HT_R(0.99999994)) : HT_R(0); }
 
 /* h as every model reads it: NaN -> 0, clamped to [-1, 1]. */
-HT_FN real ht_sanitize_h(real h) { return (h == h) ? ht_clamp(h, HT_R(-1), HT_R(1)) : HT_R(0); }
+HT_FIBER_FN real ht_sanitize_h(real h) { return (h == h) ? ht_clamp(h, HT_R(-1), HT_R(1)) : HT_R(0); }
 
 /* What eval and sample derive from wo and h alone, made once by ht_bcsdf_prepare for a shading
  * point that evaluates and samples the model several times (kernels/stages/shade.cl: one
@@ -62,7 +62,7 @@ typedef struct {
     int unused; /* a struct needs a member when both models are compiled out */
 } HtBcsdfWo;
 
-HT_FN void ht_bcsdf_prepare(const HtMaterial* m, real3 wo, real h, HtBcsdfWo* o) {
+HT_FIBER_FN void ht_bcsdf_prepare(const HtMaterial* m, real3 wo, real h, HtBcsdfWo* o) {
     h = ht_sanitize_h(h);
     o->unused = 0;
     switch (m->model) {
@@ -81,10 +81,10 @@ HT_FN void ht_bcsdf_prepare(const HtMaterial* m, real3 wo, real h, HtBcsdfWo* o)
 }
 
 /* Whether the model returns a delta/near-delta that next-event estimation cannot hit. */
-HT_FN int ht_bcsdf_is_delta(const HtMaterial* m) { return 0; }
+HT_FIBER_FN int ht_bcsdf_is_delta(const HtMaterial* m) { return 0; }
 
 /* o: ht_bcsdf_prepare of m, wo and h */
-HT_FN void ht_bcsdf_eval_lobes_o(const HtMaterial* m, const HtBcsdfWo* o, real3 wo, real3 wi, real h, real3* lobes,
+HT_FIBER_FN void ht_bcsdf_eval_lobes_o(const HtMaterial* m, const HtBcsdfWo* o, real3 wo, real3 wi, real h, real3* lobes,
                                  real3* value, real* pdf) {
     h = ht_sanitize_h(h);
     if (!ht_valid_dir(wo) || !ht_valid_dir(wi)) {
@@ -116,27 +116,27 @@ HT_FN void ht_bcsdf_eval_lobes_o(const HtMaterial* m, const HtBcsdfWo* o, real3 
     }
 }
 
-HT_FN void ht_bcsdf_eval_lobes(const HtMaterial* m, real3 wo, real3 wi, real h, real3* lobes, real3* value,
+HT_FIBER_FN void ht_bcsdf_eval_lobes(const HtMaterial* m, real3 wo, real3 wi, real h, real3* lobes, real3* value,
                                real* pdf) {
     HtBcsdfWo o;
     ht_bcsdf_prepare(m, wo, h, &o);
     ht_bcsdf_eval_lobes_o(m, &o, wo, wi, h, lobes, value, pdf);
 }
 
-HT_FN void ht_bcsdf_eval_o(const HtMaterial* m, const HtBcsdfWo* o, real3 wo, real3 wi, real h, real3* value,
+HT_FIBER_FN void ht_bcsdf_eval_o(const HtMaterial* m, const HtBcsdfWo* o, real3 wo, real3 wi, real h, real3* value,
                            real* pdf) {
     real3 lobes[4];
     ht_bcsdf_eval_lobes_o(m, o, wo, wi, h, lobes, value, pdf);
 }
 // m: material in private memory; wo, wi: unit vectors in the fibre frame; h in [-1,1]
-HT_FN void ht_bcsdf_eval(const HtMaterial* m, real3 wo, real3 wi, real h, real3* value, real* pdf) {
+HT_FIBER_FN void ht_bcsdf_eval(const HtMaterial* m, real3 wo, real3 wi, real h, real3* value, real* pdf) {
     HtBcsdfWo o;
     ht_bcsdf_prepare(m, wo, h, &o);
     ht_bcsdf_eval_o(m, &o, wo, wi, h, value, pdf);
 }
 
 /* o: ht_bcsdf_prepare of m, wo and h */
-HT_FN int ht_bcsdf_sample_o(const HtMaterial* m, const HtBcsdfWo* o, real3 wo, real h, real u0, real u1, real u2,
+HT_FIBER_FN int ht_bcsdf_sample_o(const HtMaterial* m, const HtBcsdfWo* o, real3 wo, real h, real u0, real u1, real u2,
                             real u3, real3* wi, real3* weight, real* pdf) {
     h = ht_sanitize_h(h);
     u0 = ht_sanitize_u(u0);
@@ -169,7 +169,7 @@ HT_FN int ht_bcsdf_sample_o(const HtMaterial* m, const HtBcsdfWo* o, real3 wo, r
 }
 
 // u: 4 uniforms in [0,1). Returns 0 if no direction could be sampled. weight = value/pdf.
-HT_FN int ht_bcsdf_sample(const HtMaterial* m, real3 wo, real h, real u0, real u1, real u2, real u3, real3* wi,
+HT_FIBER_FN int ht_bcsdf_sample(const HtMaterial* m, real3 wo, real h, real u0, real u1, real u2, real u3, real3* wi,
                           real3* weight, real* pdf) {
     HtBcsdfWo o;
     ht_bcsdf_prepare(m, wo, h, &o);

@@ -27,7 +27,7 @@
 #include "marschner.h"
 
 /* Lobe weights W_p(h) = A_p(h) and exit azimuths Phi(p, h) at theta_d. */
-HT_FN void ht_zinke_w(const HtMaterial* m, real h, real sin_d, real cos_d, real3* w, real* phis) {
+HT_FIBER_FN void ht_zinke_w(const HtMaterial* m, real h, real sin_d, real cos_d, real3* w, real* phis) {
     real eta = m->eta;
     real inv_ep = ht_inv_eta_prime(eta, sin_d, cos_d), ctt = ht_cos_theta_t(eta, sin_d);
     real c = ht_safe_sqrt(HT_R(1) - h * h);
@@ -36,7 +36,7 @@ HT_FN void ht_zinke_w(const HtMaterial* m, real h, real sin_d, real cos_d, real3
     ht_marschner_ap3_k(m, h, c, eta, cos_d, inv_ep, ctt, w);
 }
 
-HT_FN void ht_zinke_probs(const HtMaterial* m, real h, real sin_o, real cos_o, real* pr) {
+HT_FIBER_FN void ht_zinke_probs(const HtMaterial* m, real h, real sin_o, real cos_o, real* pr) {
     real3 w[3];
     real phis[3];
     ht_zinke_w(m, h, sin_o, cos_o, w, phis);
@@ -44,13 +44,13 @@ HT_FN void ht_zinke_probs(const HtMaterial* m, real h, real sin_o, real cos_o, r
     for (int p = 0; p < 3; ++p) { pr[p] = HT_LOBE_ON(p) ? ht_max(ht_luminance(w[p]), HT_R(0)) : HT_R(0); s += pr[p]; }
     ht_lobe_probs_finish(pr, s);
 }
-HT_FN void ht_zinke_wo(const HtMaterial* m, real3 wo, real h, HtMzWo* o) {
+HT_FIBER_FN void ht_zinke_wo(const HtMaterial* m, real3 wo, real h, HtMzWo* o) {
     ht_mz_wo_theta(m, wo, o);
     ht_zinke_probs(m, h, o->sin_o, o->cos_o, o->pr);
 }
 
 /* o: ht_zinke_wo of this wo and h */
-HT_FN void ht_zinke_eval_o(const HtMaterial* m, const HtMzWo* o, real3 wo, real3 wi, real h, real3* lobes,
+HT_FIBER_FN void ht_zinke_eval_o(const HtMaterial* m, const HtMzWo* o, real3 wo, real3 wi, real h, real3* lobes,
                            real3* value, real* pdf) {
     HtMarschnerAngles a;
     ht_mz_angles(o, wo, wi, &a);
@@ -74,13 +74,13 @@ HT_FN void ht_zinke_eval_o(const HtMaterial* m, const HtMzWo* o, real3 wo, real3
     *value = sum;
     *pdf = ht_sanitize(pd);
 }
-HT_FN void ht_zinke_eval(const HtMaterial* m, real3 wo, real3 wi, real h, real3* lobes, real3* value, real* pdf) {
+HT_FIBER_FN void ht_zinke_eval(const HtMaterial* m, real3 wo, real3 wi, real h, real3* lobes, real3* value, real* pdf) {
     HtMzWo o;
     ht_zinke_wo(m, wo, h, &o);
     ht_zinke_eval_o(m, &o, wo, wi, h, lobes, value, pdf);
 }
 
-HT_FN int ht_zinke_sample_o(const HtMaterial* m, const HtMzWo* o, real3 wo, real h, real u0, real u1, real u2,
+HT_FIBER_FN int ht_zinke_sample_o(const HtMaterial* m, const HtMzWo* o, real3 wo, real h, real u0, real u1, real u2,
                             real u3, real3* wi, real3* weight, real* pdf) {
     real ur;
     int p = ht_pick_lobe(o->pr, u0, &ur);
@@ -98,7 +98,7 @@ HT_FN int ht_zinke_sample_o(const HtMaterial* m, const HtMzWo* o, real3 wo, real
     ht_zinke_eval_o(m, o, wo, w, h, lobes, &value, &pd);
     return ht_finish_sample(w, value, pd, wi, weight, pdf);
 }
-HT_FN int ht_zinke_sample(const HtMaterial* m, real3 wo, real h, real u0, real u1, real u2, real u3,
+HT_FIBER_FN int ht_zinke_sample(const HtMaterial* m, real3 wo, real h, real u0, real u1, real u2, real u3,
                           real3* wi, real3* weight, real* pdf) {
     HtMzWo o;
     ht_zinke_wo(m, wo, h, &o);
