@@ -9,6 +9,7 @@
  *   real, real3, uint, ulong          scalar / 3-vector of the working precision
  *   make_real3(x,y,z), dot, cross, length, normalize, r3_x/y/z accessors via .x .y .z
  *   HT_FN                              function qualifier for helpers in headers
+ *   HT_FIBER_FN                        the same for kernels/fiber/ (force-inlined in the shade program)
  *   HT_GLOBAL, HT_CONST_GLOBAL         address-space qualifiers for buffer pointers
  *   ht_select(c, a, b)                 compare-select min/max friendly form (PoCL: faster than fmin)
  *   ht_as_uint / ht_as_float           bit casts
@@ -25,6 +26,17 @@
 typedef float real;
 typedef float3 real3;
 #define HT_FN static inline
+/* The fibre models' functions (kernels/fiber/).  A program that defines HT_FIBER_INLINE before its
+ * first include (stages/shade.cl) gets them force-inlined: the shade kernel evaluates a model
+ * several times per shading point, and left to the inliner the helpers stayed calls (a perf profile
+ * of a default-scene render listed a dozen as symbols of their own); forced, a render took ~6 % less
+ * CPU (docs/PERFORMANCE.md §3) at 1.1-1.6 s more CPU for the first, uncached, build.  Traversal is the
+ * opposite case (docs/POCL.md §1), so every other program keeps plain HT_FN. */
+#ifdef HT_FIBER_INLINE
+#define HT_FIBER_FN static inline __attribute__((always_inline))
+#else
+#define HT_FIBER_FN HT_FN
+#endif
 #define HT_GLOBAL __global
 #define HT_CONST_GLOBAL __global const
 #define HT_PRIVATE __private
@@ -51,6 +63,7 @@ typedef std::uint32_t uint;
 typedef std::uint64_t ulong;
 
 #define HT_FN static inline
+#define HT_FIBER_FN HT_FN
 #define HT_GLOBAL
 #define HT_CONST_GLOBAL const
 #define HT_PRIVATE

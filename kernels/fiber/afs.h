@@ -23,7 +23,7 @@ typedef struct {
     real wc, kg, deta, dhm;
 } HtAfsParams;
 
-HT_FN void ht_afs_params(HtAfsParams* a, real eta, real sigma_a, real theta) {
+HT_FIBER_FN void ht_afs_params(HtAfsParams* a, real eta, real sigma_a, real theta) {
     a->eta = eta;
     a->sigma_a = sigma_a;
     ht_sincos(theta, &a->sin_t, &a->cos_t);
@@ -35,7 +35,7 @@ HT_FN void ht_afs_params(HtAfsParams* a, real eta, real sigma_a, real theta) {
 }
 
 /* Integrand of AFS_p at h in [0, 1): p = 0 R, 1 TT, 2 TRT (removal), 3 TRT glint term only. */
-HT_FN real ht_afs_integrand(const HtAfsParams* a, int p, real h) {
+HT_FIBER_FN real ht_afs_integrand(const HtAfsParams* a, int p, real h) {
     real eta = a->eta;
     real inv_ep = ht_inv_eta_prime(eta, a->sin_t, a->cos_t);
     real f = ht_fresnel_dielectric(a->cos_t * ht_safe_sqrt(HT_R(1) - h * h), eta);
@@ -80,14 +80,14 @@ HT_FN real ht_afs_integrand(const HtAfsParams* a, int p, real h) {
 }
 
 /* Upper limit in u = asin h of the first sub-interval: the caustic u_c, or pi/2 without one. */
-HT_FN real ht_afs_split(const HtAfsParams* a) {
+HT_FIBER_FN real ht_afs_split(const HtAfsParams* a) {
     real inv_ep = ht_inv_eta_prime(a->eta, a->sin_t, a->cos_t);
     real ep2 = HT_R(1) / ht_max(inv_ep * inv_ep, HT_R(1e-30));
     return ep2 < HT_R(4) ? ht_asin(sqrt((HT_R(4) - ep2) / HT_R(3))) : HT_HALF_PI;
 }
 
 /* 16-point Gauss-Legendre on [lo, hi] of integrand(sin u) cos u. */
-HT_FN real ht_afs_gl16(const HtAfsParams* a, int p, real lo, real hi) {
+HT_FIBER_FN real ht_afs_gl16(const HtAfsParams* a, int p, real lo, real hi) {
     const real x[8] = {HT_R(0.0950125098376374), HT_R(0.2816035507792589), HT_R(0.4580167776572274), HT_R(0.6178762444026438),
                        HT_R(0.7554044083550030), HT_R(0.8656312023878318), HT_R(0.9445750230732326), HT_R(0.9894009349916499)};
     const real w[8] = {HT_R(0.1894506104550685), HT_R(0.1826034150449236), HT_R(0.1691565193950025), HT_R(0.1495959888165767),
@@ -104,7 +104,7 @@ HT_FN real ht_afs_gl16(const HtAfsParams* a, int p, real lo, real hi) {
 }
 
 /* Fast AFS_p (p = 0..3 as ht_afs_integrand). */
-HT_FN real ht_afs_fast(real eta, real sigma_a, real theta, int p) {
+HT_FIBER_FN real ht_afs_fast(real eta, real sigma_a, real theta, int p) {
     HtAfsParams a;
     ht_afs_params(&a, eta, sigma_a, theta);
     real uc = ht_afs_split(&a);
@@ -116,7 +116,7 @@ HT_FN real ht_afs_fast(real eta, real sigma_a, real theta, int p) {
 /* AFS_TT for three absorption coefficients at once: ht_afs_fast(eta, sigma_a[c], theta, 1) for each
  * channel, with the same nodes and the same arithmetic per node, sharing everything but the chord
  * transmittance (Fresnel, ray density, node angles), which is most of the work. */
-HT_FN real3 ht_afs_tt3(real eta, real3 sigma_a, real theta) {
+HT_FIBER_FN real3 ht_afs_tt3(real eta, real3 sigma_a, real theta) {
     const real x[8] = {HT_R(0.0950125098376374), HT_R(0.2816035507792589), HT_R(0.4580167776572274), HT_R(0.6178762444026438),
                        HT_R(0.7554044083550030), HT_R(0.8656312023878318), HT_R(0.9445750230732326), HT_R(0.9894009349916499)};
     const real w[8] = {HT_R(0.1894506104550685), HT_R(0.1826034150449236), HT_R(0.1691565193950025), HT_R(0.1495959888165767),
@@ -156,7 +156,7 @@ HT_FN real3 ht_afs_tt3(real eta, real3 sigma_a, real theta) {
  * degrees before grazing, where 256 intervals left 1e-4 of interpolation error; 1024 leave < 1e-5
  * against ht_afs_fast (tests/unit/fiber_afs_test AfsTableInterpolationError). */
 #define HT_AFS_TT_TABLE_N 1024
-HT_FN real3 ht_afs_tt_lookup(HT_CONST_GLOBAL float* table, uint material, real theta) {
+HT_FIBER_FN real3 ht_afs_tt_lookup(HT_CONST_GLOBAL float* table, uint material, real theta) {
     HT_CONST_GLOBAL float* t = table + material * (4u * (HT_AFS_TT_TABLE_N + 1u));
     const real x = ht_clamp(theta, HT_R(0), HT_HALF_PI) * ((real)HT_AFS_TT_TABLE_N / HT_HALF_PI);
     int i = (int)x;

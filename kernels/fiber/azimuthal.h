@@ -8,13 +8,13 @@
 #include "longitudinal.h"
 
 /* Exit azimuth of the path with p internal segments: 2p gamma_t - 2 gamma_i + p pi. */
-HT_FN real ht_phi_path(int p, real gamma_i, real gamma_t) {
+HT_FIBER_FN real ht_phi_path(int p, real gamma_i, real gamma_t) {
     return HT_R(2) * (real)p * gamma_t - HT_R(2) * gamma_i + (real)p * HT_PI;
 }
 
 /* 1/|dPhi/dh| in the cancellation-free forms of docs/MODEL.md §3 (inv_ep = 1/eta').
  * Clamped to 1e4 so that the TRT caustic (where it is infinite) stays finite. */
-HT_FN real ht_inv_dphi_dh_c(int p, real h, real c, real inv_ep) {
+HT_FIBER_FN real ht_inv_dphi_dh_c(int p, real h, real c, real inv_ep) {
     real ep2 = HT_R(1) / ht_max(inv_ep * inv_ep, HT_R(1e-30));
     real q = ht_safe_sqrt(ep2 - h * h);
     real r;
@@ -29,27 +29,27 @@ HT_FN real ht_inv_dphi_dh_c(int p, real h, real c, real inv_ep) {
     return ht_min(r, HT_R(1e4));
 }
 /* c = sqrt(1 - h^2) = cos gamma; pass it when known from gamma (no cancellation as |h| -> 1). */
-HT_FN real ht_inv_dphi_dh(int p, real h, real inv_ep) {
+HT_FIBER_FN real ht_inv_dphi_dh(int p, real h, real inv_ep) {
     return ht_inv_dphi_dh_c(p, h, ht_safe_sqrt(HT_R(1) - h * h), inv_ep);
 }
 
 /* ---------------------------------------------------------------- logistic (Chiang 2016) */
 
 /* l(x; s) = e^{-|x|/s} / (s (1 + e^{-|x|/s})^2), evaluated with |x| so nothing overflows. */
-HT_FN real ht_logistic(real x, real s) {
+HT_FIBER_FN real ht_logistic(real x, real s) {
     real e = exp(-fabs(x) / s);
     real d = HT_R(1) + e;
     return e / (s * d * d);
 }
 /* Logistic trimmed to [-pi, pi]: normaliser CDF(pi) - CDF(-pi) = tanh(pi/(2s)) = (1-e)/(1+e), e = e^{-pi/s}. */
-HT_FN real ht_trimmed_logistic(real x, real s) {
+HT_FIBER_FN real ht_trimmed_logistic(real x, real s) {
     real e = exp(-HT_PI / s);
     real k = (HT_R(1) - e) / (HT_R(1) + e);
     return ht_logistic(x, s) / k;
 }
 /* Inverse CDF of the trimmed logistic: y = CDF(-pi) + u k, x = s ln(y / (1 - y)), written around
  * u - 1/2 so that neither y nor 1 - y suffers cancellation (§14.6); clamped to [-pi, pi]. */
-HT_FN real ht_trimmed_logistic_sample(real u, real s) {
+HT_FIBER_FN real ht_trimmed_logistic_sample(real u, real s) {
     real e = exp(-HT_PI / s);
     real k = (HT_R(1) - e) / (HT_R(1) + e);
     real d = (u - HT_R(0.5)) * k;
@@ -66,7 +66,7 @@ HT_FN real ht_trimmed_logistic_sample(real u, real s) {
  * kernels skip it: for the narrow azimuthal lobes of hair (zinke's sigma ~ 0.2 rad) only the k = 0
  * term is left, one exp instead of five, the same bits. */
 #define HT_WRAPPED_GAUSSIAN_SKIP HT_R(220) /* (d / sigma)^2 above it: exponent below -110 */
-HT_FN real ht_wrapped_gaussian(real x, real sigma) {
+HT_FIBER_FN real ht_wrapped_gaussian(real x, real sigma) {
     x = ht_wrap_pi(x);
     sigma = ht_max(sigma, HT_R(1e-6));
     if (sigma < HT_R(1.6)) {
@@ -91,17 +91,19 @@ HT_FN real ht_wrapped_gaussian(real x, real sigma) {
 
 /* ---------------------------------------------------------------- Marschner root finding */
 
-/* Phi(p, gamma) for the far field with inv_ep = 1/eta'(theta_d), gamma = gamma_i' in [-pi/2, pi/2]. */
-HT_FN real ht_phi_gamma(int p, real gamma, real inv_ep) {
-    real sg, cg;
-    ht_sincos(gamma, &sg, &cg);
+/* Phi(p, gamma) for the far field with inv_ep = 1/eta'(theta_d), gamma = gamma_i' in [-pi/2, pi/2], and
+ * dPhi/dgamma; the _sc forms take sg, cg = sin, cos gamma (the root finder needs both per step). */
+HT_FIBER_FN real ht_phi_gamma_sc(int p, real gamma, real sg, real inv_ep) {
     return ht_phi_path(p, gamma, ht_asin(sg * inv_ep));
 }
-HT_FN real ht_dphi_dgamma(int p, real gamma, real inv_ep) {
-    real sg, cg;
-    ht_sincos(gamma, &sg, &cg);
+HT_FIBER_FN real ht_dphi_dgamma_sc(int p, real sg, real cg, real inv_ep) {
     real d = sqrt(ht_max(HT_R(1) - sg * sg * inv_ep * inv_ep, HT_R(1e-30)));
     return HT_R(2) * (real)p * cg * inv_ep / d - HT_R(2);
+}
+HT_FIBER_FN real ht_phi_gamma(int p, real gamma, real inv_ep) {
+    real sg, cg;
+    ht_sincos(gamma, &sg, &cg);
+    return ht_phi_gamma_sc(p, gamma, sg, inv_ep);
 }
 
 /* Newton step size at which the root is accepted: ~4 ulp of the working precision. */
@@ -115,9 +117,8 @@ HT_FN real ht_dphi_dgamma(int p, real gamma, real inv_ep) {
  *   Phi^(p, gamma) = (6 p c/pi - 2) gamma - (8 p c/pi^3) gamma^3 + p pi = target,  c = asin(1/eta'),
  * written as gamma^3 + P gamma + Q = 0 (trigonometric form for three roots, Cardano for one).
  * Returns the count (0..3).  Used only as Newton starting points. */
-HT_FN int ht_phi_cubic_roots(int p, real target, real inv_ep, real* g) {
+HT_FIBER_FN int ht_phi_cubic_roots_c(int p, real target, real c, real* g) {
     if (p == 0) { g[0] = -HT_R(0.5) * target; return 1; }
-    real c = ht_asin(inv_ep);
     real A = -HT_R(8) * (real)p * c / (HT_PI * HT_PI * HT_PI);
     real B = HT_R(6) * (real)p * c / HT_PI - HT_R(2);
     real D = (real)p * HT_PI - target;
@@ -141,31 +142,40 @@ HT_FN int ht_phi_cubic_roots(int p, real target, real inv_ep, real* g) {
     g[0] = ca + cb;
     return 1;
 }
+HT_FIBER_FN int ht_phi_cubic_roots(int p, real target, real inv_ep, real* g) {
+    return ht_phi_cubic_roots_c(p, target, ht_asin(inv_ep), g);
+}
 
 /* Root of Phi(p, gamma) = target on the monotone bracket [a, b] (Phi(a) - target and Phi(b) - target
- * of opposite sign or zero): starts at a root of Marschner's cubic approximation that lies inside the
- * bracket (else the secant of the bracket ends), then Newton steps safeguarded with bisection on the
- * exact Phi.  Bisection alone would reach pi/2^40 ~ 1.4e-12 within the 40-iteration cap; Newton
- * converges in 2-5 steps in practice. */
-HT_FN real ht_phi_root(int p, real target, real inv_ep, real a, real b, real phi_a, real phi_b) {
+ * of opposite sign or zero): starts at the root gc[0..nc) of Marschner's cubic approximation that
+ * lies inside the bracket and is closest in Phi (else the secant of the bracket ends), then Newton
+ * steps safeguarded with bisection on the exact Phi.  Bisection alone would reach pi/2^40 ~ 1.4e-12
+ * within the 40-iteration cap; Newton converges in 2-5 steps in practice.  Phi and its derivative
+ * share one sincos per step, and the starting root's Phi is not computed twice: this loop was the
+ * shade kernel's largest fibre-model cost (docs/PERFORMANCE.md §3). */
+HT_FIBER_FN real ht_phi_root(int p, real target, real inv_ep, real a, real b, real phi_a, real phi_b, const real* gc,
+                       int nc) {
     real fa = phi_a - target; /* Phi(a), Phi(b) known to the caller */
     real fb = phi_b - target;
     real x = HT_R(0.5) * (a + b);
     if (fabs(fb - fa) > HT_R(1e-30)) x = ht_clamp(a - fa * (b - a) / (fb - fa), a, b);
-    real gc[3];
-    int nc = ht_phi_cubic_roots(p, target, inv_ep, gc);
-    real best = HT_REAL_MAX;
+    real best = HT_REAL_MAX, f_best = HT_R(0);
     for (int k = 0; k < nc; ++k) {
         if (gc[k] >= a && gc[k] <= b) {
-            real d = fabs(ht_phi_gamma(p, gc[k], inv_ep) - target);
-            if (d < best) { best = d; x = gc[k]; }
+            real f = ht_phi_gamma(p, gc[k], inv_ep) - target;
+            real d = fabs(f);
+            if (d < best) { best = d; x = gc[k]; f_best = f; }
         }
     }
+    int known = best < HT_REAL_MAX; /* Phi(x) - target is f_best */
     for (int it = 0; it < 40; ++it) {
-        real fx = ht_phi_gamma(p, x, inv_ep) - target;
+        real sg, cg;
+        ht_sincos(x, &sg, &cg);
+        real fx = known ? f_best : ht_phi_gamma_sc(p, x, sg, inv_ep) - target;
+        known = 0;
         if (fx == HT_R(0)) break;
         if ((fx < HT_R(0)) == (fa < HT_R(0))) { a = x; fa = fx; } else { b = x; }
-        real d = ht_dphi_dgamma(p, x, inv_ep);
+        real d = ht_dphi_dgamma_sc(p, sg, cg, inv_ep);
         real xn = fabs(d) > HT_R(1e-12) ? x - fx / d : HT_R(0.5) * (a + b);
         if (!(xn > a && xn < b)) xn = HT_R(0.5) * (a + b);
         if (fabs(xn - x) < HT_ROOT_TOL * (HT_R(1) + fabs(x))) { x = xn; break; }
@@ -173,11 +183,10 @@ HT_FN real ht_phi_root(int p, real target, real inv_ep, real a, real b, real phi
     }
     return x;
 }
-
 /* Up to 3 roots h of Phi(p, h) = phi (mod 2 pi), with cs = cos(gamma) = sqrt(1 - h^2) computed from the
  * root angle (accurate where |h| -> 1); returns the count.  Monotone pieces:
  * R and TT: one piece [-pi/2, pi/2]; TRT with eta' < 2: split at the caustics +-gamma_c. */
-HT_FN int ht_phi_roots(int p, real phi, real inv_ep, real* hs, real* cs) {
+HT_FIBER_FN int ht_phi_roots(int p, real phi, real inv_ep, real* hs, real* cs) {
     real ga[3], gb[3], pa[3], pb[3];
     int pieces = 1;
     /* ends in closed form: Phi(p, +-pi/2) = +-(2 p c - pi) + p pi, c = asin(1/eta') */
@@ -198,6 +207,8 @@ HT_FN int ht_phi_roots(int p, real phi, real inv_ep, real* hs, real* cs) {
         }
     }
     int n = 0;
+    real gc[3], t_cubic = HT_REAL_MAX; /* the cubic's roots for target t_cubic, shared by the pieces */
+    int nc = 0;
     for (int i = 0; i < pieces; ++i) {
         real fa = pa[i], fb = pb[i];
         real lo = ht_min(fa, fb), hi = ht_max(fa, fb);
@@ -205,7 +216,8 @@ HT_FN int ht_phi_roots(int p, real phi, real inv_ep, real* hs, real* cs) {
         real t = phi + HT_TWO_PI * floor((lo - phi) * HT_INV_TWO_PI + HT_R(1));
         if (t - HT_TWO_PI >= lo) t -= HT_TWO_PI;
         if (t < lo || t > hi) continue;
-        real g = ht_phi_root(p, t, inv_ep, ga[i], gb[i], fa, fb);
+        if (t != t_cubic) { nc = ht_phi_cubic_roots_c(p, t, c, gc); t_cubic = t; }
+        real g = ht_phi_root(p, t, inv_ep, ga[i], gb[i], fa, fb, gc, nc);
         real sg, cg;
         ht_sincos(g, &sg, &cg);
         cs[n] = fabs(cg);

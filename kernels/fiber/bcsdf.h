@@ -43,19 +43,50 @@
 #endif
 
 /* Finite, non-zero direction (x - x == 0 exactly for finite x; NaN otherwise). */
-HT_FN int ht_valid_dir(real3 w) {
+HT_FIBER_FN int ht_valid_dir(real3 w) {
     real s = w.x * w.x + w.y * w.y + w.z * w.z;
     return (s - s == HT_R(0)) && s > HT_R(1e-30) && (w.x - w.x == HT_R(0)) && (w.y - w.y == HT_R(0)) && (w.z - w.z == HT_R(0));
 }
-HT_FN real ht_sanitize_u(real u) { return (u == u) ? ht_clamp(u, HT_R(0), HT_R(0.99999994)) : HT_R(0); }
+HT_FIBER_FN real ht_sanitize_u(real u) { return (u == u) ? ht_clamp(u, HT_R(0), HT_R(0.99999994)) : HT_R(0); }
+
+/* h as every model reads it: NaN -> 0, clamped to [-1, 1]. */
+HT_FIBER_FN real ht_sanitize_h(real h) { return (h == h) ? ht_clamp(h, HT_R(-1), HT_R(1)) : HT_R(0); }
+
+/* What eval and sample derive from wo and h alone, made once by ht_bcsdf_prepare for a shading
+ * point that evaluates and samples the model several times (kernels/stages/shade.cl: one
+ * evaluation per light estimate, one per sample).  Only marschner and zinke keep anything. */
+typedef struct {
+#if HT_FEATURE_MODEL_MARSCHNER || HT_FEATURE_MODEL_ZINKE
+    HtMzWo mz;
+#endif
+    int unused; /* a struct needs a member when both models are compiled out */
+} HtBcsdfWo;
+
+HT_FIBER_FN void ht_bcsdf_prepare(const HtMaterial* m, real3 wo, real h, HtBcsdfWo* o) {
+    h = ht_sanitize_h(h);
+    o->unused = 0;
+    switch (m->model) {
+#if HT_FEATURE_MODEL_MARSCHNER
+    case HT_MODEL_MARSCHNER: ht_marschner_wo(m, wo, &o->mz); break;
+#endif
+#if HT_FEATURE_MODEL_ZINKE
+    case HT_MODEL_ZINKE: ht_zinke_wo(m, wo, h, &o->mz); break;
+#endif
+    default:
+#if HT_FEATURE_MODEL_MARSCHNER || HT_FEATURE_MODEL_ZINKE
+        ht_mz_wo_clear(&o->mz); /* never read; defined, so that no compiler need prove it */
+#endif
+        break;
+    }
+}
 
 /* Whether the model returns a delta/near-delta that next-event estimation cannot hit. */
-HT_FN int ht_bcsdf_is_delta(const HtMaterial* m) { return 0; }
+HT_FIBER_FN int ht_bcsdf_is_delta(const HtMaterial* m) { return 0; }
 
-HT_FN void ht_bcsdf_eval_lobes(const HtMaterial* m, real3 wo, real3 wi, real h, real3* lobes, real3* value,
-                               real* pdf) {
-    if (!(h == h)) h = HT_R(0); /* NaN */
-    h = ht_clamp(h, HT_R(-1), HT_R(1));
+/* o: ht_bcsdf_prepare of m, wo and h */
+HT_FIBER_FN void ht_bcsdf_eval_lobes_o(const HtMaterial* m, const HtBcsdfWo* o, real3 wo, real3 wi, real h, real3* lobes,
+                                 real3* value, real* pdf) {
+    h = ht_sanitize_h(h);
     if (!ht_valid_dir(wo) || !ht_valid_dir(wi)) {
         for (int p = 0; p < 4; ++p) lobes[p] = ht_splat(HT_R(0));
         *value = ht_splat(HT_R(0));
@@ -70,10 +101,10 @@ HT_FN void ht_bcsdf_eval_lobes(const HtMaterial* m, real3 wo, real3 wi, real h, 
     case HT_MODEL_KAJIYA: ht_kajiya_eval(m, wo, wi, h, lobes, value, pdf); break;
 #endif
 #if HT_FEATURE_MODEL_MARSCHNER
-    case HT_MODEL_MARSCHNER: ht_marschner_eval(m, wo, wi, h, lobes, value, pdf); break;
+    case HT_MODEL_MARSCHNER: ht_marschner_eval_o(m, &o->mz, wo, wi, lobes, value, pdf); break;
 #endif
 #if HT_FEATURE_MODEL_ZINKE
-    case HT_MODEL_ZINKE: ht_zinke_eval(m, wo, wi, h, lobes, value, pdf); break;
+    case HT_MODEL_ZINKE: ht_zinke_eval_o(m, &o->mz, wo, wi, h, lobes, value, pdf); break;
 #endif
 #if HT_FEATURE_MODEL_CHIANG
     case HT_MODEL_CHIANG: ht_chiang_eval(m, wo, wi, h, lobes, value, pdf); break;
@@ -85,17 +116,29 @@ HT_FN void ht_bcsdf_eval_lobes(const HtMaterial* m, real3 wo, real3 wi, real h, 
     }
 }
 
-// m: material in private memory; wo, wi: unit vectors in the fibre frame; h in [-1,1]
-HT_FN void ht_bcsdf_eval(const HtMaterial* m, real3 wo, real3 wi, real h, real3* value, real* pdf) {
-    real3 lobes[4];
-    ht_bcsdf_eval_lobes(m, wo, wi, h, lobes, value, pdf);
+HT_FIBER_FN void ht_bcsdf_eval_lobes(const HtMaterial* m, real3 wo, real3 wi, real h, real3* lobes, real3* value,
+                               real* pdf) {
+    HtBcsdfWo o;
+    ht_bcsdf_prepare(m, wo, h, &o);
+    ht_bcsdf_eval_lobes_o(m, &o, wo, wi, h, lobes, value, pdf);
 }
 
-// u: 4 uniforms in [0,1). Returns 0 if no direction could be sampled. weight = value/pdf.
-HT_FN int ht_bcsdf_sample(const HtMaterial* m, real3 wo, real h, real u0, real u1, real u2, real u3, real3* wi,
-                          real3* weight, real* pdf) {
-    if (!(h == h)) h = HT_R(0);
-    h = ht_clamp(h, HT_R(-1), HT_R(1));
+HT_FIBER_FN void ht_bcsdf_eval_o(const HtMaterial* m, const HtBcsdfWo* o, real3 wo, real3 wi, real h, real3* value,
+                           real* pdf) {
+    real3 lobes[4];
+    ht_bcsdf_eval_lobes_o(m, o, wo, wi, h, lobes, value, pdf);
+}
+// m: material in private memory; wo, wi: unit vectors in the fibre frame; h in [-1,1]
+HT_FIBER_FN void ht_bcsdf_eval(const HtMaterial* m, real3 wo, real3 wi, real h, real3* value, real* pdf) {
+    HtBcsdfWo o;
+    ht_bcsdf_prepare(m, wo, h, &o);
+    ht_bcsdf_eval_o(m, &o, wo, wi, h, value, pdf);
+}
+
+/* o: ht_bcsdf_prepare of m, wo and h */
+HT_FIBER_FN int ht_bcsdf_sample_o(const HtMaterial* m, const HtBcsdfWo* o, real3 wo, real h, real u0, real u1, real u2,
+                            real u3, real3* wi, real3* weight, real* pdf) {
+    h = ht_sanitize_h(h);
     u0 = ht_sanitize_u(u0);
     u1 = ht_sanitize_u(u1);
     u2 = ht_sanitize_u(u2);
@@ -106,10 +149,10 @@ HT_FN int ht_bcsdf_sample(const HtMaterial* m, real3 wo, real h, real u0, real u
     case HT_MODEL_KAJIYA: ok = ht_kajiya_sample(m, wo, h, u0, u1, u2, u3, wi, weight, pdf); break;
 #endif
 #if HT_FEATURE_MODEL_MARSCHNER
-    case HT_MODEL_MARSCHNER: ok = ht_marschner_sample(m, wo, h, u0, u1, u2, u3, wi, weight, pdf); break;
+    case HT_MODEL_MARSCHNER: ok = ht_marschner_sample_o(m, &o->mz, wo, u0, u1, u2, u3, wi, weight, pdf); break;
 #endif
 #if HT_FEATURE_MODEL_ZINKE
-    case HT_MODEL_ZINKE: ok = ht_zinke_sample(m, wo, h, u0, u1, u2, u3, wi, weight, pdf); break;
+    case HT_MODEL_ZINKE: ok = ht_zinke_sample_o(m, &o->mz, wo, h, u0, u1, u2, u3, wi, weight, pdf); break;
 #endif
 #if HT_FEATURE_MODEL_CHIANG
     case HT_MODEL_CHIANG: ok = ht_chiang_sample(m, wo, h, u0, u1, u2, u3, wi, weight, pdf); break;
@@ -123,6 +166,14 @@ HT_FN int ht_bcsdf_sample(const HtMaterial* m, real3 wo, real h, real u0, real u
         *pdf = HT_R(0);
     }
     return ok;
+}
+
+// u: 4 uniforms in [0,1). Returns 0 if no direction could be sampled. weight = value/pdf.
+HT_FIBER_FN int ht_bcsdf_sample(const HtMaterial* m, real3 wo, real h, real u0, real u1, real u2, real u3, real3* wi,
+                          real3* weight, real* pdf) {
+    HtBcsdfWo o;
+    ht_bcsdf_prepare(m, wo, h, &o);
+    return ht_bcsdf_sample_o(m, &o, wo, h, u0, u1, u2, u3, wi, weight, pdf);
 }
 
 #endif

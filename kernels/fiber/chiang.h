@@ -20,7 +20,7 @@ typedef struct {
     real ap_pdf[4];
 } HtChiangSetup;
 
-HT_FN void ht_chiang_setup(const HtMaterial* m, real3 wo, real h, HtChiangSetup* c) {
+HT_FIBER_FN void ht_chiang_setup(const HtMaterial* m, real3 wo, real h, HtChiangSetup* c) {
     real eta = m->eta;
     h = ht_clamp(h, HT_R(-1), HT_R(1));
     ht_theta(wo, &c->sin_o, &c->cos_o);
@@ -51,7 +51,7 @@ HT_FN void ht_chiang_setup(const HtMaterial* m, real3 wo, real h, HtChiangSetup*
 }
 
 /* log normaliser of lobe p: exact from v on the host, precomputed (mp_c) in the float kernels. */
-HT_FN real ht_chiang_log_norm(const HtMaterial* m, int p) {
+HT_FIBER_FN real ht_chiang_log_norm(const HtMaterial* m, int p) {
 #ifdef HT_HOST
     return ht_mp_log_norm(m->v[p]);
 #else
@@ -60,7 +60,7 @@ HT_FN real ht_chiang_log_norm(const HtMaterial* m, int p) {
 }
 
 /* theta_o rotated by the scale tilt of lobe p (pbrt-v4 HairBxDF::f). */
-HT_FN void ht_chiang_tilt(const HtMaterial* m, int p, real sin_o, real cos_o, real* sp, real* cp) {
+HT_FIBER_FN void ht_chiang_tilt(const HtMaterial* m, int p, real sin_o, real cos_o, real* sp, real* cp) {
     real st, ct, s, c;
     if (p == 0) { st = m->sin_tilt[1]; ct = m->cos_tilt[1]; s = sin_o * ct - cos_o * st; c = cos_o * ct + sin_o * st; }
     else if (p == 1) { st = m->sin_tilt[0]; ct = m->cos_tilt[0]; s = sin_o * ct + cos_o * st; c = cos_o * ct - sin_o * st; }
@@ -71,7 +71,7 @@ HT_FN void ht_chiang_tilt(const HtMaterial* m, int p, real sin_o, real cos_o, re
 }
 
 /* value, pdf and the per-lobe values (R, TT, TRT, residual) for given setup. */
-HT_FN void ht_chiang_eval_setup(const HtMaterial* m, const HtChiangSetup* c, real3 wo, real3 wi,
+HT_FIBER_FN void ht_chiang_eval_setup(const HtMaterial* m, const HtChiangSetup* c, real3 wo, real3 wi,
                                 real3* lobes, real3* value, real* pdf) {
     real sin_i, cos_i;
     ht_theta(wi, &sin_i, &cos_i);
@@ -101,13 +101,13 @@ HT_FN void ht_chiang_eval_setup(const HtMaterial* m, const HtChiangSetup* c, rea
     *pdf = ht_sanitize(pd);
 }
 
-HT_FN void ht_chiang_eval(const HtMaterial* m, real3 wo, real3 wi, real h, real3* lobes, real3* value, real* pdf) {
+HT_FIBER_FN void ht_chiang_eval(const HtMaterial* m, real3 wo, real3 wi, real h, real3* lobes, real3* value, real* pdf) {
     HtChiangSetup c;
     ht_chiang_setup(m, wo, h, &c);
     ht_chiang_eval_setup(m, &c, wo, wi, lobes, value, pdf);
 }
 
-HT_FN int ht_chiang_sample(const HtMaterial* m, real3 wo, real h, real u0, real u1, real u2, real u3,
+HT_FIBER_FN int ht_chiang_sample(const HtMaterial* m, real3 wo, real h, real u0, real u1, real u2, real u3,
                            real3* wi, real3* weight, real* pdf) {
     HtChiangSetup c;
     ht_chiang_setup(m, wo, h, &c);

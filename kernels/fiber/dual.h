@@ -56,7 +56,7 @@
  * the small v of hair, a Gaussian of std sqrt(v_p) in theta_i around the tilted cone, i.e. of
  * std sqrt(v_p)/2 in theta_h; the tilt (pbrt's, kernels/fiber/chiang.h) puts R at +alpha, TT at
  * -alpha/2, TRT at -2 alpha.  No residual outside chiang. */
-HT_FN void ht_dual_lobe_shape(const HtMaterial* m, int p, real* alpha, real* beta2) {
+HT_FIBER_FN void ht_dual_lobe_shape(const HtMaterial* m, int p, real* alpha, real* beta2) {
     if (m->model == HT_MODEL_CHIANG) {
         const real a = m->alpha;
         *alpha = p == 0 ? a : p == 1 ? -HT_R(0.5) * a : p == 2 ? -HT_R(2) * a : HT_R(0);
@@ -70,7 +70,7 @@ HT_FN void ht_dual_lobe_shape(const HtMaterial* m, int p, real* alpha, real* bet
 
 /* A_p(h) of one channel at inclination theta (sin_t, cos_t), and the exit azimuth Phi(p, h) in
  * (-pi, pi] (p = 3: chiang's residual, no azimuth; 0 elsewhere). */
-HT_FN real ht_dual_attenuation(const HtMaterial* m, int p, real sin_t, real cos_t, real sigma_a, real h,
+HT_FIBER_FN real ht_dual_attenuation(const HtMaterial* m, int p, real sin_t, real cos_t, real sigma_a, real h,
                                real* phi) {
     const real eta = m->eta;
     const real inv_ep = ht_inv_eta_prime(eta, sin_t, cos_t);
@@ -89,7 +89,7 @@ HT_FN real ht_dual_attenuation(const HtMaterial* m, int p, real sin_t, real cos_
 }
 
 /* Row `row` (xyz) of node theta (in [0, pi/2]) of material `material`, interpolated linearly. */
-HT_FN real3 ht_dual_row(HT_CONST_GLOBAL float* table, uint material, real theta, uint row) {
+HT_FIBER_FN real3 ht_dual_row(HT_CONST_GLOBAL float* table, uint material, real theta, uint row) {
     HT_CONST_GLOBAL float* t = table + (size_t)material * (4u * HT_DUAL_MATERIAL_ROWS) + 4u * HT_DUAL_HEAD_ROWS;
     const real x = ht_clamp(theta, HT_R(0), HT_HALF_PI) * ((real)HT_DUAL_THETA_N / HT_HALF_PI);
     int i = (int)x;
@@ -101,7 +101,7 @@ HT_FN real3 ht_dual_row(HT_CONST_GLOBAL float* table, uint material, real theta,
 }
 
 /* N^G_p at node theta and |phi| in [0, pi], bilinear. */
-HT_FN real3 ht_dual_ng(HT_CONST_GLOBAL float* table, uint material, real theta, int p, real phi) {
+HT_FIBER_FN real3 ht_dual_ng(HT_CONST_GLOBAL float* table, uint material, real theta, int p, real phi) {
     const real y = ht_clamp(fabs(phi), HT_R(0), HT_PI) * ((real)HT_DUAL_PHI_N / HT_PI);
     int j = (int)y;
     j = j < HT_DUAL_PHI_N - 1 ? j : HT_DUAL_PHI_N - 1;
@@ -113,7 +113,7 @@ HT_FN real3 ht_dual_ng(HT_CONST_GLOBAL float* table, uint material, real theta, 
 
 /* d'Eon's longitudinal function (kernels/fiber/longitudinal.h) per channel: variances v, the
  * lobe's cone moved by 2 shift in theta_o (a shift of theta_h by `shift`). */
-HT_FN real3 ht_dual_mp3(real theta_i, real theta_o, real3 shift, real3 v) {
+HT_FIBER_FN real3 ht_dual_mp3(real theta_i, real theta_o, real3 shift, real3 v) {
     const real si = sin(theta_i), ci = fabs(cos(theta_i));
     const real ox = theta_o - HT_R(2) * shift.x, oy = theta_o - HT_R(2) * shift.y, oz = theta_o - HT_R(2) * shift.z;
     return make_real3(ht_mp(ci, si, fabs(cos(ox)), sin(ox), v.x), ht_mp(ci, si, fabs(cos(oy)), sin(oy), v.y),
@@ -135,7 +135,7 @@ HT_FN real3 ht_dual_mp3(real theta_i, real theta_o, real3 shift, real3 v) {
  * (kernels/fiber/longitudinal.h): unlike a Gaussian in theta_h over cos^2 theta_d, it keeps its
  * unit integral on the sphere however wide the lobe (sigma_b reaches 0.3 rad), so f_back returns
  * A_b and f_scatter a_f + a_b of the light at any width (tests/unit/fiber_dual_test.cpp). */
-HT_FN real3 ht_dual_eval(HT_CONST_GLOBAL float* table, uint material, real theta_i, real theta_o, real phi,
+HT_FIBER_FN real3 ht_dual_eval(HT_CONST_GLOBAL float* table, uint material, real theta_i, real theta_o, real phi,
                          uint crossings, real3 tf, real3 sigma_f2) {
     const real at = fabs(theta_i);
     const real3 ab = ht_dual_row(table, material, at, HT_DUAL_ROW_AB);

@@ -9,7 +9,7 @@
 #include "math.h"
 
 /* Unpolarised reflectance, vacuum -> index eta >= 1, cosine of incidence ci (clamped to [0,1]). */
-HT_FN real ht_fresnel_dielectric(real ci, real eta) {
+HT_FIBER_FN real ht_fresnel_dielectric(real ci, real eta) {
     ci = ht_clamp(ci, HT_R(0), HT_R(1));
     real st2 = (HT_R(1) - ci * ci) / (eta * eta);
     real ct = ht_safe_sqrt(HT_R(1) - st2);
@@ -20,19 +20,19 @@ HT_FN real ht_fresnel_dielectric(real ci, real eta) {
 }
 
 /* 1/eta'(theta) = cos theta / sqrt(eta^2 - sin^2 theta): finite for every theta (-> 0 at 90 deg). */
-HT_FN real ht_inv_eta_prime(real eta, real sin_t, real cos_t) {
+HT_FIBER_FN real ht_inv_eta_prime(real eta, real sin_t, real cos_t) {
     return cos_t / sqrt(ht_max(eta * eta - sin_t * sin_t, HT_R(1e-30)));
 }
 /* eta''(theta) = eta^2 cos theta / sqrt(eta^2 - sin^2 theta) (-> 0 at 90 deg, finite). */
-HT_FN real ht_eta_pp(real eta, real sin_t, real cos_t) { return eta * eta * ht_inv_eta_prime(eta, sin_t, cos_t); }
+HT_FIBER_FN real ht_eta_pp(real eta, real sin_t, real cos_t) { return eta * eta * ht_inv_eta_prime(eta, sin_t, cos_t); }
 
 /* cos theta_t of the refracted ray: sqrt(eta^2 - sin^2 theta)/eta >= sqrt(eta^2-1)/eta (never 0 for eta > 1). */
-HT_FN real ht_cos_theta_t(real eta, real sin_t) {
+HT_FIBER_FN real ht_cos_theta_t(real eta, real sin_t) {
     return sqrt(ht_max(eta * eta - sin_t * sin_t, HT_R(1e-30))) / eta;
 }
 
 /* Transmittance of one internal chord: exp(-sigma_a 2 cos gamma_t / cos theta_t) (§4). */
-HT_FN real3 ht_chord_transmittance(real3 sigma_a, real cos_gamma_t, real cos_theta_t) {
+HT_FIBER_FN real3 ht_chord_transmittance(real3 sigma_a, real cos_gamma_t, real cos_theta_t) {
     real l = HT_R(2) * cos_gamma_t / ht_max(cos_theta_t, HT_R(1e-6));
     return ht_exp3(sigma_a * (-l));
 }

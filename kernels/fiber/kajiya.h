@@ -13,16 +13,16 @@
 #include "../types.h"
 #include "longitudinal.h"
 
-HT_FN real ht_kajiya_spec_v(const HtMaterial* m) { return HT_R(1) / ht_max(m->ks_exponent, HT_R(1e-3)); }
+HT_FIBER_FN real ht_kajiya_spec_v(const HtMaterial* m) { return HT_R(1) / ht_max(m->ks_exponent, HT_R(1e-3)); }
 
-HT_FN void ht_kajiya_probs(const HtMaterial* m, real* pd, real* ps) {
+HT_FIBER_FN void ht_kajiya_probs(const HtMaterial* m, real* pd, real* ps) {
     real ld = ht_max(ht_luminance(ht_load3(m->kd)), HT_R(0)), ls = ht_max(ht_luminance(ht_load3(m->ks)), HT_R(0));
     real t = ld + ls;
     *pd = t > HT_R(0) ? ld / t : HT_R(1);
     *ps = t > HT_R(0) ? ls / t : HT_R(0);
 }
 
-HT_FN void ht_kajiya_eval(const HtMaterial* m, real3 wo, real3 wi, real h, real3* lobes, real3* value, real* pdf) {
+HT_FIBER_FN void ht_kajiya_eval(const HtMaterial* m, real3 wo, real3 wi, real h, real3* lobes, real3* value, real* pdf) {
     real sin_o, cos_o, sin_i, cos_i;
     ht_theta(wo, &sin_o, &cos_o);
     ht_theta(wi, &sin_i, &cos_i);
@@ -42,7 +42,7 @@ HT_FN void ht_kajiya_eval(const HtMaterial* m, real3 wo, real3 wi, real h, real3
     *pdf = ht_sanitize(pd * pdf_d + ps * pdf_s);
 }
 
-HT_FN int ht_kajiya_sample(const HtMaterial* m, real3 wo, real h, real u0, real u1, real u2, real u3,
+HT_FIBER_FN int ht_kajiya_sample(const HtMaterial* m, real3 wo, real h, real u0, real u1, real u2, real u3,
                            real3* wi, real3* weight, real* pdf) {
     real pd, ps;
     ht_kajiya_probs(m, &pd, &ps);

@@ -12,7 +12,7 @@
 
 #include "math.h"
 
-HT_FN real ht_i0e(real x) {
+HT_FIBER_FN real ht_i0e(real x) {
     x = fabs(x);
 #ifdef HT_HOST
     if (x <= 15.0) {
@@ -46,10 +46,10 @@ HT_FN real ht_i0e(real x) {
 }
 
 /* log I0(x) for x >= 0. */
-HT_FN real ht_log_i0(real x) { return ht_log(ht_i0e(x)) + fabs(x); }
+HT_FIBER_FN real ht_log_i0(real x) { return ht_log(ht_i0e(x)) + fabs(x); }
 
 /* -log v - log1p(-e^{-2/v}): the log of M_p's normaliser 1/(2 v sinh(1/v)) without the e^{-1/v}. */
-HT_FN real ht_mp_log_norm(real v) {
+HT_FIBER_FN real ht_mp_log_norm(real v) {
     v = ht_max(v, HT_R(1e-7));
     real e2 = exp(-HT_R(2) / v);
 #ifdef HT_HOST
@@ -62,7 +62,7 @@ HT_FN real ht_mp_log_norm(real v) {
 /* d'Eon M_p(theta_i, theta_o; v) from sines/cosines (cosines >= 0), given log_norm = ht_mp_log_norm(v):
  *   M = i0e(a) exp((cos(theta_i + theta_o) - 1)/v + log_norm)   (no overflow: the exponent is <= log_norm).
  * Finite for v >= 1e-7. */
-HT_FN real ht_mp_n(real cos_i, real sin_i, real cos_o, real sin_o, real v, real log_norm) {
+HT_FIBER_FN real ht_mp_n(real cos_i, real sin_i, real cos_o, real sin_o, real v, real log_norm) {
     v = ht_max(v, HT_R(1e-7));
     real inv_v = HT_R(1) / v;
     real a = cos_i * cos_o * inv_v;
@@ -71,7 +71,7 @@ HT_FN real ht_mp_n(real cos_i, real sin_i, real cos_o, real sin_o, real v, real 
     real cm1 = C > HT_R(0) ? -S * S / (HT_R(1) + C) : C - HT_R(1); /* cos - 1 without cancellation */
     return ht_i0e(a) * exp(ht_min(cm1 * inv_v + log_norm, HT_R(80)));
 }
-HT_FN real ht_mp(real cos_i, real sin_i, real cos_o, real sin_o, real v) {
+HT_FIBER_FN real ht_mp(real cos_i, real sin_i, real cos_o, real sin_o, real v) {
     return ht_mp_n(cos_i, sin_i, cos_o, sin_o, v, ht_mp_log_norm(v));
 }
 
@@ -80,7 +80,7 @@ HT_FN real ht_mp(real cos_i, real sin_i, real cos_o, real sin_o, real v) {
  * Exactly distributed as M_p(., theta_o'; v) cos theta_i.  u1 = 0 is fine unless e^{-2/v} underflows
  * (v < 0.0027 double, 0.023 float): u1 is floored at 1e-30 (pbrt floors at 1e-5, which biases the
  * lowest 1e-5 of the cone-angle distribution). */
-HT_FN void ht_mp_sample(real u1, real u2, real sin_o, real cos_o, real v, real* sin_i, real* cos_i) {
+HT_FIBER_FN void ht_mp_sample(real u1, real u2, real sin_o, real cos_o, real v, real* sin_i, real* cos_i) {
     v = ht_max(v, HT_R(1e-7));
     u1 = ht_max(u1, HT_R(1e-30));
     real cvt = HT_R(1) + v * ht_log(u1 + (HT_R(1) - u1) * exp(-HT_R(2) / v));
@@ -94,13 +94,13 @@ HT_FN void ht_mp_sample(real u1, real u2, real sin_o, real cos_o, real v, real* 
 }
 
 /* Unit-area Gaussian with standard deviation sigma. */
-HT_FN real ht_gaussian(real x, real sigma) {
+HT_FIBER_FN real ht_gaussian(real x, real sigma) {
     real is = HT_R(1) / ht_max(sigma, HT_R(1e-7));
     return HT_R(0.39894228040143267794) * is * exp(-HT_R(0.5) * x * x * is * is);
 }
 
 /* Standard normal deviate from two uniforms (Box-Muller). */
-HT_FN real ht_normal_from(real u1, real u2) {
+HT_FIBER_FN real ht_normal_from(real u1, real u2) {
     u1 = ht_max(u1, HT_R(1e-12));
     real s, c;
     ht_sincos(HT_TWO_PI * u2, &s, &c);
@@ -108,7 +108,7 @@ HT_FN real ht_normal_from(real u1, real u2) {
 }
 
 /* Two independent standard normal deviates from two uniforms (Box-Muller). */
-HT_FN void ht_normal_pair(real u1, real u2, real* n1, real* n2) {
+HT_FIBER_FN void ht_normal_pair(real u1, real u2, real* n1, real* n2) {
     u1 = ht_max(u1, HT_R(1e-12));
     real s, c;
     ht_sincos(HT_TWO_PI * u2, &s, &c);

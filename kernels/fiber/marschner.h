@@ -25,22 +25,26 @@ typedef struct {
     real sin_o, cos_o, sin_i, cos_i, theta_o, theta_i, theta_h, sin_d, cos_d, phi;
 } HtMarschnerAngles;
 
-HT_FN void ht_marschner_angles(real3 wo, real3 wi, HtMarschnerAngles* a) {
-    ht_theta(wo, &a->sin_o, &a->cos_o);
+/* The wi-dependent half of the angles; a->sin_o, cos_o, theta_o already set. */
+HT_FIBER_FN void ht_marschner_angles_i(real3 wo, real3 wi, HtMarschnerAngles* a) {
     ht_theta(wi, &a->sin_i, &a->cos_i);
-    a->theta_o = ht_asin(a->sin_o);
     a->theta_i = ht_asin(a->sin_i);
     a->theta_h = HT_R(0.5) * (a->theta_i + a->theta_o);
     ht_sincos(HT_R(0.5) * (a->theta_o - a->theta_i), &a->sin_d, &a->cos_d);
     a->cos_d = fabs(a->cos_d);
     a->phi = ht_relative_phi(wo, wi);
 }
+HT_FIBER_FN void ht_marschner_angles(real3 wo, real3 wi, HtMarschnerAngles* a) {
+    ht_theta(wo, &a->sin_o, &a->cos_o);
+    a->theta_o = ht_asin(a->sin_o);
+    ht_marschner_angles_i(wo, wi, a);
+}
 
 /* Longitudinal sampling proxy shared by marschner and zinke: the d'Eon lobe M(theta_i; theta_o', v)
  * with theta_o' = theta_o - 2 alpha_p (cone at theta_h = alpha_p) and v = (2 beta_p)^2 (the Gaussian
  * in theta_h of std beta_p is a Gaussian in theta_i of std 2 beta_p).  It lives on the sphere, so no
  * sample is lost at grazing angles, and its solid-angle density is M (the cos theta_i cancels). */
-HT_FN void ht_mz_tilt(const HtMaterial* m, int p, real sin_o, real cos_o, real* sp, real* cp, real* v) {
+HT_FIBER_FN void ht_mz_tilt(const HtMaterial* m, int p, real sin_o, real cos_o, real* sp, real* cp, real* v) {
     real a = p == 0 ? m->alpha_r : (p == 1 ? m->alpha_tt : m->alpha_trt);
     real b = p == 0 ? m->beta_r : (p == 1 ? m->beta_tt : m->beta_trt);
     real s2, c2;
@@ -49,34 +53,85 @@ HT_FN void ht_mz_tilt(const HtMaterial* m, int p, real sin_o, real cos_o, real* 
     *cp = fabs(cos_o * c2 + sin_o * s2);
     *v = HT_R(4) * b * b;
 }
-HT_FN real ht_mz_theta_pdf(const HtMaterial* m, int p, real sin_o, real cos_o, real sin_i, real cos_i) {
-    real sp, cp, v;
-    ht_mz_tilt(m, p, sin_o, cos_o, &sp, &cp, &v);
-    return ht_mp(cos_i, sin_i, cp, sp, v);
+
+/* What marschner and zinke need of wo (and, for zinke, h) alone: theta_o, each lobe's tilted cone
+ * with its M_p log normaliser, and the lobe selection probabilities.  A shading point makes it
+ * once (kernels/integrator/shading_point.h) for its next-event estimates and its samples, each of
+ * which evaluates the model again: the shade kernel spent a quarter of its time redoing these per
+ * call (docs/PERFORMANCE.md §3).  Lobes compiled out (lobes.h) are left 0 and never read. */
+typedef struct {
+    real sin_o, cos_o, theta_o;
+    real tilt_s[3], tilt_c[3], tilt_v[3], tilt_n[3];
+    real pr[3];
+} HtMzWo;
+
+HT_FIBER_FN void ht_mz_wo_clear(HtMzWo* o) {
+    o->sin_o = o->cos_o = o->theta_o = HT_R(0);
+    for (int p = 0; p < 3; ++p) o->tilt_s[p] = o->tilt_c[p] = o->tilt_v[p] = o->tilt_n[p] = o->pr[p] = HT_R(0);
 }
-HT_FN void ht_mz_theta_sample(const HtMaterial* m, int p, real sin_o, real cos_o, real u1, real u2, real* sin_i,
-                              real* cos_i) {
-    real sp, cp, v;
-    ht_mz_tilt(m, p, sin_o, cos_o, &sp, &cp, &v);
-    ht_mp_sample(u1, u2, sp, cp, v, sin_i, cos_i);
+HT_FIBER_FN void ht_mz_wo_theta(const HtMaterial* m, real3 wo, HtMzWo* o) {
+    ht_mz_wo_clear(o);
+    ht_theta(wo, &o->sin_o, &o->cos_o);
+    o->theta_o = ht_asin(o->sin_o);
+    for (int p = 0; p < 3; ++p) {
+        if (!HT_LOBE_ON(p)) continue;
+        ht_mz_tilt(m, p, o->sin_o, o->cos_o, &o->tilt_s[p], &o->tilt_c[p], &o->tilt_v[p]);
+        o->tilt_n[p] = ht_mp_log_norm(o->tilt_v[p]);
+    }
+}
+/* The proxy's density of theta_i for lobe p (per solid angle / dphi) and its sampler. */
+HT_FIBER_FN real ht_mz_theta_pdf(const HtMzWo* o, int p, real sin_i, real cos_i) {
+    return ht_mp_n(cos_i, sin_i, o->tilt_c[p], o->tilt_s[p], o->tilt_v[p], o->tilt_n[p]);
+}
+HT_FIBER_FN void ht_mz_theta_sample(const HtMzWo* o, int p, real u1, real u2, real* sin_i, real* cos_i) {
+    ht_mp_sample(u1, u2, o->tilt_s[p], o->tilt_c[p], o->tilt_v[p], sin_i, cos_i);
+}
+/* The angles between wo and wi, the wo half taken from o. */
+HT_FIBER_FN void ht_mz_angles(const HtMzWo* o, real3 wo, real3 wi, HtMarschnerAngles* a) {
+    a->sin_o = o->sin_o;
+    a->cos_o = o->cos_o;
+    a->theta_o = o->theta_o;
+    ht_marschner_angles_i(wo, wi, a);
+}
+/* theta_d of a sampled sin theta_i: the azimuthal half of a sampler starts from it. */
+HT_FIBER_FN void ht_mz_theta_d(const HtMzWo* o, real sin_i, real* sin_d, real* cos_d) {
+    real theta_i = ht_asin(sin_i);
+    ht_sincos(HT_R(0.5) * (o->theta_o - theta_i), sin_d, cos_d);
+    *cos_d = fabs(*cos_d);
 }
 
-/* A_p(h) at theta_d for index eta (p = 0, 1, 2), c = sqrt(1 - h^2). */
-HT_FN real3 ht_marschner_ap_c(const HtMaterial* m, int p, real h, real c, real eta, real sin_d, real cos_d) {
+/* A_p(h) at theta_d for index eta (p = 0, 1, 2), c = sqrt(1 - h^2); _k: given inv_ep = 1/eta' and
+ * ctt = cos theta_t at theta_d, which every root and lobe at one theta_d shares. */
+HT_FIBER_FN real3 ht_marschner_chord_k(const HtMaterial* m, real h, real inv_ep, real ctt) {
+    real ht_ = h * inv_ep;
+    real cgt = ht_safe_sqrt(HT_R(1) - ht_ * ht_);
+    return ht_chord_transmittance(ht_load3(m->sigma_a), cgt, ctt);
+}
+HT_FIBER_FN real3 ht_marschner_ap_k(const HtMaterial* m, int p, real h, real c, real eta, real cos_d, real inv_ep, real ctt) {
     real f = ht_fresnel_dielectric(cos_d * c, eta);
     if (p == 0) return ht_splat(f);
-    real ht_ = h * ht_inv_eta_prime(eta, sin_d, cos_d);
-    real cgt = ht_safe_sqrt(HT_R(1) - ht_ * ht_);
-    real3 T = ht_chord_transmittance(ht_load3(m->sigma_a), cgt, ht_cos_theta_t(eta, sin_d));
+    real3 T = ht_marschner_chord_k(m, h, inv_ep, ctt);
     real3 a = T * ((HT_R(1) - f) * (HT_R(1) - f));
     return p == 1 ? a : a * T * f;
 }
-HT_FN real3 ht_marschner_ap(const HtMaterial* m, int p, real h, real eta, real sin_d, real cos_d) {
+/* All three at one h (zinke's lobe weights, the lobe probabilities): one Fresnel, one chord. */
+HT_FIBER_FN void ht_marschner_ap3_k(const HtMaterial* m, real h, real c, real eta, real cos_d, real inv_ep, real ctt,
+                              real3* a) {
+    real f = ht_fresnel_dielectric(cos_d * c, eta);
+    a[0] = ht_splat(f);
+    real3 T = ht_marschner_chord_k(m, h, inv_ep, ctt);
+    a[1] = T * ((HT_R(1) - f) * (HT_R(1) - f));
+    a[2] = a[1] * T * f;
+}
+HT_FIBER_FN real3 ht_marschner_ap_c(const HtMaterial* m, int p, real h, real c, real eta, real sin_d, real cos_d) {
+    return ht_marschner_ap_k(m, p, h, c, eta, cos_d, ht_inv_eta_prime(eta, sin_d, cos_d), ht_cos_theta_t(eta, sin_d));
+}
+HT_FIBER_FN real3 ht_marschner_ap(const HtMaterial* m, int p, real h, real eta, real sin_d, real cos_d) {
     return ht_marschner_ap_c(m, p, h, ht_safe_sqrt(HT_R(1) - h * h), eta, sin_d, cos_d);
 }
 
 /* Caustic parameters of TRT at 1/eta' = inv_ep: centre phi_c, glint interval dh, fade t, h_c. */
-HT_FN void ht_marschner_caustic(const HtMaterial* m, real inv_ep, real* phi_c, real* dh, real* t, real* hc) {
+HT_FIBER_FN void ht_marschner_caustic(const HtMaterial* m, real inv_ep, real* phi_c, real* dh, real* t, real* hc) {
     real ep2 = HT_R(1) / ht_max(inv_ep * inv_ep, HT_R(1e-30));
     if (ep2 < HT_R(4)) {
         real h = sqrt((HT_R(4) - ep2) / HT_R(3));
@@ -98,16 +153,16 @@ HT_FN void ht_marschner_caustic(const HtMaterial* m, real inv_ep, real* phi_c, r
 }
 
 /* sum over roots of A_p(h)/|2 dPhi/dh| (N_p, smooth circle) and of 1/|2 dPhi/dh| (h-uniform density). */
-HT_FN void ht_marschner_np_raw(const HtMaterial* m, int p, real phi, real eta, real sin_d, real cos_d,
+HT_FIBER_FN void ht_marschner_np_raw(const HtMaterial* m, int p, real phi, real eta, real sin_d, real cos_d,
                                real3* np, real* density) {
-    real inv_ep = ht_inv_eta_prime(eta, sin_d, cos_d);
+    real inv_ep = ht_inv_eta_prime(eta, sin_d, cos_d), ctt = ht_cos_theta_t(eta, sin_d);
     real hs[3], cs[3];
     int n = ht_phi_roots(p, phi, inv_ep, hs, cs);
     real3 acc = ht_splat(HT_R(0));
     real dens = HT_R(0);
     for (int k = 0; k < n; ++k) {
         real s = HT_R(0.5) * ht_inv_dphi_dh_c(p, hs[k], cs[k], inv_ep);
-        acc += ht_marschner_ap_c(m, p, hs[k], cs[k], eta, sin_d, cos_d) * s;
+        acc += ht_marschner_ap_k(m, p, hs[k], cs[k], eta, cos_d, inv_ep, ctt) * s;
         dens += s;
     }
     *np = acc;
@@ -115,7 +170,7 @@ HT_FN void ht_marschner_np_raw(const HtMaterial* m, int p, real phi, real eta, r
 }
 
 /* eta* for TRT (eccentricity a <= 1), cos2h = cos(2 phi_h). */
-HT_FN real ht_marschner_eta_star(const HtMaterial* m, real cos2h) {
+HT_FIBER_FN real ht_marschner_eta_star(const HtMaterial* m, real cos2h) {
     real a = m->eccentricity, eta = m->eta;
     if (!(a < HT_R(1))) return eta;
     real e1 = HT_R(2) * (eta - HT_R(1)) * a * a - eta + HT_R(2);
@@ -124,7 +179,7 @@ HT_FN real ht_marschner_eta_star(const HtMaterial* m, real cos2h) {
 }
 
 /* N'_TRT with caustic removal and glints; *dens_out = h-uniform density of the raw roots. */
-HT_FN real3 ht_marschner_ntrt(const HtMaterial* m, real phi, real eta, real sin_d, real cos_d, real* dens_out) {
+HT_FIBER_FN real3 ht_marschner_ntrt(const HtMaterial* m, real phi, real eta, real sin_d, real cos_d, real* dens_out) {
     real3 n;
     real dens;
     ht_marschner_np_raw(m, 2, phi, eta, sin_d, cos_d, &n, &dens);
@@ -142,7 +197,7 @@ HT_FN real3 ht_marschner_ntrt(const HtMaterial* m, real phi, real eta, real sin_
 
 /* Normalises lobe weights pr[0..2] (sum s) into selection probabilities, each compiled-in lobe
  * floored at 2 % so that no lobe the model evaluates goes unsampled; compiled-out lobes get 0. */
-HT_FN void ht_lobe_probs_finish(real* pr, real s) {
+HT_FIBER_FN void ht_lobe_probs_finish(real* pr, real s) {
     s = ht_max(s, HT_R(1e-12));
     real t = HT_R(0);
     for (int p = 0; p < 3; ++p) { pr[p] = HT_LOBE_ON(p) ? ht_max(pr[p] / s, HT_R(0.02)) : HT_R(0); t += pr[p]; }
@@ -151,7 +206,7 @@ HT_FN void ht_lobe_probs_finish(real* pr, real s) {
 
 /* Lobe for the uniform u0 and u0 remapped to [0, 1) within it.  Rounding can leave u0 past the
  * cumulative sum of the last compiled-in lobe: that lobe is taken then (never one with pr = 0). */
-HT_FN int ht_pick_lobe(const real* pr, real u0, real* ur) {
+HT_FIBER_FN int ht_pick_lobe(const real* pr, real u0, real* ur) {
     int p = u0 < pr[0] ? 0 : (u0 < pr[0] + pr[1] ? 1 : 2);
     while (p > 0 && !(pr[p] > HT_R(0))) --p;
     real r = p == 0 ? u0 / pr[0] : (p == 1 ? (u0 - pr[0]) / pr[1] : (u0 - pr[0] - pr[1]) / pr[2]);
@@ -160,13 +215,20 @@ HT_FN int ht_pick_lobe(const real* pr, real u0, real* ur) {
 }
 
 /* Lobe selection probabilities (depend on wo only). */
-HT_FN void ht_marschner_probs(const HtMaterial* m, real sin_o, real cos_o, real* pr) {
+HT_FIBER_FN void ht_marschner_probs(const HtMaterial* m, real sin_o, real cos_o, real* pr) {
+    real3 a[3];
+    ht_marschner_ap3_k(m, HT_R(0.5), ht_safe_sqrt(HT_R(1) - HT_R(0.5) * HT_R(0.5)), m->eta, cos_o,
+                       ht_inv_eta_prime(m->eta, sin_o, cos_o), ht_cos_theta_t(m->eta, sin_o), a);
     real s = HT_R(0);
     for (int p = 0; p < 3; ++p) {
-        pr[p] = HT_LOBE_ON(p) ? ht_luminance(ht_marschner_ap(m, p, HT_R(0.5), m->eta, sin_o, cos_o)) : HT_R(0);
+        pr[p] = HT_LOBE_ON(p) ? ht_luminance(a[p]) : HT_R(0);
         s += pr[p];
     }
     ht_lobe_probs_finish(pr, s);
+}
+HT_FIBER_FN void ht_marschner_wo(const HtMaterial* m, real3 wo, HtMzWo* o) {
+    ht_mz_wo_theta(m, wo, o);
+    ht_marschner_probs(m, o->sin_o, o->cos_o, o->pr);
 }
 
 #define HT_MARSCHNER_TRT_UNIFORM HT_R(0.10)
@@ -174,13 +236,11 @@ HT_FN void ht_marschner_probs(const HtMaterial* m, real sin_o, real cos_o, real*
 
 /* Solid-angle pdf of ht_marschner_sample.  dens[p] >= 0: the h-uniform density of lobe p at a->phi
  * (index eta) already known to the caller; < 0: computed here. */
-HT_FN real ht_marschner_pdf(const HtMaterial* m, const HtMarschnerAngles* a, const real* dens_in) {
-    real pr[3];
-    ht_marschner_probs(m, a->sin_o, a->cos_o, pr);
+HT_FIBER_FN real ht_marschner_pdf(const HtMaterial* m, const HtMzWo* o, const HtMarschnerAngles* a, const real* dens_in) {
     real pd = HT_R(0);
     for (int p = 0; p < 3; ++p) {
         if (!HT_LOBE_ON(p)) continue;
-        real pth = ht_mz_theta_pdf(m, p, a->sin_o, a->cos_o, a->sin_i, a->cos_i); /* per solid angle / dphi */
+        real pth = ht_mz_theta_pdf(o, p, a->sin_i, a->cos_i); /* per solid angle / dphi */
         real dens = dens_in[p];
         if (dens < HT_R(0)) {
             real3 np;
@@ -196,14 +256,16 @@ HT_FN real ht_marschner_pdf(const HtMaterial* m, const HtMarschnerAngles* a, con
                                ht_wrapped_gaussian(a->phi + phi_c, m->caustic_wc));
             pphi = (HT_R(1) - eg - HT_MARSCHNER_TRT_UNIFORM) * dens + eg * g + HT_MARSCHNER_TRT_UNIFORM * HT_INV_TWO_PI;
         }
-        pd += pr[p] * pth * pphi;
+        pd += o->pr[p] * pth * pphi;
     }
     return pd;
 }
 
-HT_FN void ht_marschner_eval(const HtMaterial* m, real3 wo, real3 wi, real h, real3* lobes, real3* value, real* pdf) {
+/* o: ht_marschner_wo of this wo (h is not used by the far field) */
+HT_FIBER_FN void ht_marschner_eval_o(const HtMaterial* m, const HtMzWo* o, real3 wo, real3 wi, real3* lobes, real3* value,
+                               real* pdf) {
     HtMarschnerAngles a;
-    ht_marschner_angles(wo, wi, &a);
+    ht_mz_angles(o, wo, wi, &a);
     real geo = HT_R(0.5) * a.cos_i / ht_max(a.cos_d * a.cos_d, HT_R(1e-6));
     real dens[3] = {HT_R(0), HT_R(0), HT_R(0)};
     real3 n0, n1 = ht_splat(HT_R(0)), n2 = ht_splat(HT_R(0));
@@ -230,12 +292,17 @@ HT_FN void ht_marschner_eval(const HtMaterial* m, real3 wo, real3 wi, real h, re
     lobes[3] = ht_splat(HT_R(0));
     for (int p = 0; p < 3; ++p) lobes[p] = ht_sanitize3(lobes[p]);
     *value = lobes[0] + lobes[1] + lobes[2];
-    *pdf = ht_sanitize(ht_marschner_pdf(m, &a, dens));
+    *pdf = ht_sanitize(ht_marschner_pdf(m, o, &a, dens));
+}
+HT_FIBER_FN void ht_marschner_eval(const HtMaterial* m, real3 wo, real3 wi, real h, real3* lobes, real3* value, real* pdf) {
+    HtMzWo o;
+    ht_marschner_wo(m, wo, &o);
+    ht_marschner_eval_o(m, &o, wo, wi, lobes, value, pdf);
 }
 
 /* The end of a sampler that draws from a proxy and then evaluates the model at the drawn
  * direction w: reports w, the model's pdf there and weight = value / pdf (0 if pdf is 0). */
-HT_FN int ht_finish_sample(real3 w, real3 value, real pd, real3* wi, real3* weight, real* pdf) {
+HT_FIBER_FN int ht_finish_sample(real3 w, real3 value, real pd, real3* wi, real3* weight, real* pdf) {
     *wi = w;
     *pdf = pd;
     if (!(pd > HT_R(0))) return 0;
@@ -244,19 +311,13 @@ HT_FN int ht_finish_sample(real3 w, real3 value, real pd, real3* wi, real3* weig
 }
 
 
-HT_FN int ht_marschner_sample(const HtMaterial* m, real3 wo, real h, real u0, real u1, real u2, real u3,
-                              real3* wi, real3* weight, real* pdf) {
-    real sin_o, cos_o;
-    ht_theta(wo, &sin_o, &cos_o);
-    real pr[3];
-    ht_marschner_probs(m, sin_o, cos_o, pr);
+HT_FIBER_FN int ht_marschner_sample_o(const HtMaterial* m, const HtMzWo* o, real3 wo, real u0, real u1, real u2, real u3,
+                                real3* wi, real3* weight, real* pdf) {
     real ur;
-    int p = ht_pick_lobe(pr, u0, &ur);
+    int p = ht_pick_lobe(o->pr, u0, &ur);
     real sin_i, cos_i, sin_d, cos_d;
-    ht_mz_theta_sample(m, p, sin_o, cos_o, u1, u2, &sin_i, &cos_i);
-    real theta_o = ht_asin(sin_o), theta_i = ht_asin(sin_i);
-    ht_sincos(HT_R(0.5) * (theta_o - theta_i), &sin_d, &cos_d);
-    cos_d = fabs(cos_d);
+    ht_mz_theta_sample(o, p, u1, u2, &sin_i, &cos_i);
+    ht_mz_theta_d(o, sin_i, &sin_d, &cos_d);
     real inv_ep = ht_inv_eta_prime(m->eta, sin_d, cos_d);
     real hh = HT_R(2) * u3 - HT_R(1);
     real dphi;
@@ -284,8 +345,14 @@ HT_FN int ht_marschner_sample(const HtMaterial* m, real3 wo, real h, real u0, re
     real3 lobes[4];
     real3 value;
     real pd;
-    ht_marschner_eval(m, wo, w, h, lobes, &value, &pd);
+    ht_marschner_eval_o(m, o, wo, w, lobes, &value, &pd);
     return ht_finish_sample(w, value, pd, wi, weight, pdf);
+}
+HT_FIBER_FN int ht_marschner_sample(const HtMaterial* m, real3 wo, real h, real u0, real u1, real u2, real u3,
+                              real3* wi, real3* weight, real* pdf) {
+    HtMzWo o;
+    ht_marschner_wo(m, wo, &o);
+    return ht_marschner_sample_o(m, &o, wo, u0, u1, u2, u3, wi, weight, pdf);
 }
 
 #endif

@@ -20,7 +20,7 @@
 #define HT_HALF_PI HT_R(1.57079632679489661923)
 #define HT_LN2 HT_R(0.69314718055994530942)
 
-HT_FN real ht_log(real x) {
+HT_FIBER_FN real ht_log(real x) {
 #ifdef HT_HOST
     return log(ht_max(x, HT_R(1e-300)));
 #else
@@ -38,19 +38,19 @@ HT_FN real ht_log(real x) {
 #endif
 }
 
-HT_FN real ht_exp(real x) { return exp(x); }
+HT_FIBER_FN real ht_exp(real x) { return exp(x); }
 
 /* a^b for a > 0; 0 for a <= 0 (b > 0 assumed by callers). */
-HT_FN real ht_pow(real a, real b) { return a > HT_R(0) ? exp(b * ht_log(a)) : HT_R(0); }
+HT_FIBER_FN real ht_pow(real a, real b) { return a > HT_R(0) ? exp(b * ht_log(a)) : HT_R(0); }
 
-HT_FN real ht_atan_unit(real z) { /* z in [0, 1] */
+HT_FIBER_FN real ht_atan_unit(real z) { /* z in [0, 1] */
     real z2 = z * z;
     return z * (HT_R(1.0) + z2 * (HT_R(-0.3333314528) + z2 * (HT_R(0.1999355085) + z2 * (HT_R(-0.1420889944) +
                z2 * (HT_R(0.1065626393) + z2 * (HT_R(-0.0752896400) + z2 * (HT_R(0.0429096138) +
                z2 * (HT_R(-0.0161657367) + z2 * HT_R(0.0028662257)))))))));
 }
 
-HT_FN real ht_atan2(real y, real x) {
+HT_FIBER_FN real ht_atan2(real y, real x) {
 #ifdef HT_HOST
     return atan2(y, x);
 #else
@@ -64,7 +64,7 @@ HT_FN real ht_atan2(real y, real x) {
 #endif
 }
 
-HT_FN real ht_asin(real x) {
+HT_FIBER_FN real ht_asin(real x) {
     x = ht_clamp(x, HT_R(-1), HT_R(1));
 #ifdef HT_HOST
     return asin(x);
@@ -74,7 +74,7 @@ HT_FN real ht_asin(real x) {
 }
 
 /* sin and cos of x (any finite x). */
-HT_FN void ht_sincos(real x, real* s, real* c) {
+HT_FIBER_FN void ht_sincos(real x, real* s, real* c) {
 #ifdef HT_HOST
     *s = sin(x);
     *c = cos(x);
@@ -96,34 +96,34 @@ HT_FN void ht_sincos(real x, real* s, real* c) {
 #endif
 }
 
-HT_FN real3 ht_exp3(real3 a) { return make_real3(exp(a.x), exp(a.y), exp(a.z)); }
-HT_FN real3 ht_max3s(real3 a, real b) { return make_real3(ht_max(a.x, b), ht_max(a.y, b), ht_max(a.z, b)); }
-HT_FN real3 ht_div3(real3 a, real3 b) { return make_real3(a.x / b.x, a.y / b.y, a.z / b.z); }
+HT_FIBER_FN real3 ht_exp3(real3 a) { return make_real3(exp(a.x), exp(a.y), exp(a.z)); }
+HT_FIBER_FN real3 ht_max3s(real3 a, real b) { return make_real3(ht_max(a.x, b), ht_max(a.y, b), ht_max(a.z, b)); }
+HT_FIBER_FN real3 ht_div3(real3 a, real3 b) { return make_real3(a.x / b.x, a.y / b.y, a.z / b.z); }
 /* The largest of the three channels: what roulette, the light threshold and the clamp judge. */
-HT_FN real ht_max_channel(real3 c) { return ht_max(c.x, ht_max(c.y, c.z)); }
-HT_FN real ht_luminance(real3 c) { return HT_R(0.2126) * c.x + HT_R(0.7152) * c.y + HT_R(0.0722) * c.z; }
-HT_FN real3 ht_splat(real a) { return make_real3(a, a, a); }
-HT_FN real3 ht_load3(const float* p) { return make_real3(p[0], p[1], p[2]); }
+HT_FIBER_FN real ht_max_channel(real3 c) { return ht_max(c.x, ht_max(c.y, c.z)); }
+HT_FIBER_FN real ht_luminance(real3 c) { return HT_R(0.2126) * c.x + HT_R(0.7152) * c.y + HT_R(0.0722) * c.z; }
+HT_FIBER_FN real3 ht_splat(real a) { return make_real3(a, a, a); }
+HT_FIBER_FN real3 ht_load3(const float* p) { return make_real3(p[0], p[1], p[2]); }
 /* Replace NaN by 0 and clamp to [0, HT_REAL_MAX]: the last line of defence of every model. */
-HT_FN real ht_sanitize(real x) { return (x >= HT_R(0) && x <= HT_REAL_MAX) ? x : (x > HT_REAL_MAX ? HT_REAL_MAX : HT_R(0)); }
-HT_FN real3 ht_sanitize3(real3 a) { return make_real3(ht_sanitize(a.x), ht_sanitize(a.y), ht_sanitize(a.z)); }
+HT_FIBER_FN real ht_sanitize(real x) { return (x >= HT_R(0) && x <= HT_REAL_MAX) ? x : (x > HT_REAL_MAX ? HT_REAL_MAX : HT_R(0)); }
+HT_FIBER_FN real3 ht_sanitize3(real3 a) { return make_real3(ht_sanitize(a.x), ht_sanitize(a.y), ht_sanitize(a.z)); }
 /* Wrap an angle to [-pi, pi]. */
-HT_FN real ht_wrap_pi(real x) { return x - HT_TWO_PI * floor((x + HT_PI) * HT_INV_TWO_PI); }
+HT_FIBER_FN real ht_wrap_pi(real x) { return x - HT_TWO_PI * floor((x + HT_PI) * HT_INV_TWO_PI); }
 
 /* Angles of a unit direction in the fibre frame (docs/MODEL.md §1): sin theta = w.x. */
-HT_FN void ht_theta(real3 w, real* sin_t, real* cos_t) {
+HT_FIBER_FN void ht_theta(real3 w, real* sin_t, real* cos_t) {
     real s = ht_clamp(w.x, HT_R(-1), HT_R(1));
     *sin_t = s;
     *cos_t = ht_safe_sqrt(HT_R(1) - s * s);
 }
 /* phi_i - phi_o without two atan2 calls; 0 when either direction is along the tangent. */
-HT_FN real ht_relative_phi(real3 wo, real3 wi) {
+HT_FIBER_FN real ht_relative_phi(real3 wo, real3 wi) {
     real y = wi.z * wo.y - wi.y * wo.z;
     real x = wi.y * wo.y + wi.z * wo.z;
     return ht_atan2(y, x);
 }
 /* Direction with sin theta = st, cos theta = ct and azimuth phi_o + dphi, given wo. */
-HT_FN real3 ht_dir_from(real3 wo, real st, real ct, real dphi) {
+HT_FIBER_FN real3 ht_dir_from(real3 wo, real st, real ct, real dphi) {
     real co = sqrt(wo.y * wo.y + wo.z * wo.z);
     real cpo = co > HT_R(1e-12) ? wo.y / co : HT_R(1);
     real spo = co > HT_R(1e-12) ? wo.z / co : HT_R(0);

@@ -27,18 +27,16 @@
 #include "marschner.h"
 
 /* Lobe weights W_p(h) = A_p(h) and exit azimuths Phi(p, h) at theta_d. */
-HT_FN void ht_zinke_w(const HtMaterial* m, real h, real sin_d, real cos_d, real3* w, real* phis) {
+HT_FIBER_FN void ht_zinke_w(const HtMaterial* m, real h, real sin_d, real cos_d, real3* w, real* phis) {
     real eta = m->eta;
-    real inv_ep = ht_inv_eta_prime(eta, sin_d, cos_d);
+    real inv_ep = ht_inv_eta_prime(eta, sin_d, cos_d), ctt = ht_cos_theta_t(eta, sin_d);
     real c = ht_safe_sqrt(HT_R(1) - h * h);
     real gi = ht_asin(h), gt = ht_asin(h * inv_ep);
-    for (int p = 0; p < 3; ++p) {
-        phis[p] = ht_phi_path(p, gi, gt);
-        w[p] = ht_marschner_ap_c(m, p, h, c, eta, sin_d, cos_d);
-    }
+    for (int p = 0; p < 3; ++p) phis[p] = ht_phi_path(p, gi, gt);
+    ht_marschner_ap3_k(m, h, c, eta, cos_d, inv_ep, ctt, w);
 }
 
-HT_FN void ht_zinke_probs(const HtMaterial* m, real h, real sin_o, real cos_o, real* pr) {
+HT_FIBER_FN void ht_zinke_probs(const HtMaterial* m, real h, real sin_o, real cos_o, real* pr) {
     real3 w[3];
     real phis[3];
     ht_zinke_w(m, h, sin_o, cos_o, w, phis);
@@ -46,15 +44,19 @@ HT_FN void ht_zinke_probs(const HtMaterial* m, real h, real sin_o, real cos_o, r
     for (int p = 0; p < 3; ++p) { pr[p] = HT_LOBE_ON(p) ? ht_max(ht_luminance(w[p]), HT_R(0)) : HT_R(0); s += pr[p]; }
     ht_lobe_probs_finish(pr, s);
 }
+HT_FIBER_FN void ht_zinke_wo(const HtMaterial* m, real3 wo, real h, HtMzWo* o) {
+    ht_mz_wo_theta(m, wo, o);
+    ht_zinke_probs(m, h, o->sin_o, o->cos_o, o->pr);
+}
 
-HT_FN void ht_zinke_eval(const HtMaterial* m, real3 wo, real3 wi, real h, real3* lobes, real3* value, real* pdf) {
+/* o: ht_zinke_wo of this wo and h */
+HT_FIBER_FN void ht_zinke_eval_o(const HtMaterial* m, const HtMzWo* o, real3 wo, real3 wi, real h, real3* lobes,
+                           real3* value, real* pdf) {
     HtMarschnerAngles a;
-    ht_marschner_angles(wo, wi, &a);
+    ht_mz_angles(o, wo, wi, &a);
     real3 w[3];
     real phis[3];
     ht_zinke_w(m, h, a.sin_d, a.cos_d, w, phis);
-    real pr[3];
-    ht_zinke_probs(m, h, a.sin_o, a.cos_o, pr);
     real geo = HT_R(0.5) * a.cos_i / ht_max(a.cos_d * a.cos_d, HT_R(1e-6));
     real ab[3] = {m->alpha_r, m->alpha_tt, m->alpha_trt};
     real bb[3] = {m->beta_r, m->beta_tt, m->beta_trt};
@@ -66,26 +68,25 @@ HT_FN void ht_zinke_eval(const HtMaterial* m, real3 wo, real3 wi, real h, real3*
         real d = ht_wrapped_gaussian(a.phi - phis[p], m->azim_sigma);
         lobes[p] = ht_sanitize3(w[p] * (geo * g * d));
         sum += lobes[p];
-        pd += pr[p] * ht_mz_theta_pdf(m, p, a.sin_o, a.cos_o, a.sin_i, a.cos_i) * d;
+        pd += o->pr[p] * ht_mz_theta_pdf(o, p, a.sin_i, a.cos_i) * d;
     }
     lobes[3] = ht_splat(HT_R(0));
     *value = sum;
     *pdf = ht_sanitize(pd);
 }
+HT_FIBER_FN void ht_zinke_eval(const HtMaterial* m, real3 wo, real3 wi, real h, real3* lobes, real3* value, real* pdf) {
+    HtMzWo o;
+    ht_zinke_wo(m, wo, h, &o);
+    ht_zinke_eval_o(m, &o, wo, wi, h, lobes, value, pdf);
+}
 
-HT_FN int ht_zinke_sample(const HtMaterial* m, real3 wo, real h, real u0, real u1, real u2, real u3,
-                          real3* wi, real3* weight, real* pdf) {
-    real sin_o, cos_o;
-    ht_theta(wo, &sin_o, &cos_o);
-    real pr[3];
-    ht_zinke_probs(m, h, sin_o, cos_o, pr);
+HT_FIBER_FN int ht_zinke_sample_o(const HtMaterial* m, const HtMzWo* o, real3 wo, real h, real u0, real u1, real u2,
+                            real u3, real3* wi, real3* weight, real* pdf) {
     real ur;
-    int p = ht_pick_lobe(pr, u0, &ur);
+    int p = ht_pick_lobe(o->pr, u0, &ur);
     real sin_i, cos_i, sin_d, cos_d;
-    ht_mz_theta_sample(m, p, sin_o, cos_o, u1, u2, &sin_i, &cos_i);
-    real theta_o = ht_asin(sin_o), theta_i = ht_asin(sin_i);
-    ht_sincos(HT_R(0.5) * (theta_o - theta_i), &sin_d, &cos_d);
-    cos_d = fabs(cos_d);
+    ht_mz_theta_sample(o, p, u1, u2, &sin_i, &cos_i);
+    ht_mz_theta_d(o, sin_i, &sin_d, &cos_d);
     real n2, n3;
     ht_normal_pair(u3, ur, &n2, &n3);
     real inv_ep = ht_inv_eta_prime(m->eta, sin_d, cos_d);
@@ -94,8 +95,14 @@ HT_FN int ht_zinke_sample(const HtMaterial* m, real3 wo, real h, real u0, real u
     real3 lobes[4];
     real3 value;
     real pd;
-    ht_zinke_eval(m, wo, w, h, lobes, &value, &pd);
+    ht_zinke_eval_o(m, o, wo, w, h, lobes, &value, &pd);
     return ht_finish_sample(w, value, pd, wi, weight, pdf);
+}
+HT_FIBER_FN int ht_zinke_sample(const HtMaterial* m, real3 wo, real h, real u0, real u1, real u2, real u3,
+                          real3* wi, real3* weight, real* pdf) {
+    HtMzWo o;
+    ht_zinke_wo(m, wo, h, &o);
+    return ht_zinke_sample_o(m, &o, wo, h, u0, u1, u2, u3, wi, weight, pdf);
 }
 
 #endif

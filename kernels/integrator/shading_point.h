@@ -26,6 +26,7 @@ typedef struct {
     real3 p; /* the hit point (light sampling starts here) */
     /* fibre: material (with --fiber-field and --regularize applied), frame, offset h */
     HtMaterial mat;
+    HtBcsdfWo wo_prep; /* what the fibre model derives from wo_l and h, for every eval and sample here */
     real3 fx, fy, fz, wo_l, axis_point, tangent;
     real h, radius;
     /* surface: geometric and shading normals facing the viewer, albedo, hit distance */
@@ -77,6 +78,7 @@ HT_FN void ht_fibre_point(HtMaterial mat, HtPoint a, HtPoint b, const HtRay* ray
     sp->wo_l = ht_to_fiber_local(wo, sp->fx, sp->fy, sp->fz);
     sp->h = hit->h;
     sp->radius = hit->radius;
+    ht_bcsdf_prepare(&sp->mat, sp->wo_l, sp->h, &sp->wo_prep);
     sp->p = make_real3(ray->ox, ray->oy, ray->oz) + dir * hit->t;
 }
 
@@ -160,7 +162,8 @@ HT_FN void ht_point_eval(const HtShadingPoint* sp, real3 wi, real3* value, real*
     }
 #endif
     *value = make_real3(0, 0, 0);
-    ht_bcsdf_eval(&sp->mat, sp->wo_l, ht_to_fiber_local(wi, sp->fx, sp->fy, sp->fz), sp->h, value, pdf);
+    ht_bcsdf_eval_o(&sp->mat, &sp->wo_prep, sp->wo_l, ht_to_fiber_local(wi, sp->fx, sp->fy, sp->fz), sp->h, value,
+                    pdf);
 }
 
 /* Draws the vertex's uniforms from the BSDF slots of `bounce` (kernels/rng.h's layout). */
@@ -180,7 +183,7 @@ HT_FN int ht_point_sample(const HtShadingPoint* sp, uint seed, uint pixel, uint 
     real u3 = ht_sample(seed, pixel, sample, bounce, HT_DIM_BSDF_0 + 3u);
     real3 wi_l = make_real3(0, 0, 0);
     *weight = make_real3(0, 0, 0);
-    if (!ht_bcsdf_sample(&sp->mat, sp->wo_l, sp->h, u0, u1, u2, u3, &wi_l, weight, pdf)) return 0;
+    if (!ht_bcsdf_sample_o(&sp->mat, &sp->wo_prep, sp->wo_l, sp->h, u0, u1, u2, u3, &wi_l, weight, pdf)) return 0;
     *wi = sp->fx * wi_l.x + sp->fy * wi_l.y + sp->fz * wi_l.z;
     return 1;
 }
