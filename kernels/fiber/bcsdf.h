@@ -54,16 +54,22 @@ HT_FIBER_FN real ht_sanitize_h(real h) { return (h == h) ? ht_clamp(h, HT_R(-1),
 
 /* What eval and sample derive from wo and h alone, made once by ht_bcsdf_prepare for a shading
  * point that evaluates and samples the model several times (kernels/stages/shade.cl: one
- * evaluation per light estimate, one per sample).  Only marschner and zinke keep anything. */
+ * evaluation per light estimate, one per sample).  Kajiya keeps nothing. */
 typedef struct {
 #if HT_FEATURE_MODEL_MARSCHNER || HT_FEATURE_MODEL_ZINKE
     HtMzWo mz;
 #endif
-    int unused; /* a struct needs a member when both models are compiled out */
+#if HT_FEATURE_MODEL_CHIANG
+    HtChiangSetup chiang;
+#endif
+    int unused; /* a struct needs a member when every model that keeps something is compiled out */
 } HtBcsdfWo;
 
 HT_FIBER_FN void ht_bcsdf_prepare(const HtMaterial* m, real3 wo, real h, HtBcsdfWo* o) {
     h = ht_sanitize_h(h);
+#ifdef HT_HOST
+    *o = HtBcsdfWo(); /* g++ cannot see that eval reads only the part prepared for the same model */
+#endif
     o->unused = 0;
     switch (m->model) {
 #if HT_FEATURE_MODEL_MARSCHNER
@@ -72,9 +78,15 @@ HT_FIBER_FN void ht_bcsdf_prepare(const HtMaterial* m, real3 wo, real h, HtBcsdf
 #if HT_FEATURE_MODEL_ZINKE
     case HT_MODEL_ZINKE: ht_zinke_wo(m, wo, h, &o->mz); break;
 #endif
-    default:
+#if HT_FEATURE_MODEL_CHIANG
+    case HT_MODEL_CHIANG: ht_chiang_setup(m, wo, h, &o->chiang); break;
+#endif
+    default: /* never read; defined, so that no compiler need prove it */
 #if HT_FEATURE_MODEL_MARSCHNER || HT_FEATURE_MODEL_ZINKE
-        ht_mz_wo_clear(&o->mz); /* never read; defined, so that no compiler need prove it */
+        ht_mz_wo_clear(&o->mz);
+#endif
+#if HT_FEATURE_MODEL_CHIANG
+        ht_chiang_setup_clear(&o->chiang);
 #endif
         break;
     }
@@ -93,9 +105,6 @@ HT_FIBER_FN void ht_bcsdf_eval_lobes_o(const HtMaterial* m, const HtBcsdfWo* o, 
         *pdf = HT_R(0);
         return;
     }
-#ifdef HT_FIBER_ONLY_MODEL
-    ht_chiang_eval(m, wo, wi, h, lobes, value, pdf); return;
-#endif
     switch (m->model) {
 #if HT_FEATURE_MODEL_KAJIYA
     case HT_MODEL_KAJIYA: ht_kajiya_eval(m, wo, wi, h, lobes, value, pdf); break;
@@ -107,7 +116,7 @@ HT_FIBER_FN void ht_bcsdf_eval_lobes_o(const HtMaterial* m, const HtBcsdfWo* o, 
     case HT_MODEL_ZINKE: ht_zinke_eval_o(m, &o->mz, wo, wi, h, lobes, value, pdf); break;
 #endif
 #if HT_FEATURE_MODEL_CHIANG
-    case HT_MODEL_CHIANG: ht_chiang_eval(m, wo, wi, h, lobes, value, pdf); break;
+    case HT_MODEL_CHIANG: ht_chiang_eval_setup(m, &o->chiang, wo, wi, lobes, value, pdf); break;
 #endif
     default:
         for (int p = 0; p < 4; ++p) lobes[p] = ht_splat(HT_R(0));
@@ -155,7 +164,7 @@ HT_FIBER_FN int ht_bcsdf_sample_o(const HtMaterial* m, const HtBcsdfWo* o, real3
     case HT_MODEL_ZINKE: ok = ht_zinke_sample_o(m, &o->mz, wo, h, u0, u1, u2, u3, wi, weight, pdf); break;
 #endif
 #if HT_FEATURE_MODEL_CHIANG
-    case HT_MODEL_CHIANG: ok = ht_chiang_sample(m, wo, h, u0, u1, u2, u3, wi, weight, pdf); break;
+    case HT_MODEL_CHIANG: ok = ht_chiang_sample_setup(m, &o->chiang, wo, u0, u1, u2, u3, wi, weight, pdf); break;
 #endif
     default: break;
     }

@@ -20,6 +20,14 @@ typedef struct {
     real ap_pdf[4];
 } HtChiangSetup;
 
+HT_FIBER_FN void ht_chiang_setup_clear(HtChiangSetup* c) {
+    c->sin_o = c->cos_o = c->gamma_o = c->gamma_t = HT_R(0);
+    for (int p = 0; p < 4; ++p) {
+        c->ap[p] = ht_splat(HT_R(0));
+        c->ap_pdf[p] = HT_R(0);
+    }
+}
+
 HT_FIBER_FN void ht_chiang_setup(const HtMaterial* m, real3 wo, real h, HtChiangSetup* c) {
     real eta = m->eta;
     h = ht_clamp(h, HT_R(-1), HT_R(1));
@@ -107,29 +115,28 @@ HT_FIBER_FN void ht_chiang_eval(const HtMaterial* m, real3 wo, real3 wi, real h,
     ht_chiang_eval_setup(m, &c, wo, wi, lobes, value, pdf);
 }
 
-HT_FIBER_FN int ht_chiang_sample(const HtMaterial* m, real3 wo, real h, real u0, real u1, real u2, real u3,
-                           real3* wi, real3* weight, real* pdf) {
-    HtChiangSetup c;
-    ht_chiang_setup(m, wo, h, &c);
+/* c: ht_chiang_setup of m, wo and h (a shading point makes it once: kernels/fiber/bcsdf.h) */
+HT_FIBER_FN int ht_chiang_sample_setup(const HtMaterial* m, const HtChiangSetup* c, real3 wo, real u0, real u1, real u2,
+                                 real u3, real3* wi, real3* weight, real* pdf) {
     int p = 3;
     real acc = HT_R(0);
     for (int k = 0; k < 3; ++k) {
-        acc += c.ap_pdf[k];
+        acc += c->ap_pdf[k];
         if (u0 < acc) { p = k; break; }
     }
     /* rounding past the last compiled-in lobe's cumulative sum: take that lobe */
-    while (p > 0 && !(c.ap_pdf[p] > HT_R(0)) && !HT_LOBE_ON(p)) --p;
+    while (p > 0 && !(c->ap_pdf[p] > HT_R(0)) && !HT_LOBE_ON(p)) --p;
     real sp, cp;
-    ht_chiang_tilt(m, p, c.sin_o, c.cos_o, &sp, &cp);
+    ht_chiang_tilt(m, p, c->sin_o, c->cos_o, &sp, &cp);
     real sin_i, cos_i;
     ht_mp_sample(u1, u2, sp, cp, m->v[p], &sin_i, &cos_i);
-    real dphi = p < 3 ? ht_phi_path(p, c.gamma_o, c.gamma_t) + ht_trimmed_logistic_sample(u3, m->s)
+    real dphi = p < 3 ? ht_phi_path(p, c->gamma_o, c->gamma_t) + ht_trimmed_logistic_sample(u3, m->s)
                       : HT_TWO_PI * (u3 - HT_R(0.5));
     real3 w = ht_dir_from(wo, sin_i, cos_i, dphi);
     real3 lobes[4];
     real3 value;
     real pd;
-    ht_chiang_eval_setup(m, &c, wo, w, lobes, &value, &pd);
+    ht_chiang_eval_setup(m, c, wo, w, lobes, &value, &pd);
     *wi = w;
     *pdf = pd;
     if (!(pd > HT_R(0))) {
@@ -138,6 +145,13 @@ HT_FIBER_FN int ht_chiang_sample(const HtMaterial* m, real3 wo, real h, real u0,
     }
     *weight = ht_sanitize3(value / pd);
     return 1;
+}
+
+HT_FIBER_FN int ht_chiang_sample(const HtMaterial* m, real3 wo, real h, real u0, real u1, real u2, real u3,
+                           real3* wi, real3* weight, real* pdf) {
+    HtChiangSetup c;
+    ht_chiang_setup(m, wo, h, &c);
+    return ht_chiang_sample_setup(m, &c, wo, u0, u1, u2, u3, wi, weight, pdf);
 }
 
 #endif
