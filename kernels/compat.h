@@ -27,11 +27,10 @@ typedef float real;
 typedef float3 real3;
 #define HT_FN static inline
 /* The fibre models' functions (kernels/fiber/).  A program that defines HT_FIBER_INLINE before its
- * first include (stages/shade.cl) gets them force-inlined: the shade kernel evaluates a model
- * several times per shading point, and left to the inliner the helpers stayed calls (a perf profile
- * of a default-scene render listed a dozen as symbols of their own); forced, a render took ~6 % less
- * CPU (docs/PERFORMANCE.md §3) at 1.1-1.6 s more CPU for the first, uncached, build.  Traversal is the
- * opposite case (docs/POCL.md §1), so every other program keeps plain HT_FN. */
+ * first include gets them force-inlined.  No program does: in the shade kernel it saved ~4 % of a
+ * render's CPU but made the shade program's first, uncached, build the cold start's longest and
+ * the test suite's kernel builds slower (docs/PERFORMANCE.md §2), and traversal is the opposite
+ * case anyway (docs/POCL.md §1).  Kept as a switch for devices whose compilers inline less. */
 #ifdef HT_FIBER_INLINE
 #define HT_FIBER_FN static inline __attribute__((always_inline))
 #else

@@ -31,7 +31,6 @@
  * HT_NO_PATH) -- at a first vertex in shadow slots k M .. k M + M - 1 and stage slots
  * k N .. k N + N - 1; compact.cl then packs the extension queue in a thread-independent order.
  * Every path ends each call in exactly one of: terminated, continued (stage slot filled). */
-#define HT_FIBER_INLINE 1 /* the fibre models inlined here (kernels/compat.h says why) */
 #include "../types.h"
 #include "../geometry/pages.h"
 #include "../rng.h"
