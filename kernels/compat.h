@@ -9,7 +9,7 @@
  *   real, real3, uint, ulong          scalar / 3-vector of the working precision
  *   make_real3(x,y,z), dot, cross, length, normalize, r3_x/y/z accessors via .x .y .z
  *   HT_FN                              function qualifier for helpers in headers
- *   HT_FIBER_FN                        the same for kernels/fiber/ (force-inlined in the shade program)
+ *   HT_FIBER_FN                        the same for kernels/fiber/ (force-inlined where HT_FIBER_INLINE is defined)
  *   HT_GLOBAL, HT_CONST_GLOBAL         address-space qualifiers for buffer pointers
  *   ht_select(c, a, b)                 compare-select min/max friendly form (PoCL: faster than fmin)
  *   ht_as_uint / ht_as_float           bit casts
