@@ -81,6 +81,8 @@
  *   HT_CLAMP_INDIRECT C          --clamp-indirect cap (undefined: off; kernels/stages/shade.cl)
  *   HT_LIGHT_THRESHOLD T         --light-threshold (undefined: off; kernels/integrator/roulette.h,
  *                                read in kernels/stages/shade.cl)
+ *   HT_LIGHT_PICK_IMPORTANCE     --light-pick importance with 2..HT_LIGHT_PICK_MAX lights
+ *                                (undefined: uniform; kernels/lights.h, kernels/stages/shade.cl)
  *   HT_REGULARIZE_WIDTH W        --regularize width in radians (undefined: off;
  *                                kernels/integrator/shading_point.h)
  *   HT_SPAWN_PBRT                --spawn-offset pbrt (undefined: capsule offsets; same file)

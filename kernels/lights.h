@@ -85,4 +85,82 @@ HT_FN int ht_sample_light(const HtLight* l, real3 p, real u, real v, HtLightSamp
     return atten > HT_R(0);
 }
 
+/* ---------------------------------------------------------------- picking a light by importance */
+
+/* What light l would deliver to p unshadowed, summed over the channels: li_over_pdf of
+ * ht_sample_light, which depends on p alone for every light type (a delta light's radiance
+ * over distance squared, the sphere's radiance times its cone), never on the sample's numbers.
+ * 0 exactly when l gives nothing at p (outside a spot's cone, at its position). */
+HT_FN real ht_light_delivered(const HtLight* l, real3 p) {
+    HtLightSample s;
+    if (!ht_sample_light(l, p, HT_R(0.5), HT_R(0.5), &s)) return HT_R(0);
+    const real w = s.li_over_pdf.x + s.li_over_pdf.y + s.li_over_pdf.z;
+    /* capped so that a sum over HT_LIGHT_PICK_MAX lights stays finite */
+    return w > HT_R(0) ? ht_min(w, HT_R(1e30)) : HT_R(0);
+}
+
+/* How squarely the light's centre faces the receiver at p, floored at HT_LIGHT_FACING_MIN (never
+ * 0, so no light that reaches p loses its chance): for a fibre with tangent `axis` the cosine of
+ * the light's inclination to the fibre's normal plane, sqrt(1 - (axis . w)^2) -- the fibre's width
+ * as the light sees it, the cos(theta_i) of every fibre model (kernels/fiber/); for a surface with
+ * normal `axis` (axis_is_normal) |axis . w|.  What a light delivers along a fibre's axis scatters
+ * little: a spot above a hanging lock is bright at the hair and lights it hardly at all. */
+#define HT_LIGHT_FACING_MIN HT_R(0.1)
+HT_FN real ht_light_facing(const HtLight* l, real3 p, real3 axis, int axis_is_normal) {
+    real3 w;
+#if HT_FEATURE_LIGHT_DIRECTIONAL
+    if (l->type == HT_LIGHT_DIRECTIONAL)
+        w = -make_real3(l->direction[0], l->direction[1], l->direction[2]);
+    else
+#endif
+    {
+        const real3 d = make_real3(l->position[0], l->position[1], l->position[2]) - p;
+        const real d2 = dot(d, d);
+        if (!(d2 > HT_R(1e-20))) return HT_R(1);
+        w = d / sqrt(d2);
+    }
+    const real c = dot(axis, w);
+    const real facing = axis_is_normal ? fabs(c) : ht_safe_sqrt(HT_R(1) - c * c);
+    return ht_max(facing, HT_LIGHT_FACING_MIN);
+}
+
+/* One of lights[0, count) for a next-event estimate at p (count <= HT_LIGHT_PICK_MAX), u in
+ * [0, 1): light i with probability
+ *     q_i = 1/2 w_i / sum_j w_j + 1/2 / n,   w = ht_light_delivered x ht_light_facing at p,
+ * n the number of lights with w > 0 (q_i = 0 for the others: their estimate would be 0, a pick of
+ * them a wasted sample).  w is chosen before the light's own sample numbers and never depends on
+ * them, so the estimate L_i / q_i stays unbiased.  The uniform half is defensive: w knows nothing
+ * of the hair between p and the light or of the fibre's lobes, and where the brightest light is
+ * occluded, a pick by w alone starves the lights that do reach p (pure importance made the demo
+ * scene's relative error worse while its RMSE improved; the even mix improved both most,
+ * docs/PERFORMANCE.md §8).  Returns the light and 1 / q in *inv_prob, or count (and 0) when no
+ * light gives anything at p. */
+HT_FN uint ht_pick_light(HT_CONST_GLOBAL HtLight* lights, uint count, real3 p, real3 axis, int axis_is_normal,
+                         real u, real* inv_prob) {
+    real w[HT_LIGHT_PICK_MAX];
+    real sum = HT_R(0), reach = HT_R(0);
+    for (uint i = 0u; i < count; ++i) {
+        const HtLight l = lights[i];
+        const real delivered = ht_light_delivered(&l, p);
+        w[i] = delivered > HT_R(0) ? delivered * ht_light_facing(&l, p, axis, axis_is_normal) : HT_R(0);
+        sum += w[i];
+        reach += w[i] > HT_R(0) ? HT_R(1) : HT_R(0);
+    }
+    *inv_prob = HT_R(0);
+    if (!(sum > HT_R(0))) return count;
+    const real by_w = HT_R(0.5) / sum, even = HT_R(0.5) / reach;
+    real below = HT_R(0), q = HT_R(0);
+    uint pick = count;
+    for (uint i = 0u; i < count; ++i) {
+        if (!(w[i] > HT_R(0))) continue;
+        /* the last light that reaches p, if rounding leaves u past every one */
+        pick = i;
+        q = w[i] * by_w + even;
+        if (u < below + q) break;
+        below += q;
+    }
+    *inv_prob = HT_R(1) / q;
+    return pick;
+}
+
 #endif

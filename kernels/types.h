@@ -176,6 +176,10 @@ typedef struct {
 #define HT_LIGHT_SPOT 1u
 #define HT_LIGHT_DIRECTIONAL 2u
 #define HT_LIGHT_SPHERE 3u
+/* Lights a single next-event estimate picks from by importance at most (kernels/lights.h
+ * ht_pick_light reads every light's importance at the shading point); scenes with more pick
+ * uniformly, and the host compiles the pick in only for 2..HT_LIGHT_PICK_MAX lights. */
+#define HT_LIGHT_PICK_MAX 16u
 typedef struct {
     uint type, pad0, pad1, pad2;
     float position[4];   /* xyz; w = sphere radius */

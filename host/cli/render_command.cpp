@@ -371,6 +371,8 @@ ImageMetadata metadata_of(const PreparedRender& job, const RenderRequest& reques
     meta.ints["hairtrace:max_depth"] = job.settings.max_depth;
     meta.ints["hairtrace:first_hit_splits"] = job.settings.first_hit_splits;
     meta.ints["hairtrace:first_hit_light_samples"] = job.settings.first_hit_light_samples;
+    meta.text["hairtrace:light_pick"] =
+        job.settings.light_pick == RenderSettings::LightPick::Importance ? "importance" : "uniform";
     meta.ints["hairtrace:chunk"] = request.grid.chunk;
     meta.floats["hairtrace:clamp_indirect"] = job.renderers.front()->stats().clamp_indirect;
     meta.floats["hairtrace:regularize_deg"] = job.settings.regularize_deg;

@@ -56,6 +56,7 @@ const OptionRow kOptions[] = {
     {"sampling", "--first-hit-splits", "N", "continue every camera path N times from its first hit, each with 1/N of the weight, while the camera ray, its hit and its direct light are computed once: N hair-to-hair samples per camera sample (1 = one path per camera sample; the default 2 paid on every scene measured, with auto light samples, docs/PERFORMANCE.md section 8)", "2", Kind::Value, kBoth},
     {"sampling", "--first-hit-light-samples", "M|auto", "at the first hit of every camera path, M next-event estimates (each 1/M of the weight, each picking a light from its own M-th of the choice) instead of one; auto: one per light that next-event estimation picks from (the lights and an environment map), so that every light is met once at the first hit (1 = one estimate, as with a single light; measured in docs/PERFORMANCE.md section 8)", "auto", Kind::Value, kBoth},
     {"sampling", "--light-threshold", "T|off", "from the second vertex of a path on, next-event estimates whose weight without the light (throughput x fibre scattering value, largest channel, for the whole camera sample) is below T trace their shadow ray only with probability weight / T and then count T / weight times: unbiased, fewer shadow rays for faint deep estimates at a little more noise (relative to the light, so the same T suits any light intensity; the default paid on every scene measured, docs/PERFORMANCE.md section 8)", "0.1", Kind::Value, kBoth},
+    {"sampling", "--light-pick", "importance|uniform", "how a next-event estimate that picks one light chooses it (every estimate after the first vertex; the first vertex's with --first-hit-light-samples 1): importance = half in proportion to what each light delivers to the shading point unshadowed (radiance over distance squared, a spot's falloff, a sphere's cone) times how squarely it faces the fibre or surface there, half evenly over the lights that reach the point, so no estimate is spent on a light that cannot reach it (unbiased); uniform = each light alike (A/B: the images of before). Scenes with one light or more than 16 always pick uniformly; an environment map keeps its uniform share (measured in docs/PERFORMANCE.md section 8)", "importance", Kind::Value, kBoth},
     {"sampling", "--sampler", "sobol|independent", "random numbers: Owen-scrambled Sobol' points (each jointly used pair stratified, kernels/rng.h) or independent counter-based hashing (A/B); measured in docs/PERFORMANCE.md", "sobol", Kind::Value, kBoth},
     {"light transport", "--spawn-offset", "capsule|pbrt", "where rays leaving a fibre start: just outside its capsule, or 1-1.73 fibre diameters off it along the normal as pbrt-v4 offsets its curves' rays (a diagnostic for comparing with pbrt renders: rays then skip the nearest neighbours; docs/ESTIMATOR.md)", "capsule", Kind::Value, kBoth},
     {"light transport", "--regularize", "DEG|off", "path regularisation: where a path meets hair after a first scattering, widen the marschner/zinke lobes to at least DEG degrees (longitudinal widths and zinke's azimuthal spread); bright two-lobe sparkles become a blur of indirect highlights (biased; measured in docs/PERFORMANCE.md)", "off", Kind::Value, kBoth},
@@ -169,6 +170,8 @@ ImageRequest parse_image_request(const ArgParser& p) {
     s.bvh_oriented = float(p.get_double_or("--bvh-oriented", "off", 0.01, 1).value_or(0.0));
     if (p.get_choice("--spawn-offset", {"capsule", "pbrt"}) == "pbrt") s.spawn_offset = RenderSettings::SpawnOffset::Pbrt;
     if (p.get_choice("--sampler", {"sobol", "independent"}) == "independent") s.sampler = RenderSettings::Sampler::Independent;
+    if (p.get_choice("--light-pick", {"importance", "uniform"}) == "importance")
+        s.light_pick = RenderSettings::LightPick::Importance;
     s.first_hit_splits = p.get_int("--first-hit-splits", 1, kMaxFirstHitSplits);
     r.light_samples = p.get_int_or("--first-hit-light-samples", "auto", 1, kMaxFirstHitSplits);
     if (p.has("--background")) r.background = parse_rgb("--background", p.get("--background"));
@@ -287,6 +290,8 @@ RenderSettings resolve_settings(const Scene& scene, const ImageRequest& r, std::
     // ht_nee_sample: the lights and an environment map), each light met once at the first hit
     const int nee_lights = int(scene.lights.size()) + (scene.environment.map_path.empty() ? 0 : 1);
     s.first_hit_light_samples = r.light_samples.value_or(std::clamp(nee_lights, 1, kMaxFirstHitSplits));
+    // the settings say what the render does: with one light, or more than the pick reads, it is uniform
+    if (scene.lights.size() < 2 || scene.lights.size() > HT_LIGHT_PICK_MAX) s.light_pick = RenderSettings::LightPick::Uniform;
     return s;
 }
 

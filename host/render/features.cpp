@@ -200,7 +200,7 @@ std::string kernel_build_options(const KernelFeatures& f) {
 }
 
 std::string estimator_build_options(float clamp_indirect, float regularize_deg, float light_threshold,
-                                    bool spawn_offset_pbrt, bool sampler_sobol) {
+                                    bool spawn_offset_pbrt, bool sampler_sobol, bool light_pick_importance) {
     auto float_define = [](const char* name, double v) {
         char def[80];
         std::snprintf(def, sizeof def, " -D%s=%.9ef", name, v);
@@ -212,6 +212,7 @@ std::string estimator_build_options(float clamp_indirect, float regularize_deg, 
     if (light_threshold > 0) o += float_define("HT_LIGHT_THRESHOLD", light_threshold);
     if (spawn_offset_pbrt) o += " -DHT_SPAWN_PBRT=1";
     if (sampler_sobol) o += " -DHT_SAMPLER_SOBOL=1";
+    if (light_pick_importance) o += " -DHT_LIGHT_PICK_IMPORTANCE=1";
     return o;
 }
 

@@ -26,7 +26,9 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& s, const R
     p.features[Feature::INDIRECT_DUAL] = s.indirect == RenderSettings::Indirect::Dual;
     p.estimator_options = estimator_build_options(s.clamp_indirect, s.regularize_deg, s.light_threshold,
                                                   s.spawn_offset == RenderSettings::SpawnOffset::Pbrt,
-                                                  s.sampler == RenderSettings::Sampler::Sobol);
+                                                  s.sampler == RenderSettings::Sampler::Sobol,
+                                                  s.light_pick == RenderSettings::LightPick::Importance &&
+                                                      scene.lights.size() >= 2 && scene.lights.size() <= HT_LIGHT_PICK_MAX);
     if (recipe_ready) recipe_ready(p);
     BvhOptions bvh;
     bvh.obb_ratio = s.bvh_oriented;

@@ -98,6 +98,7 @@ uint64_t settings_digest(const RenderSettings& s, int chunk) {
     if (s.target_error > 0) d.add(s.target_error).add(s.adaptive_min_spp);
     if (s.bvh_oriented > 0) d.add(s.bvh_oriented);
     if (s.light_threshold > 0) d.add(s.light_threshold);
+    if (s.light_pick != RenderSettings::LightPick::Uniform) d.add(s.light_pick);
     return d.h;
 }
 

@@ -72,19 +72,45 @@ HT_FN int ht_finite3(float3 v) { return ht_isfinite(v.x) && ht_isfinite(v.y) && 
  * infinite light the same way).  A lat-long map is importance sampled and shares by MIS. */
 HT_FN uint ht_env_in_nee(const HtEnvironment* env) { return env->enabled && env->has_map ? 1u : 0u; }
 
-/* Next-event light pick shared by hair and surfaces: one of the lights or the environment map,
- * uniformly; returns 0 when the chosen light gives nothing at p.  ls->pdf is the pdf that BCSDF
- * sampling competes with by MIS: the environment's, and 0 (full weight) for every light, since
- * BCSDF-sampled rays never meet a light's surface here (lights are not in the BVH).
- * Estimate `stratum` of `strata` at one vertex picks from its own 1/strata of [0, 1): M estimates
- * of M lights meet each light once, whatever the sampler (one estimate: the plain pick). */
+/* Next-event light pick shared by hair and surfaces: one of the lights or the environment map;
+ * returns 0 when the chosen light gives nothing at p, and the pick's inverse probability in
+ * *inv_pick.  ls->pdf is the pdf that BCSDF sampling competes with by MIS: the environment's, and
+ * 0 (full weight) for every light, since BCSDF-sampled rays never meet a light's surface here
+ * (lights are not in the BVH).
+ * Estimate `stratum` of `strata` at one vertex picks uniformly from its own 1/strata of [0, 1):
+ * M estimates of M lights meet each light once, whatever the sampler.  A single estimate picks
+ * uniformly too, or with HT_LIGHT_PICK_IMPORTANCE (--light-pick importance, two lights or more)
+ * the lights' share of the choice goes by what each light delivers to p unshadowed
+ * (kernels/lights.h ht_pick_light): no estimate is spent on a light that cannot reach p, and a
+ * faint light is met as rarely as it matters.  The environment keeps its uniform share, so that
+ * the MIS weight of a BCSDF ray that meets it (its pick probability 1 / nee_count) stays as it
+ * was. */
 HT_FN int ht_nee_sample(__global const HtLight* lights, uint light_count, const HtEnvironment* env,
                         __global const float* env_texels, __global const float* env_marginal,
                         __global const float* env_conditional, uint nee_count, uint seed,
-                        uint pixel, uint sample, uint bounce, uint stratum, uint strata, float3 p,
-                        HtLightSample* ls) {
+                        uint pixel, uint sample, uint bounce, uint stratum, uint strata,
+                        const HtShadingPoint* sp, HtLightSample* ls, float* inv_pick) {
+    const float3 p = sp->p;
     float ul = ((float)stratum + ht_sample(seed, pixel, sample, bounce, HT_DIM_LIGHT_PICK)) / (float)strata;
-    uint li = min((uint)(ul * (float)nee_count), nee_count - 1u);
+    uint li;
+    *inv_pick = (float)nee_count;
+#ifdef HT_LIGHT_PICK_IMPORTANCE
+    if (strata == 1u && light_count >= 2u && light_count <= HT_LIGHT_PICK_MAX) {
+        /* [0, light_count / nee_count) of ul goes to the lights, by importance; the rest is the
+         * environment's */
+        const float lights_share = (float)light_count / (float)nee_count;
+        if (ul < lights_share) {
+            float inv_q;
+            li = ht_pick_light(lights, light_count, p, sp->is_surface ? sp->ng : sp->tangent, sp->is_surface,
+                               ul / lights_share, &inv_q);
+            if (li == light_count) return 0;
+            *inv_pick = inv_q / lights_share;
+        } else {
+            li = light_count;
+        }
+    } else
+#endif
+        li = min((uint)(ul * (float)nee_count), nee_count - 1u);
     float u = ht_sample(seed, pixel, sample, bounce, HT_DIM_LIGHT_U);
     float v = ht_sample(seed, pixel, sample, bounce, HT_DIM_LIGHT_V);
     if (li < light_count) {
@@ -143,16 +169,17 @@ HT_FN int ht_next_event(__global const HtLight* lights, uint light_count, const 
                         float3 thr, float share, volatile __global uint* counters, HtRay* shadow_ray,
                         float3* contrib, float3* wi, float3* light_weight) {
     HtLightSample ls;
+    float inv_pick;
     if (!ht_nee_sample(lights, light_count, env, env_texels, env_marginal, env_conditional, nee_count, seed,
-                       pixel, sample, bounce, stratum, strata, sp->p, &ls))
+                       pixel, sample, bounce, stratum, strata, sp, &ls, &inv_pick))
         return 0;
     float3 value;
     float pdf_bsdf = 0.0f;
     ht_point_eval(sp, ls.wi, &value, &pdf_bsdf);
     /* lights that BCSDF sampling can also reach (the environment map) share the estimate by MIS;
      * the others keep weight 1 */
-    float w = ls.pdf > 0.0f ? ht_mis_power(ls.pdf / (float)nee_count, pdf_bsdf) : 1.0f;
-    float3 c = thr * value * ls.li_over_pdf * ((float)nee_count * w);
+    float w = ls.pdf > 0.0f ? ht_mis_power(ls.pdf / inv_pick, pdf_bsdf) : 1.0f;
+    float3 c = thr * value * ls.li_over_pdf * (inv_pick * w);
     if (!ht_finite3(c)) {
         atomic_inc(&counters[HT_COUNTER_NAN]);
         return 0;
@@ -163,7 +190,7 @@ HT_FN int ht_next_event(__global const HtLight* lights, uint light_count, const 
      * (docs/PERFORMANCE.md §8).  The weight is for the whole camera sample, as roulette judges a
      * continuation (roulette.h); before --clamp-indirect, so that a survivor's T / q is capped too. */
     if (bounce > 0u) {
-        const float q = ht_max_channel(thr * value) * ((float)nee_count * w) / share;
+        const float q = ht_max_channel(thr * value) * (inv_pick * w) / share;
         /* the survival draw only where it decides something (a Sobol' draw is not free) */
         if (q < HT_LIGHT_THRESHOLD)
             c = ht_light_roulette(c, q, HT_LIGHT_THRESHOLD, ht_sample(seed, pixel, sample, bounce, HT_DIM_LIGHT_RR));
@@ -178,7 +205,7 @@ HT_FN int ht_next_event(__global const HtLight* lights, uint light_count, const 
     shadow_ray->tmax = ht_point_shadow_tmax(sp, ls.distance);
     *contrib = c;
     *wi = ls.wi;
-    *light_weight = thr * ls.li_over_pdf * (float)nee_count;
+    *light_weight = thr * ls.li_over_pdf * inv_pick;
     return shadow_ray->tmax > 0.0f;
 }
 

@@ -101,6 +101,22 @@ inline void expect_same_channel_bits(const std::string& expected, const std::str
 inline const std::string kSmallStrandRender = std::string(HT_BINARY) +
                                               " render 'builtin:strand?hairs=100&segments=10' --width 32 --height 24 "
                                               "--max-depth 3 --seed 4 --quiet";
+
+// An estimator option's command-line default: `render` (a command without -o) as it is and with
+// `explicit_default` added gives the same image, with `other` another one, and every one of `bad`
+// exits 2 (a usage error).  Images go to d.
+inline void expect_option_default(const TempDir& d, const std::string& render, const std::string& explicit_default,
+                                  const std::string& other, const std::vector<std::string>& bad) {
+    const auto rendered = [&](const std::string& options, const std::string& name) {
+        return run(render + options + " -o " + (d / name) + " 2>/dev/null");
+    };
+    ASSERT_EQ(rendered("", "default.exr"), 0);
+    ASSERT_EQ(rendered(" " + explicit_default, "explicit.exr"), 0);
+    EXPECT_EQ(image(d / "default.exr"), image(d / "explicit.exr")) << explicit_default;
+    ASSERT_EQ(rendered(" " + other, "other.exr"), 0);
+    EXPECT_NE(image(d / "default.exr"), image(d / "other.exr")) << other;
+    for (const std::string& b : bad) EXPECT_EQ(rendered(" " + b, "x.exr"), 2) << b;
+}
 #endif
 
 }  // namespace clitest

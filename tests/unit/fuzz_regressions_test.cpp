@@ -70,15 +70,19 @@ std::vector<Case> collect_cases() {
     return cases;
 }
 
-// A scratch directory per test process (gtest_discover_tests runs cases in parallel processes).
+// A scratch directory per test process (gtest_discover_tests runs cases in parallel processes),
+// removed when the process ends: every run of the suite used to leave one per case in /tmp.
+struct ScratchDir {
+    fs::path path = fs::temp_directory_path() / ("hairtrace-fuzz-regressions-" + std::to_string(::getpid()));
+    ScratchDir() { fs::create_directories(path); }
+    ~ScratchDir() {
+        std::error_code ignored;
+        fs::remove_all(path, ignored);
+    }
+};
 fs::path scratch_dir() {
-    static const fs::path dir = [] {
-        const fs::path d = fs::temp_directory_path() /
-                           ("hairtrace-fuzz-regressions-" + std::to_string(::getpid()));
-        fs::create_directories(d);
-        return d;
-    }();
-    return dir;
+    static const ScratchDir dir;
+    return dir.path;
 }
 
 // What load_scene did with the input: "" when it loaded a contract-honouring scene or threw
