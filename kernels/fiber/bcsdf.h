@@ -95,14 +95,16 @@ HT_FIBER_FN void ht_bcsdf_prepare(const HtMaterial* m, real3 wo, real h, HtBcsdf
 /* Whether the model returns a delta/near-delta that next-event estimation cannot hit. */
 HT_FIBER_FN int ht_bcsdf_is_delta(const HtMaterial* m) { return 0; }
 
-/* o: ht_bcsdf_prepare of m, wo and h */
+/* o: ht_bcsdf_prepare of m, wo and h.  pdf may be 0 (no pointer): the pdf is then not computed
+ * (marschner's and zinke's cost as much as a lobe each); a next-event estimate of a light that
+ * BCSDF sampling cannot find needs none (kernels/stages/shade.cl ht_next_event). */
 HT_FIBER_FN void ht_bcsdf_eval_lobes_o(const HtMaterial* m, const HtBcsdfWo* o, real3 wo, real3 wi, real h, real3* lobes,
                                  real3* value, real* pdf) {
     h = ht_sanitize_h(h);
     if (!ht_valid_dir(wo) || !ht_valid_dir(wi)) {
         for (int p = 0; p < 4; ++p) lobes[p] = ht_splat(HT_R(0));
         *value = ht_splat(HT_R(0));
-        *pdf = HT_R(0);
+        if (pdf) *pdf = HT_R(0);
         return;
     }
     switch (m->model) {
@@ -121,7 +123,7 @@ HT_FIBER_FN void ht_bcsdf_eval_lobes_o(const HtMaterial* m, const HtBcsdfWo* o, 
     default:
         for (int p = 0; p < 4; ++p) lobes[p] = ht_splat(HT_R(0));
         *value = ht_splat(HT_R(0));
-        *pdf = HT_R(0);
+        if (pdf) *pdf = HT_R(0);
     }
 }
 

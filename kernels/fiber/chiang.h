@@ -106,7 +106,7 @@ HT_FIBER_FN void ht_chiang_eval_setup(const HtMaterial* m, const HtChiangSetup* 
     lobes[3] = ht_splat(HT_R(0));
 #endif
     *value = ht_sanitize3(sum);
-    *pdf = ht_sanitize(pd);
+    if (pdf) *pdf = ht_sanitize(pd);
 }
 
 HT_FIBER_FN void ht_chiang_eval(const HtMaterial* m, real3 wo, real3 wi, real h, real3* lobes, real3* value, real* pdf) {

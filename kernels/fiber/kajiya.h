@@ -39,7 +39,7 @@ HT_FIBER_FN void ht_kajiya_eval(const HtMaterial* m, real3 wo, real3 wi, real h,
     ht_kajiya_probs(m, &pd, &ps);
     real pdf_d = cos_i * (HT_INV_PI * HT_INV_PI);
     real pdf_s = ht_mp(cos_i, sin_i, cos_o, sin_o, ht_kajiya_spec_v(m)) * HT_INV_TWO_PI;
-    *pdf = ht_sanitize(pd * pdf_d + ps * pdf_s);
+    if (pdf) *pdf = ht_sanitize(pd * pdf_d + ps * pdf_s);
 }
 
 HT_FIBER_FN int ht_kajiya_sample(const HtMaterial* m, real3 wo, real h, real u0, real u1, real u2, real u3,

@@ -292,7 +292,7 @@ HT_FIBER_FN void ht_marschner_eval_o(const HtMaterial* m, const HtMzWo* o, real3
     lobes[3] = ht_splat(HT_R(0));
     for (int p = 0; p < 3; ++p) lobes[p] = ht_sanitize3(lobes[p]);
     *value = lobes[0] + lobes[1] + lobes[2];
-    *pdf = ht_sanitize(ht_marschner_pdf(m, o, &a, dens));
+    if (pdf) *pdf = ht_sanitize(ht_marschner_pdf(m, o, &a, dens));
 }
 HT_FIBER_FN void ht_marschner_eval(const HtMaterial* m, real3 wo, real3 wi, real h, real3* lobes, real3* value, real* pdf) {
     HtMzWo o;

@@ -68,11 +68,11 @@ HT_FIBER_FN void ht_zinke_eval_o(const HtMaterial* m, const HtMzWo* o, real3 wo,
         real d = ht_wrapped_gaussian(a.phi - phis[p], m->azim_sigma);
         lobes[p] = ht_sanitize3(w[p] * (geo * g * d));
         sum += lobes[p];
-        pd += o->pr[p] * ht_mz_theta_pdf(o, p, a.sin_i, a.cos_i) * d;
+        if (pdf) pd += o->pr[p] * ht_mz_theta_pdf(o, p, a.sin_i, a.cos_i) * d;
     }
     lobes[3] = ht_splat(HT_R(0));
     *value = sum;
-    *pdf = ht_sanitize(pd);
+    if (pdf) *pdf = ht_sanitize(pd);
 }
 HT_FIBER_FN void ht_zinke_eval(const HtMaterial* m, real3 wo, real3 wi, real h, real3* lobes, real3* value, real* pdf) {
     HtMzWo o;

@@ -14,9 +14,8 @@ HT_FN float4 ht_aov_lobe_fractions(const HtShadingPoint* sp, float3 wi) {
     if (sp->is_surface) return (float4)(0.0f);
 #endif
     float3 lobes[4], value;
-    float pdf;
     ht_bcsdf_eval_lobes_o(&sp->mat, &sp->wo_prep, sp->wo_l, ht_to_fiber_local(wi, sp->fx, sp->fy, sp->fz), sp->h,
-                          lobes, &value, &pdf);
+                          lobes, &value, 0);
     float4 e = (float4)(lobes[0].x + lobes[0].y + lobes[0].z, lobes[1].x + lobes[1].y + lobes[1].z,
                         lobes[2].x + lobes[2].y + lobes[2].z, lobes[3].x + lobes[3].y + lobes[3].z);
     e = max(e, (float4)(0.0f));

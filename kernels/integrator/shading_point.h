@@ -1,7 +1,7 @@
 /* A path vertex behind the one interface that next-event estimation and the path's continuation
  * use (kernels/stages/shade.cl), so that both are written once for every kind of surface:
- *   eval(wi)         scattering value for light arriving from wi (cosine included) and the pdf
- *                    with which sample() would have chosen wi (MIS);
+ *   eval(wi)         scattering value for light arriving from wi (cosine included) and, unless
+ *                    the pdf pointer is 0, the pdf with which sample() would have chosen wi (MIS);
  *   sample(u)        a continuation direction, its weight value * cos / pdf, and the pdf;
  *   spawn(w)         where a ray leaving the vertex in direction w starts;
  *   shadow_tmax(d)   how far a shadow ray towards a light d away may look for occluders.

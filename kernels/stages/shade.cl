@@ -175,9 +175,9 @@ HT_FN int ht_next_event(__global const HtLight* lights, uint light_count, const 
         return 0;
     float3 value;
     float pdf_bsdf = 0.0f;
-    ht_point_eval(sp, ls.wi, &value, &pdf_bsdf);
     /* lights that BCSDF sampling can also reach (the environment map) share the estimate by MIS;
-     * the others keep weight 1 */
+     * the others keep weight 1 and need no BCSDF pdf */
+    ht_point_eval(sp, ls.wi, &value, ls.pdf > 0.0f ? &pdf_bsdf : 0);
     float w = ls.pdf > 0.0f ? ht_mis_power(ls.pdf / inv_pick, pdf_bsdf) : 1.0f;
     float3 c = thr * value * ls.li_over_pdf * (inv_pick * w);
     if (!ht_finite3(c)) {

@@ -27,10 +27,10 @@ HT_FN void ht_onb(real3 n, real3* t, real3* b) {
 HT_FN real ht_lambert_eval(real3 ns, real3 ng, real3 wi, real* pdf) {
     const real c = dot(ns, wi);
     if (c <= HT_R(0) || dot(ng, wi) <= HT_R(0)) {
-        *pdf = HT_R(0);
+        if (pdf) *pdf = HT_R(0);
         return HT_R(0);
     }
-    *pdf = c * HT_INV_PI;
+    if (pdf) *pdf = c * HT_INV_PI;
     return c * HT_INV_PI;
 }
 
