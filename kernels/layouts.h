@@ -16,8 +16,8 @@
     S(HtPoint, 16) F(HtPoint, x, 0) F(HtPoint, y, 4) F(HtPoint, z, 8) F(HtPoint, r, 12)           \
     S(HtSegment, 16) F(HtSegment, point, 0) F(HtSegment, segment, 4) F(HtSegment, strand, 8)      \
         F(HtSegment, flags, 12)                                                                    \
-    S(HtBvhNode, 128) F(HtBvhNode, x, 0) F(HtBvhNode, y, 32) F(HtBvhNode, z, 64)                \
-        F(HtBvhNode, child, 96) F(HtBvhNode, count, 112)                                      \
+    S(HtBvhNode, 256) F(HtBvhNode, x, 0) F(HtBvhNode, y, 64) F(HtBvhNode, z, 128)               \
+        F(HtBvhNode, child, 192) F(HtBvhNode, count, 224)                                     \
     S(HtTriangleShading, 128) F(HtTriangleShading, n0, 0) F(HtTriangleShading, n1, 16)            \
         F(HtTriangleShading, n2, 32) F(HtTriangleShading, albedo, 48) F(HtTriangleShading, uv, 64) \
         F(HtTriangleShading, texture, 88) F(HtTriangleShading, pad1, 96)                           \

@@ -35,28 +35,29 @@ typedef struct {
     uint flags;
 } HtSegment;
 
-/* 4-wide BVH node, the children's bounds as SoA (host/bvh/NOTES.md "4-wide nodes"): per axis the
- * four children's lower bounds, then their upper bounds, so one float8 multiply-subtract per axis
- * gives every entry and exit distance (kernels/geometry/bvh_traverse.h ht_node_slabs).
+/* 8-wide BVH node, the children's bounds as SoA (host/bvh/NOTES.md "8-wide nodes"): per axis the
+ * eight children's lower bounds, then their upper bounds, so one float16 multiply-subtract per axis
+ * gives every entry and exit distance (kernels/geometry/bvh_traverse.h ht_node_slabs).  256 bytes:
+ * a power of two, which pages.h pages by shift and mask.
  * count[k] == 0: child[k] is an inner node reference (index | HT_NODE_ORIENTED, below);
  * count[k] > 0: child[k] is the first index into the leaf segment array and count[k] the number
  * of segments; child 0 with count 0 = empty slot (node 0 is the root, never a child).
  *
  * Oriented nodes (host/bvh/NOTES.md "Oriented nodes"): a reference with HT_NODE_ORIENTED names a
- * node of two consecutive records (so that the node array stays one 128-byte record type, which
- * pages.h pages by shift and mask) whose children are oriented boxes: child k has an affine map
- * p' = A_k p + b_k taking its box to the unit cube [0,1]^3.  Its 12 coefficients (rows j = 0..2:
- * A_k[j][0..2], b_k[j]) are stored coefficient-major, the 4 children side by side: coefficients
- * 0-1 in the first record's x, 2-3 in its y, 4-5 in its z, 6-7, 8-9, 10-11 in the second's x, y,
- * z; child[] and count[] are the first record's (the second's are unused).  The root (node 0) is
- * never oriented. */
+ * node of two consecutive records (so that the node array stays one record type for paging)
+ * whose children are oriented boxes: child k has an affine map p' = A_k p + b_k taking its box to
+ * the unit cube [0,1]^3.  Its 12 coefficients (rows j = 0..2: A_k[j][0..2], b_k[j]) are stored
+ * coefficient-major, the HT_BVH_WIDTH children side by side: coefficients 0-1 in the first record's
+ * x, 2-3 in its y, 4-5 in its z, 6-7, 8-9, 10-11 in the second's x, y, z; child[] and count[] are
+ * the first record's (the second's are unused).  The root (node 0) is never oriented. */
+#define HT_BVH_WIDTH 8
 #define HT_NODE_ORIENTED 0x80000000u
 typedef struct {
-    float x[8];
-    float y[8];
-    float z[8];
-    uint child[4];
-    uint count[4];
+    float x[2 * HT_BVH_WIDTH];
+    float y[2 * HT_BVH_WIDTH];
+    float z[2 * HT_BVH_WIDTH];
+    uint child[HT_BVH_WIDTH];
+    uint count[HT_BVH_WIDTH];
 } HtBvhNode;
 
 /* No texture: HtTriangleShading.texture of an untextured triangle. */

@@ -19,10 +19,13 @@
 
 #include "kernels/geometry/bvh_traverse.h"
 
-// The traversal pushes at most one entry per level, so the depth cap keeps the stack safe.
-// Flattener::visit collapses two binary levels per 4-wide node, so a 4-wide node on the path
-// to a leaf sits at binary depth >= 2 x its own; each pushes at most 3 entries.
-static_assert(3 * (ht::kMaxBvhDepth / 2 + 1) < HT_STACK_SIZE, "BVH depth cap must fit the kernel stack");
+// The stack holds at most HT_BVH_WIDTH - 1 entries per level of the path to the current node, so
+// the depth cap keeps it safe: Flattener::visit opens at least kCollapseLevels binary levels per
+// 8-wide node, so an inner 8-wide node sits at binary depth >= kCollapseLevels x its own.
+constexpr int kCollapseLevels = 3;
+static_assert(1 << kCollapseLevels == HT_BVH_WIDTH, "three full binary levels fill one node");
+static_assert((HT_BVH_WIDTH - 1) * (ht::kMaxBvhDepth / kCollapseLevels + 1) < HT_STACK_SIZE,
+              "BVH depth cap must fit the kernel stack");
 
 namespace ht {
 namespace {
@@ -566,10 +569,11 @@ void pad_outward(const Frame& f, DBox& b) {
     }
 }
 
-// Binary build tree -> 4-wide nodes, depth-first preorder.  A 4-wide node takes the children of
-// both of its binary node's children (a leaf child stays a leaf slot), i.e. always two binary
-// levels: the stack bound above relies on it.  (Opening the largest-area child first, as Embree's
-// and Cycles' collapses do, would pack more nodes full but could descend one level only.)
+// Binary build tree -> 8-wide nodes, depth-first preorder.  A node first opens its binary node's
+// subtree kCollapseLevels = 3 levels deep (a leaf met on the way stays a leaf slot), which the
+// stack bound above relies on; while that leaves slots free, the inner slot with the largest box
+// is opened further (Embree's and Cycles' greedy collapse, here only below the three levels, so
+// the depth bound holds).  Slots stay in the binary tree's left-to-right order.
 struct Flattener {
     const BNode* in;  // Builder::nodes()
     std::vector<HtBvhNode>& out;
@@ -589,26 +593,43 @@ struct Flattener {
         out.emplace_back();
         max_depth = std::max(max_depth, depth);
         const BNode& bn = in[id];
-        Slot slot[4];
-        uint32_t range[4][2];
+        constexpr int W = HT_BVH_WIDTH;
+        Slot slot[W];
+        int level[W];  // binary levels below `id`
         int m = 0;
-        Box all;
-        for (int s = 0; s < 2; ++s) {
-            if (bn.count[s] == 0 && bn.child[s] == 0) continue;  // empty (0- or 1-segment scene)
-            all.grow(bn.box[s]);
-            if (bn.count[s] > 0) {
-                range[m][0] = bn.child[s];
-                range[m][1] = bn.child[s] + bn.count[s];
-                slot[m++] = Slot{bn.box[s], bn.child[s], bn.count[s]};
-                continue;
-            }
-            const BNode& g = in[bn.child[s]];
-            for (int t = 0; t < 2; ++t) {
-                if (g.count[t] == 0 && g.child[t] == 0) continue;
-                range[m][0] = g.count[t] > 0 ? g.child[t] : in[g.child[t]].begin;
-                range[m][1] = g.count[t] > 0 ? g.child[t] + g.count[t] : in[g.child[t]].end;
-                slot[m++] = Slot{g.box[t], g.child[t], g.count[t]};
-            }
+        // Replaces slot i (inner) by its binary node's children.
+        auto open = [&](int i) {
+            const BNode& g = in[slot[i].child];
+            Slot kids[2];
+            int nk = 0;
+            for (int t = 0; t < 2; ++t)
+                if (g.count[t] != 0 || g.child[t] != 0) kids[nk++] = Slot{g.box[t], g.child[t], g.count[t]};
+            const int lv = level[i] + 1;
+            std::copy_backward(slot + i + 1, slot + m, slot + m + nk - 1);
+            std::copy_backward(level + i + 1, level + m, level + m + nk - 1);
+            for (int t = 0; t < nk; ++t) slot[i + t] = kids[t], level[i + t] = lv;
+            m += nk - 1;
+        };
+        for (int s = 0; s < 2; ++s)
+            if (bn.count[s] != 0 || bn.child[s] != 0)  // else empty (0- or 1-segment scene)
+                slot[m] = Slot{bn.box[s], bn.child[s], bn.count[s]}, level[m++] = 1;
+        for (int i = 0; i < m;)  // full levels: at most 2^3 = W slots
+            if (slot[i].count == 0 && level[i] < kCollapseLevels)
+                open(i);
+            else
+                ++i;
+        while (m < W) {
+            int pick = -1;
+            double best = -1;
+            for (int i = 0; i < m; ++i)
+                if (slot[i].count == 0 && slot[i].box.half_area() > best) pick = i, best = slot[i].box.half_area();
+            if (pick < 0) break;
+            open(pick);
+        }
+        uint32_t range[W][2];
+        for (int k = 0; k < m; ++k) {
+            range[k][0] = slot[k].count > 0 ? slot[k].child : in[slot[k].child].begin;
+            range[k][1] = slot[k].count > 0 ? slot[k].child + slot[k].count : in[slot[k].child].end;
         }
         sah += opt.c_trav * area / root_area;
 
@@ -616,8 +637,8 @@ struct Flattener {
         // expected cost below them, to first order), oriented only if clearly smaller, since
         // mapping the ray per child costs about twice the axis-aligned test.  The root stays
         // axis-aligned; so do nodes with triangles (flat boxes have no unit-cube map).
-        Frame frame[4];
-        DBox obox[4];
+        Frame frame[W];
+        DBox obox[W];
         bool orient = depth > 0 && opt.obb_ratio > 0 && m > 0;
         double aligned = 0, turned = 0;
         for (int k = 0; k < m && orient; ++k) {
@@ -635,23 +656,22 @@ struct Flattener {
             turned += n * obox[k].half_area();
         }
         orient = orient && turned < opt.obb_ratio * aligned;
-        double child_area[4];
+        double child_area[W];
         for (int k = 0; k < m; ++k) child_area[k] = orient ? obox[k].half_area() : slot[k].box.half_area();
         if (orient) {
             ++oriented;
             out.emplace_back();
         }
 
-        uint32_t child[4] = {0, 0, 0, 0};
+        uint32_t child[W] = {};
         // The root's subtrees are flattened on all build threads (the oriented boxes cost as much
         // as the binary build), each into its own array, then appended in order: the same
         // preorder and the same records as one thread writes.
         const bool parallel = depth == 0 && threads > 1;
-        std::vector<HtBvhNode> part[4];
+        std::vector<HtBvhNode> part[W];
         std::vector<Flattener> sub;
         if (parallel) {
             for (int k = 0; k < m; ++k) {
-                part[k].reserve(range[k][1] - range[k][0]);  // as build_bvh_from reserves for the whole
                 sub.push_back(Flattener{in, part[k], opt, prims, moments, threads, root_area});
             }
             std::atomic<int> next{0};
@@ -685,7 +705,7 @@ struct Flattener {
             }
         }
         HtBvhNode& n = out[me];
-        for (int k = 0; k < 4; ++k) {
+        for (int k = 0; k < W; ++k) {
             const bool used = k < m;
             n.child[k] = child[k];
             n.count[k] = used ? slot[k].count : 0u;
@@ -693,14 +713,14 @@ struct Flattener {
             for (int a = 0; a < 3; ++a) {
                 float* axis = a == 0 ? n.x : a == 1 ? n.y : n.z;
                 axis[k] = used ? slot[k].box.lo[a] : 0.0f;
-                axis[k + 4] = used ? slot[k].box.hi[a] : 0.0f;
+                axis[k + W] = used ? slot[k].box.hi[a] : 0.0f;
             }
         }
         if (orient) {
-            // coefficient c of child k at [4 * (c & 1) + k] of the c / 2-th array (kernels/types.h)
+            // coefficient c of child k at [W * (c & 1) + k] of the c / 2-th array (kernels/types.h)
             HtBvhNode& f = out[me + 1];
             float* arrays[6] = {n.x, n.y, n.z, f.x, f.y, f.z};
-            for (float* a : arrays) std::fill(a, a + 8, 0.0f);
+            for (float* a : arrays) std::fill(a, a + 2 * W, 0.0f);
             for (int k = 0; k < m; ++k)
                 for (int j = 0; j < 3; ++j) {
                     const double s = 1.0 / (obox[k].hi[j] - obox[k].lo[j]);
@@ -708,7 +728,7 @@ struct Flattener {
                                             (-dot3(frame[k].row[j], frame[k].c) - obox[k].lo[j]) * s};
                     for (int c = 0; c < 4; ++c) {
                         const int cc = 4 * j + c;
-                        arrays[cc / 2][4 * (cc & 1) + k] = (float)coef[c];
+                        arrays[cc / 2][W * (cc & 1) + k] = (float)coef[c];
                     }
                 }
         }
@@ -732,7 +752,7 @@ struct Flattener {
     // Adds `base` to the inner child references below node `ref` of a subtree flattened on its own.
     static void relocate(std::vector<HtBvhNode>& v, uint32_t ref, uint32_t base) {
         HtBvhNode& n = v[ref & ~HT_NODE_ORIENTED];
-        for (int k = 0; k < 4; ++k)
+        for (int k = 0; k < HT_BVH_WIDTH; ++k)
             if (n.count[k] == 0 && n.child[k] != 0) {
                 relocate(v, n.child[k], base);
                 n.child[k] += base;
@@ -811,7 +831,10 @@ void build_bvh_from(const std::vector<HtSegment>& base, SceneGeometry& geo, cons
     }
 
     geo.nodes.clear();
-    geo.nodes.reserve(std::max<size_t>(refs.size(), 1));
+    // Each output node stems from its own binary node (two records if oriented).  Not one per
+    // reference: with 256-byte records that reservation (64 MB for the strand anchor) made the
+    // build ~1.4x slower (host/bvh/NOTES.md "8-wide nodes").
+    geo.nodes.reserve(size_t(builder.used()) * (opt.obb_ratio > 0 ? 2 : 1) + 1);
     std::vector<Moments> moments;
     if (opt.obb_ratio > 0) {
         moments.resize(builder.used());

@@ -1,5 +1,5 @@
 // Hair geometry for the kernels: strand points, capsule segments in BVH leaf order and the
-// 4-wide BVH (kernels/types.h HtBvhNode, children's bounds as SoA).
+// 8-wide BVH (kernels/types.h HtBvhNode, children's bounds as SoA).
 #pragma once
 
 #include "scene/scene.h"
@@ -13,8 +13,8 @@ namespace ht {
 
 
 // The binary build tree's depth cap: the builder turns any node deeper than this into a leaf, so
-// the 4-wide tree (two binary levels per node, at most 3 pushes each) fits the traversal's
-// private stack of HT_STACK_SIZE entries (asserted in build.cpp).
+// the 8-wide tree (at least three binary levels per node, at most 7 pushes each) fits the
+// traversal's private stack of HT_STACK_SIZE entries (asserted in build.cpp).
 constexpr int kMaxBvhDepth = 60;
 
 struct BvhOptions {
@@ -37,7 +37,7 @@ struct BvhOptions {
     float split_ratio = 0.0f;
     int split_depth = 2;
     unsigned threads = 0;   // build threads; 0 = std::thread::hardware_concurrency()
-    // Oriented nodes (host/bvh/NOTES.md "Oriented nodes"): a 4-wide node keeps its children's
+    // Oriented nodes (host/bvh/NOTES.md "Oriented nodes"): a node keeps its children's
     // boxes in a frame along its segments' dominant direction when their count-weighted half-area
     // there is below obb_ratio x the axis-aligned one.  0 = axis-aligned nodes only, the default:
     // renders measured no faster with them and their build costs more (NOTES.md "Oriented nodes");
@@ -57,7 +57,7 @@ struct BvhOptions {
 };
 
 struct BvhStats {
-    size_t nodes = 0;       // HtBvhNode records (4-wide inner nodes + one frame per oriented node)
+    size_t nodes = 0;       // HtBvhNode records (8-wide inner nodes + one frame per oriented node)
     size_t oriented = 0;    // oriented nodes among them
     size_t leaves = 0;
     size_t max_depth = 0;

@@ -2,6 +2,7 @@
 
 #include "core/byte_size.h"
 #include "core/errors.h"
+#include "kernels/geometry/pages.h"
 
 namespace ht {
 
@@ -12,15 +13,17 @@ GeometryPaging plan_geometry_pages(const std::vector<GeometryArray>& arrays, uin
     for (const GeometryArray& a : arrays)
         if (a.bytes > largest) largest = a.bytes, worst = &a;
     if (!max_alloc || largest <= max_alloc) return g;
-    // A power of two so the kernels find (page, offset) by shift and mask; at least one 128-byte
-    // record (the largest paged record, HtTriangleShading) per page.
-    uint32_t log2 = 7;
+    // A power of two so the kernels find (page, offset) by shift and mask; at least one record of
+    // the largest paged type (HtBvhNode, 256 bytes) per page.
+    const uint32_t min_log2 = HT_NODE_BYTES_LOG2;
+    const uint64_t min_page = uint64_t(1) << min_log2;
+    uint32_t log2 = min_log2;
     while (log2 < 35 && (uint64_t(1) << (log2 + 1)) <= max_alloc) ++log2;
     const uint64_t page = uint64_t(1) << log2;
     const uint64_t pages = (largest + page - 1) / page;
-    if (max_alloc < 128)
-        throw DeviceError("the device allocates at most " + format_bytes(max_alloc) +
-                          " per buffer, less than one 128-byte geometry record; the scene's " + worst->name +
+    if (max_alloc < min_page)
+        throw DeviceError("the device allocates at most " + format_bytes(max_alloc) + " per buffer, less than one " +
+                          std::to_string(min_page) + "-byte geometry record; the scene's " + worst->name +
                           " array needs " + format_bytes(largest));
     if (pages > kMaxGeometryPages)
         throw DeviceError("the scene's " + std::string(worst->name) + " array needs " + format_bytes(largest) +

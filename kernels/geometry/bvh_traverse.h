@@ -1,7 +1,7 @@
-/* 4-wide BVH traversal over HtBvhNode (children's bounds as SoA, kernels/types.h), shared by the
+/* 8-wide BVH traversal over HtBvhNode (children's bounds as SoA, kernels/types.h), shared by the
  * stage kernels (float) and the host tests / microbenchmarks (double).
  *
- * Node 0 is the root; each node holds its (up to) four children's boxes.  Child slot k:
+ * Node 0 is the root; each node holds its (up to) HT_BVH_WIDTH = 8 children's boxes.  Child slot k:
  * count[k] > 0 is a leaf = segments [child[k], child[k] + count[k]) of the leaf segment array;
  * count[k] == 0 is an inner node reference.  A slot with child == 0 and count == 0 is empty (node 0
  * is the root, never a child): that is how a scene of 0 or 1 segments is stored.  A reference
@@ -9,16 +9,17 @@
  * ray is mapped by each child's affine map and cut with the unit cube (ht_node_oriented_slabs).
  *
  * Why it looks like this (measured on PoCL 3.1 CPU, docs/POCL.md §1, host/bvh/NOTES.md):
- *   - one float8 slab step per axis covers the four children's lower and upper planes (the
- *     binary tree it replaced did both children in one float8);
+ *   - one float16 slab step per axis covers the eight children's lower and upper planes (PoCL
+ *     makes it AVX-512 here); a path ray's time is mostly the descent to its origin's leaf, so
+ *     fewer, wider levels (host/bvh/NOTES.md "8-wide nodes");
  *   - compare-select min/max, not fmin/fmax (13-24 % slower);
  *   - no always_inline;
  *   - no inf in comparisons: tmax is clamped to HT_T_FAR and reciprocal directions are bounded,
  *     so -cl-fast-relaxed-math (finite-math) is safe;
  *   - private stack of (node, entry distance), nearest inner child visited next and the others
  *     pushed farthest first, culled on pop;
- *   - few data-dependent branches per node step: hit leaf slots and a leaf's hit lanes are taken
- *     by bit loops, an inner slot's three conditions are one branch, and the eight-lane capsule
+ *   - few data-dependent branches per node step: the node test yields bit masks of its hit leaf
+ *     and inner slots, taken by bit loops (as a leaf's hit lanes), and the eight-lane capsule
  *     test computes every lane instead of branching (capsule.h).  The traversal's time goes to
  *     mispredicted branches, not to memory (host/bvh/NOTES.md "Fewer data-dependent branches").
  * Leaves are intersected as soon as their box is hit, before descending, so a close leaf
@@ -33,9 +34,9 @@
 #include "fiber_frame.h"
 #include "pages.h"
 
-/* Stack entries: a 4-wide node pushes at most 3, and the builder keeps the 4-wide depth at most
- * half the binary depth cap (host/bvh/build.cpp asserts 3 * (kMaxBvhDepth / 2 + 1) fits). */
-#define HT_STACK_SIZE 96
+/* Stack entries: an 8-wide node pushes at most 7, and the builder keeps the 8-wide depth at most
+ * a third of the binary depth cap (host/bvh/build.cpp asserts 7 * (kMaxBvhDepth / 3 + 1) fits). */
+#define HT_STACK_SIZE 152
 #define HT_T_FAR HT_R(1e30)
 /* |d| components below this are replaced so 1/d stays finite (|1/d| <= 1e20; box extents
  * ~1e3 keep products far below float max). */
@@ -54,6 +55,20 @@ HT_FN uint ht_lowest_bit(uint mask) {
     return (uint)__builtin_ctz(mask);
 #endif
 }
+
+#if defined(HT_OPENCL) && HT_BVH_WIDTH != 8
+#error "the OpenCL node test is written for 8 children (float16 planes, ht_mask8)"
+#endif
+
+#ifdef HT_OPENCL
+/* Bit k set where lane k of the comparison result m is true. */
+HT_FN uint ht_mask8(int8 m) {
+    const int8 bits = m & (int8)(1, 2, 4, 8, 16, 32, 64, 128);
+    const int4 bits4 = bits.lo | bits.hi;
+    const int2 bits2 = bits4.lo | bits4.hi;
+    return (uint)(bits2.x | bits2.y);
+}
+#endif
 
 HT_FN real ht_hit_radius(HtPoint a, HtPoint b) { return HT_R(0.5) * ((real)a.r + (real)b.r); }
 
@@ -165,10 +180,7 @@ HT_FN int ht_intersect_leaf(HT_SEGS_PARAM, HT_POINTS_PARAM, uint first, uint cou
             vstore8(t, 0, tl);
             /* Lanes below *tbest as a mask, visited in lane order; an earlier lane's hit may
              * shorten *tbest, hence the test inside the loop too. */
-            const int8 bits = (t < (float8)(*tbest)) & (int8)(1, 2, 4, 8, 16, 32, 64, 128);
-            const int4 bits4 = bits.lo | bits.hi;
-            const int2 bits2 = bits4.lo | bits4.hi;
-            uint lanes = (uint)(bits2.x | bits2.y) & ((1u << n) - 1u); /* padding lanes dropped */
+            uint lanes = ht_mask8(t < (float8)(*tbest)) & ((1u << n) - 1u); /* padding lanes dropped */
             for (; lanes != 0u; lanes &= lanes - 1u) {
                 const uint j = ht_lowest_bit(lanes);
                 if (!(tl[j] < *tbest)) continue;
@@ -208,78 +220,81 @@ HT_FN HtSlabRay ht_slab_ray(real3 o, real3 d) {
 }
 
 #ifdef HT_OPENCL
-/* Four children's slab distances per axis (the two planes in either order) -> entry distance and
- * hit, with compare-selects (fmin/fmax were 13-24 % slower, see the top of this file). */
-HT_FN void ht_slabs4(float4 ax, float4 bx, float4 ay, float4 by, float4 az, float4 bz, float tmin, float tfar,
-                     float* near, int* hit) {
-    const float4 nx = ax < bx ? ax : bx, fx = ax < bx ? bx : ax;
-    const float4 ny = ay < by ? ay : by, fy = ay < by ? by : ay;
-    const float4 nz = az < bz ? az : bz, fz = az < bz ? bz : az;
-    const float4 t0 = (float4)(tmin), t1 = (float4)(tfar);
-    const float4 nxy = nx < ny ? ny : nx, nzt = nz < t0 ? t0 : nz;
-    const float4 fxy = fx < fy ? fx : fy, fzt = fz < t1 ? fz : t1;
-    const float4 tn = nxy < nzt ? nzt : nxy;
-    const float4 tf = fxy < fzt ? fxy : fzt;
-    const int4 h = tn <= tf;
-    near[0] = tn.s0, near[1] = tn.s1, near[2] = tn.s2, near[3] = tn.s3;
-    hit[0] = h.s0, hit[1] = h.s1, hit[2] = h.s2, hit[3] = h.s3;
+/* Eight children's slab distances per axis (the two planes in either order) -> entry distances
+ * (stored to near[0..7]) and the mask of the hit boxes, with compare-selects (fmin/fmax were
+ * 13-24 % slower, see the top of this file). */
+HT_FN uint ht_slabs8(float8 ax, float8 bx, float8 ay, float8 by, float8 az, float8 bz, float tmin, float tfar,
+                     float* near) {
+    const float8 nx = ax < bx ? ax : bx, fx = ax < bx ? bx : ax;
+    const float8 ny = ay < by ? ay : by, fy = ay < by ? by : ay;
+    const float8 nz = az < bz ? az : bz, fz = az < bz ? bz : az;
+    const float8 t0 = (float8)(tmin), t1 = (float8)(tfar);
+    const float8 nxy = nx < ny ? ny : nx, nzt = nz < t0 ? t0 : nz;
+    const float8 fxy = fx < fy ? fx : fy, fzt = fz < t1 ? fz : t1;
+    const float8 tn = nxy < nzt ? nzt : nxy;
+    const float8 tf = fxy < fzt ? fxy : fzt;
+    vstore8(tn, 0, near);
+    return ht_mask8(tn <= tf);
 }
 #endif
 
-/* Node n's four children against the ray segment [tmin, tfar]: entry distances near[k] and
- * whether each child is hit (hit[k]: its box overlaps the segment and the slot is not empty). */
-HT_FN void ht_node_slabs(HT_CONST_GLOBAL HtBvhNode* n, const HtSlabRay* r, real tmin, real tfar, real* near,
-                         int* hit) {
+/* Node n's children against the ray segment [tmin, tfar]: entry distances near[k] and the mask of
+ * the children whose box overlaps the segment (empty slots included: ht_node_test drops them). */
+HT_FN uint ht_node_slabs(HT_CONST_GLOBAL HtBvhNode* n, const HtSlabRay* r, real tmin, real tfar, real* near) {
 #ifdef HT_OPENCL
-    /* The only OpenCL-specific code: three float8 steps, lanes 0-3 lower planes, 4-7 upper. */
-    const float8 tx = vload8(0, n->x) * r->ix - r->ox;
-    const float8 ty = vload8(0, n->y) * r->iy - r->oy;
-    const float8 tz = vload8(0, n->z) * r->iz - r->oz;
-    ht_slabs4(tx.lo, tx.hi, ty.lo, ty.hi, tz.lo, tz.hi, tmin, tfar, near, hit);
+    /* The only OpenCL-specific code: three float16 steps, lanes 0-7 lower planes, 8-15 upper. */
+    const float16 tx = vload16(0, n->x) * r->ix - r->ox;
+    const float16 ty = vload16(0, n->y) * r->iy - r->oy;
+    const float16 tz = vload16(0, n->z) * r->iz - r->oz;
+    return ht_slabs8(tx.lo, tx.hi, ty.lo, ty.hi, tz.lo, tz.hi, tmin, tfar, near);
 #else
-    for (int k = 0; k < 4; ++k) {
-        const real ax = (real)n->x[k] * r->ix - r->ox, bx = (real)n->x[k + 4] * r->ix - r->ox;
-        const real ay = (real)n->y[k] * r->iy - r->oy, by = (real)n->y[k + 4] * r->iy - r->oy;
-        const real az = (real)n->z[k] * r->iz - r->oz, bz = (real)n->z[k + 4] * r->iz - r->oz;
+    uint mask = 0u;
+    for (int k = 0; k < HT_BVH_WIDTH; ++k) {
+        const int u = k + HT_BVH_WIDTH;
+        const real ax = (real)n->x[k] * r->ix - r->ox, bx = (real)n->x[u] * r->ix - r->ox;
+        const real ay = (real)n->y[k] * r->iy - r->oy, by = (real)n->y[u] * r->iy - r->oy;
+        const real az = (real)n->z[k] * r->iz - r->oz, bz = (real)n->z[u] * r->iz - r->oz;
         const real tn = ht_max(ht_max(ht_min(ax, bx), ht_min(ay, by)), ht_max(ht_min(az, bz), tmin));
         const real tf = ht_min(ht_min(ht_max(ax, bx), ht_max(ay, by)), ht_min(ht_max(az, bz), tfar));
         near[k] = tn;
-        hit[k] = tn <= tf;
+        mask |= tn <= tf ? 1u << k : 0u;
     }
+    return mask;
 #endif
 }
 
 /* Coefficient c (row c / 4, column c % 4: x, y, z, offset) of child k's map in an oriented node
- * n with its second record f: rows 0-1 in n's x, y, z, rows 1-2 in f's, 4 children per 4 floats. */
+ * n with its second record f: rows 0-1 in n's x, y, z, rows 1-2 in f's, the children side by side. */
 HT_FN real ht_oriented_coef(HT_CONST_GLOBAL HtBvhNode* n, HT_CONST_GLOBAL HtBvhNode* f, int c, int k) {
     HT_CONST_GLOBAL float* a = c < 2 ? n->x : c < 4 ? n->y : c < 6 ? n->z : c < 8 ? f->x : c < 10 ? f->y : f->z;
-    return (real)a[4 * (c & 1) + k];
+    return (real)a[HT_BVH_WIDTH * (c & 1) + k];
 }
 
 /* The same for an oriented node (kernels/types.h): child k's affine map takes its box to the
  * unit cube, p' = A_k p + b_k, so the slab planes are 0 and 1 of the mapped ray; the map is
  * affine, so the distances are the world ray's t.  n holds rows 0 and the first half of 1, f the
- * rest, each coefficient as 4 children side by side. */
-HT_FN void ht_node_oriented_slabs(HT_CONST_GLOBAL HtBvhNode* n, HT_CONST_GLOBAL HtBvhNode* f, real3 o, real3 d,
-                                  real tmin, real tfar, real* near, int* hit) {
+ * rest, each coefficient as the children side by side. */
+HT_FN uint ht_node_oriented_slabs(HT_CONST_GLOBAL HtBvhNode* n, HT_CONST_GLOBAL HtBvhNode* f, real3 o, real3 d,
+                                  real tmin, real tfar, real* near) {
 #ifdef HT_OPENCL
-    const float8 a0 = vload8(0, n->x), b0 = vload8(0, n->y);
-    const float8 a1 = vload8(0, n->z), b1 = vload8(0, f->x);
-    const float8 a2 = vload8(0, f->y), b2 = vload8(0, f->z);
-    const float4 dx = a0.lo * d.x + a0.hi * d.y + b0.lo * d.z;
-    const float4 dy = a1.lo * d.x + a1.hi * d.y + b1.lo * d.z;
-    const float4 dz = a2.lo * d.x + a2.hi * d.y + b2.lo * d.z;
-    const float4 ox = a0.lo * o.x + a0.hi * o.y + b0.lo * o.z + b0.hi;
-    const float4 oy = a1.lo * o.x + a1.hi * o.y + b1.lo * o.z + b1.hi;
-    const float4 oz = a2.lo * o.x + a2.hi * o.y + b2.lo * o.z + b2.hi;
-    const float4 eps = (float4)(HT_DIR_EPS);
-    const float4 ix = 1.0f / (fabs(dx) < eps ? (dx < 0.0f ? -eps : eps) : dx);
-    const float4 iy = 1.0f / (fabs(dy) < eps ? (dy < 0.0f ? -eps : eps) : dy);
-    const float4 iz = 1.0f / (fabs(dz) < eps ? (dz < 0.0f ? -eps : eps) : dz);
-    const float4 lx = -ox * ix, ly = -oy * iy, lz = -oz * iz;
-    ht_slabs4(lx, lx + ix, ly, ly + iy, lz, lz + iz, tmin, tfar, near, hit);
+    const float16 a0 = vload16(0, n->x), b0 = vload16(0, n->y);
+    const float16 a1 = vload16(0, n->z), b1 = vload16(0, f->x);
+    const float16 a2 = vload16(0, f->y), b2 = vload16(0, f->z);
+    const float8 dx = a0.lo * d.x + a0.hi * d.y + b0.lo * d.z;
+    const float8 dy = a1.lo * d.x + a1.hi * d.y + b1.lo * d.z;
+    const float8 dz = a2.lo * d.x + a2.hi * d.y + b2.lo * d.z;
+    const float8 ox = a0.lo * o.x + a0.hi * o.y + b0.lo * o.z + b0.hi;
+    const float8 oy = a1.lo * o.x + a1.hi * o.y + b1.lo * o.z + b1.hi;
+    const float8 oz = a2.lo * o.x + a2.hi * o.y + b2.lo * o.z + b2.hi;
+    const float8 eps = (float8)(HT_DIR_EPS);
+    const float8 ix = 1.0f / (fabs(dx) < eps ? (dx < 0.0f ? -eps : eps) : dx);
+    const float8 iy = 1.0f / (fabs(dy) < eps ? (dy < 0.0f ? -eps : eps) : dy);
+    const float8 iz = 1.0f / (fabs(dz) < eps ? (dz < 0.0f ? -eps : eps) : dz);
+    const float8 lx = -ox * ix, ly = -oy * iy, lz = -oz * iz;
+    return ht_slabs8(lx, lx + ix, ly, ly + iy, lz, lz + iz, tmin, tfar, near);
 #else
-    for (int k = 0; k < 4; ++k) {
+    uint mask = 0u;
+    for (int k = 0; k < HT_BVH_WIDTH; ++k) {
         real tn = tmin, tf = tfar;
         for (int j = 0; j < 3; ++j) {
             real a[4];
@@ -290,24 +305,37 @@ HT_FN void ht_node_oriented_slabs(HT_CONST_GLOBAL HtBvhNode* n, HT_CONST_GLOBAL 
             tf = ht_min(tf, ht_max(lo, hi));
         }
         near[k] = tn;
-        hit[k] = tn <= tf;
+        mask |= tn <= tf ? 1u << k : 0u;
     }
+    return mask;
 #endif
 }
 
-/* Node reference `ref` (index | HT_NODE_ORIENTED) against the ray: near[k] / hit[k] as above,
- * empty slots never hit.  Returns the node. */
-HT_FN HT_CONST_GLOBAL HtBvhNode* ht_node_test(HT_NODES_PARAM, uint ref, real3 o, real3 d, const HtSlabRay* r,
-                                              real tmin, real tfar, real* near, int* hit) {
-    const uint i = ref & ~HT_NODE_ORIENTED;
-    HT_CONST_GLOBAL HtBvhNode* n = HT_NODE_PTR(i);
-    if (ref & HT_NODE_ORIENTED)
-        ht_node_oriented_slabs(n, HT_NODE_PTR(i + 1u), o, d, tmin, tfar, near, hit);
-    else
-        ht_node_slabs(n, r, tmin, tfar, near, hit);
-    for (int k = 0; k < 4; ++k) hit[k] = hit[k] && (n->child[k] | n->count[k]) != 0u;
-    return n;
+/* Node n = the node of reference `ref` (index | HT_NODE_ORIENTED) against the ray: near[k] as
+ * above; returns the mask of its hit inner children and sets *leaves to that of its hit leaves
+ * (empty slots never hit). */
+HT_FN uint ht_node_test(HT_NODES_PARAM, uint ref, HT_CONST_GLOBAL HtBvhNode* n, real3 o, real3 d,
+                        const HtSlabRay* r, real tmin, real tfar, real* near, uint* leaves) {
+    const uint hit = ref & HT_NODE_ORIENTED
+                         ? ht_node_oriented_slabs(n, HT_NODE_PTR((ref & ~HT_NODE_ORIENTED) + 1u), o, d, tmin, tfar, near)
+                         : ht_node_slabs(n, r, tmin, tfar, near);
+#ifdef HT_OPENCL
+    const uint8 child = vload8(0, n->child), count = vload8(0, n->count);
+    const uint leaf = ht_mask8(count != (uint8)(0u));
+    const uint used = leaf | ht_mask8(child != (uint8)(0u));
+#else
+    uint leaf = 0u, used = 0u;
+    for (int k = 0; k < HT_BVH_WIDTH; ++k) {
+        leaf |= n->count[k] != 0u ? 1u << k : 0u;
+        used |= (n->child[k] | n->count[k]) != 0u ? 1u << k : 0u;
+    }
+#endif
+    *leaves = hit & leaf;
+    return hit & used & ~leaf;
 }
+
+/* The node record of reference ref. */
+HT_FN HT_CONST_GLOBAL HtBvhNode* ht_node_of(HT_NODES_PARAM, uint ref) { return HT_NODE_PTR(ref & ~HT_NODE_ORIENTED); }
 
 /* Core traversal.  any_hit: stop at the first intersection in (tmin, tmax).  Returns the leaf
  * segment index of the hit (HT_NO_HIT for none) and its distance in *t_out. */
@@ -327,15 +355,14 @@ HT_FN uint ht_traverse(HT_GEOMETRY_PARAMS, HtRay ray, int any_hit, real* t_out) 
     uint cur = 0;
 
     for (;;) {
-        real near[4];
-        int hit[4];
-        HT_CONST_GLOBAL HtBvhNode* n = ht_node_test(HT_NODES_ARG, cur, o, d, &slab, tmin, tbest, near, hit);
+        real near[HT_BVH_WIDTH];
+        uint leaves;
+        HT_CONST_GLOBAL HtBvhNode* n = ht_node_of(HT_NODES_ARG, cur);
+        uint inner = ht_node_test(HT_NODES_ARG, cur, n, o, d, &slab, tmin, tbest, near, &leaves);
 
         /* Leaves now: they may shorten the ray before the inner children are ordered.  A bit loop
          * over the hit leaf slots (slot order, as before): a branch per hit leaf, not two per slot. */
         int stop = 0;
-        uint leaves = 0u;
-        for (int k = 0; k < 4; ++k) leaves |= (hit[k] && n->count[k] != 0u) ? 1u << k : 0u;
         for (; leaves != 0u; leaves &= leaves - 1u) {
             const uint k = ht_lowest_bit(leaves);
             if (ht_intersect_leaf(HT_SEGS_ARG, HT_POINTS_ARG, n->child[k], n->count[k], o, d, tmin, &tbest, &best) &&
@@ -346,13 +373,13 @@ HT_FN uint ht_traverse(HT_GEOMETRY_PARAMS, HtRay ray, int any_hit, real* t_out) 
         }
         if (stop) break;
 
-        /* Inner children in front of the closest hit, sorted by entry distance (insertion). */
-        uint sc[4];
-        real st[4];
+        /* Hit inner children in front of the closest hit, sorted by entry distance (insertion). */
+        uint sc[HT_BVH_WIDTH];
+        real st[HT_BVH_WIDTH];
         int m = 0;
-        for (int k = 0; k < 4; ++k) {
-            /* one branch per slot: the three conditions combined with &, not && */
-            if (!(hit[k] & (n->count[k] == 0u) & (near[k] <= tbest))) continue;
+        for (; inner != 0u; inner &= inner - 1u) {
+            const uint k = ht_lowest_bit(inner);
+            if (!(near[k] <= tbest)) continue;
             int j = m++;
             for (; j > 0 && st[j - 1] > near[k]; --j) {
                 st[j] = st[j - 1];

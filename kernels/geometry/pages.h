@@ -22,7 +22,7 @@
 #include "../types.h"
 
 /* log2 of each paged record's size; host/core/kernel_layouts.cpp asserts them against sizeof. */
-#define HT_NODE_BYTES_LOG2 7      /* HtBvhNode */
+#define HT_NODE_BYTES_LOG2 8      /* HtBvhNode */
 #define HT_SEGMENT_BYTES_LOG2 4   /* HtSegment */
 #define HT_POINT_BYTES_LOG2 4     /* HtPoint */
 #define HT_TRIANGLE_BYTES_LOG2 7  /* HtTriangleShading */
@@ -55,8 +55,8 @@
 #ifndef HT_GEOMETRY_PAGE_LOG2
 #error "HT_GEOMETRY_PAGES > 1 needs HT_GEOMETRY_PAGE_LOG2 (log2 of the page size in bytes)"
 #endif
-#if HT_GEOMETRY_PAGE_LOG2 < 7 || HT_GEOMETRY_PAGE_LOG2 > 35
-#error "HT_GEOMETRY_PAGE_LOG2 must hold at least one 128-byte record and index pages with uint"
+#if HT_GEOMETRY_PAGE_LOG2 < HT_NODE_BYTES_LOG2 || HT_GEOMETRY_PAGE_LOG2 > 35
+#error "HT_GEOMETRY_PAGE_LOG2 must hold at least one node record (the largest) and index pages with uint"
 #endif
 
 #define HT_PCAT_(a, b) a##b

@@ -120,12 +120,13 @@ HT_FN void ht_translucent_shadow(HT_GEOMETRY_PARAMS, __global const uint* strand
     int sp = 0;
     uint cur = 0;
     for (;;) {
-        float near[4];
-        int hit[4];
-        HT_CONST_GLOBAL HtBvhNode* n = ht_node_test(HT_NODES_ARG, cur, o, d, &slab, tmin, tmax, near, hit);
+        float near[HT_BVH_WIDTH];
+        uint leaves;
+        HT_CONST_GLOBAL HtBvhNode* n = ht_node_of(HT_NODES_ARG, cur);
+        const uint inner = ht_node_test(HT_NODES_ARG, cur, n, o, d, &slab, tmin, tmax, near, &leaves);
         int stop = 0;
-        for (int k = 0; k < 4 && !stop; ++k) {
-            if (!hit[k]) continue;
+        for (uint hit = leaves | inner; hit != 0u && !stop; hit &= hit - 1u) {
+            const uint k = ht_lowest_bit(hit);
             if (n->count[k] != 0u)
                 stop = ht_afs_leaf(HT_SEGS_ARG, HT_POINTS_ARG, strand_material, table, dual, n->child[k], n->count[k], o,
                                    d, tmin, tmax, c);

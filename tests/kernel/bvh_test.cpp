@@ -143,7 +143,7 @@ TEST(Bvh, StructureIsConsistent) {
     for (int c : seen) EXPECT_EQ(c, 1);
     size_t leaf_refs = 0;
     for (const HtBvhNode& n : g.nodes)
-        for (int k = 0; k < 4; ++k) {
+        for (int k = 0; k < HT_BVH_WIDTH; ++k) {
             const uint32_t child = n.child[k], count = n.count[k];
             if (!child && !count) continue;  // empty slot
             if (count) {
@@ -285,7 +285,7 @@ struct BoxChecker {
 
     void under(uint32_t ref, std::vector<uint32_t>& leaf_entries) const {
         const HtBvhNode& n = g.nodes[ref & ~HT_NODE_ORIENTED];
-        for (int k = 0; k < 4; ++k) {
+        for (int k = 0; k < HT_BVH_WIDTH; ++k) {
             if (n.count[k])
                 for (uint32_t i = n.child[k]; i < n.child[k] + n.count[k]; ++i) leaf_entries.push_back(i);
             else if (n.child[k])
@@ -299,7 +299,7 @@ struct BoxChecker {
         const bool turned = (ref & HT_NODE_ORIENTED) != 0;
         oriented += turned;
         const float* axis[3] = {n.x, n.y, n.z};
-        for (int k = 0; k < 4; ++k) {
+        for (int k = 0; k < HT_BVH_WIDTH; ++k) {
             if (!n.child[k] && !n.count[k]) continue;
             // child k's map to its box coordinates: the world axes, or to the unit cube
             double row[3][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};
@@ -308,7 +308,7 @@ struct BoxChecker {
                 if (turned)
                     for (int c = 0; c < 4; ++c) row[j][c] = ht_oriented_coef(&n, &g.nodes[index + 1], 4 * j + c, k);
                 lo[j] = turned ? 0.0 : (double)axis[j][k];
-                hi[j] = turned ? 1.0 : (double)axis[j][k + 4];
+                hi[j] = turned ? 1.0 : (double)axis[j][k + HT_BVH_WIDTH];
             }
             std::vector<uint32_t> entries;
             if (n.count[k])

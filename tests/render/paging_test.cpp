@@ -73,7 +73,7 @@ TEST(GeometryPaging, MemoryPlanCountsTheScenePagesNotOneAllocation) {
 
 #ifdef HT_BINARY
 namespace {
-// 10,000 segments: 160 KB of segments, 168 KB of points, 125 KB of BVH nodes (977).  With 64 KiB
+// 10,000 segments: 160 KB of segments, 168 KB of points, 121 KB of BVH nodes (472).  With 64 KiB
 // allocations that is 3, 3 and 2 pages (each array split, none past the limit of 8), and the 48x48
 // film (36 KB) still fits one allocation.
 const std::string kScene = "'builtin:strand?hairs=500&segments=20'";
