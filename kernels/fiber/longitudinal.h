@@ -12,6 +12,23 @@
 
 #include "math.h"
 
+#ifndef HT_HOST
+/* The float i0e(x) (x >= 0) as factor * exp(*shift): I0(x) e^-x = P(x) e^-x for x <= 3.75, Q(x) / sqrt(x)
+ * above, so *shift is -x or 0.  M_p folds the shift into its own exponent (ht_mp_n): one exp per
+ * M_p instead of two, and no exp for the branch not taken. */
+HT_FIBER_FN float ht_i0e_factor(float x, float* shift) {
+    const float t = x * (1.0f / 3.75f);
+    const float t2 = t * t;
+    const float small = 1.0f + t2 * (3.5156229f + t2 * (3.0899424f + t2 * (1.2067492f + t2 * (0.2659732f +
+                        t2 * (0.0360768f + t2 * 0.0045813f)))));
+    const float u = 3.75f / fmax(x, 3.75f);
+    const float large = (0.39894228f + u * (0.01328592f + u * (0.00225319f + u * (-0.00157565f + u * (0.00916281f +
+                        u * (-0.02057706f + u * (0.02635537f + u * (-0.01647633f + u * 0.00392377f)))))))) *
+                        rsqrt(fmax(x, 3.75f));
+    *shift = x <= 3.75f ? -x : 0.0f;
+    return x <= 3.75f ? small : large;
+}
+#endif
 HT_FIBER_FN real ht_i0e(real x) {
     x = fabs(x);
 #ifdef HT_HOST
@@ -33,15 +50,8 @@ HT_FIBER_FN real ht_i0e(real x) {
     }
     return sum / std::sqrt(2.0 * HT_PI * x);
 #else
-    float t = x * (1.0f / 3.75f);
-    float t2 = t * t;
-    float small = (1.0f + t2 * (3.5156229f + t2 * (3.0899424f + t2 * (1.2067492f + t2 * (0.2659732f +
-                  t2 * (0.0360768f + t2 * 0.0045813f)))))) * exp(-x);
-    float u = 3.75f / fmax(x, 3.75f);
-    float large = (0.39894228f + u * (0.01328592f + u * (0.00225319f + u * (-0.00157565f + u * (0.00916281f +
-                  u * (-0.02057706f + u * (0.02635537f + u * (-0.01647633f + u * 0.00392377f)))))))) *
-                  rsqrt(fmax(x, 3.75f));
-    return x <= 3.75f ? small : large;
+    float shift;
+    return ht_i0e_factor(x, &shift) * exp(shift);
 #endif
 }
 
@@ -69,7 +79,13 @@ HT_FIBER_FN real ht_mp_n(real cos_i, real sin_i, real cos_o, real sin_o, real v,
     real C = cos_i * cos_o - sin_i * sin_o; /* cos(theta_i + theta_o) */
     real S = sin_i * cos_o + cos_i * sin_o; /* sin(theta_i + theta_o) */
     real cm1 = C > HT_R(0) ? -S * S / (HT_R(1) + C) : C - HT_R(1); /* cos - 1 without cancellation */
+#ifdef HT_HOST
     return ht_i0e(a) * exp(ht_min(cm1 * inv_v + log_norm, HT_R(80)));
+#else
+    float shift;
+    const float f = ht_i0e_factor(a, &shift);
+    return f * exp(ht_min(cm1 * inv_v + log_norm, HT_R(80)) + shift);
+#endif
 }
 HT_FIBER_FN real ht_mp(real cos_i, real sin_i, real cos_o, real sin_o, real v) {
     return ht_mp_n(cos_i, sin_i, cos_o, sin_o, v, ht_mp_log_norm(v));
