@@ -91,7 +91,12 @@ HT_FN int ht_nee_sample(__global const HtLight* lights, uint light_count, const 
                         uint pixel, uint sample, uint bounce, uint stratum, uint strata,
                         const HtShadingPoint* sp, HtLightSample* ls, float* inv_pick) {
     const float3 p = sp->p;
-    float ul = ((float)stratum + ht_sample(seed, pixel, sample, bounce, HT_DIM_LIGHT_PICK)) / (float)strata;
+    /* Draws only where they decide something (a Sobol' draw is not free, and no other draw depends
+     * on whether one was made): the pick among two or more, the direction for a sphere light or
+     * the environment map (the delta lights ignore u and v). */
+    const float ul = nee_count > 1u
+                         ? ((float)stratum + ht_sample(seed, pixel, sample, bounce, HT_DIM_LIGHT_PICK)) / (float)strata
+                         : 0.0f;
     uint li;
     *inv_pick = (float)nee_count;
 #ifdef HT_LIGHT_PICK_IMPORTANCE
@@ -111,8 +116,15 @@ HT_FN int ht_nee_sample(__global const HtLight* lights, uint light_count, const 
     } else
 #endif
         li = min((uint)(ul * (float)nee_count), nee_count - 1u);
-    float u = ht_sample(seed, pixel, sample, bounce, HT_DIM_LIGHT_U);
-    float v = ht_sample(seed, pixel, sample, bounce, HT_DIM_LIGHT_V);
+    float u = 0.5f, v = 0.5f;
+#if HT_FEATURE_LIGHT_SPHERE
+    if (li >= light_count || lights[li].type == HT_LIGHT_SPHERE) {
+#else
+    if (li >= light_count) {
+#endif
+        u = ht_sample(seed, pixel, sample, bounce, HT_DIM_LIGHT_U);
+        v = ht_sample(seed, pixel, sample, bounce, HT_DIM_LIGHT_V);
+    }
     if (li < light_count) {
         HtLight light = lights[li];
         int ok = ht_sample_light(&light, p, u, v, ls);
