@@ -71,5 +71,19 @@ for pages in 3 8; do
         fi
     done
 done
+# The estimator's options (host/render/features.cpp estimator_build_options, kernels/features.h):
+# their code is compiled only when the command line asks for it, so compile it here with every one
+# on, once with the scene features on and once with them off.
+estimator=(-DHT_CLAMP_INDIRECT=3.0f -DHT_REGULARIZE_WIDTH=0.1f -DHT_LIGHT_THRESHOLD=0.1f -DHT_SPAWN_PBRT=1
+           -DHT_SAMPLER_SOBOL=1 -DHT_LIGHT_PICK_IMPORTANCE=1)
+for rest in "" "${off[*]}"; do
+    # shellcheck disable=SC2086
+    if ! "$clang" -x cl -cl-std="$std" -target spir64-unknown-unknown -Xclang -finclude-default-header \
+         -fsyntax-only -cl-single-precision-constant -Werror -Wall -Wno-unused-function -Wno-unused-variable \
+         "${estimator[@]}" $rest "${extra[@]}" "${render_programs[@]}"; then
+        echo "FAILED: the render programs with every estimator option on${rest:+ and the scene features off} ($std)"
+        status=1
+    fi
+done
 [ $status = 0 ] && echo "all kernels compile as strict $std for spir64"
 exit $status
