@@ -42,10 +42,11 @@ struct RenderSettings {
     // their shadow ray by Russian roulette (kernels/integrator/roulette.h); 0 here (off), the
     // command line's default is chosen by measurement (docs/PERFORMANCE.md §8).
     float light_threshold = 0.0f;
-    // How a single next-event estimate chooses among two or more lights: uniformly (here), or by
-    // what each light delivers unshadowed at the shading point (kernels/lights.h ht_pick_light;
-    // up to HT_LIGHT_PICK_MAX lights, uniform above).  The command line's default is chosen by
-    // measurement (docs/PERFORMANCE.md §8).
+    // How a single next-event estimate chooses among two or more lights: uniformly (here), or half
+    // by what each light delivers unshadowed at the shading point times how squarely it faces the
+    // fibre or surface there, half evenly over the lights that reach it (kernels/lights.h
+    // ht_pick_light; up to HT_LIGHT_PICK_MAX lights, uniform above).  The command line's default is
+    // chosen by measurement (docs/PERFORMANCE.md §8).
     enum class LightPick { Uniform, Importance } light_pick = LightPick::Uniform;
     // Random numbers: Owen-scrambled Sobol' or independent hashing (kernels/rng.h).
     enum class Sampler { Sobol, Independent } sampler = Sampler::Sobol;
