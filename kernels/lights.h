@@ -87,41 +87,44 @@ HT_FN int ht_sample_light(const HtLight* l, real3 p, real u, real v, HtLightSamp
 
 /* ---------------------------------------------------------------- picking a light by importance */
 
-/* What light l would deliver to p unshadowed, summed over the channels: li_over_pdf of
- * ht_sample_light, which depends on p alone for every light type (a delta light's radiance
- * over distance squared, the sphere's radiance times its cone), never on the sample's numbers.
- * 0 exactly when l gives nothing at p (outside a spot's cone, at its position). */
-HT_FN real ht_light_delivered(const HtLight* l, real3 p) {
-    HtLightSample s;
-    if (!ht_sample_light(l, p, HT_R(0.5), HT_R(0.5), &s)) return HT_R(0);
-    const real w = s.li_over_pdf.x + s.li_over_pdf.y + s.li_over_pdf.z;
-    /* capped so that a sum over HT_LIGHT_PICK_MAX lights stays finite */
+/* The light sample the pick reads: u = v = 0 is the direction to the light's centre for every
+ * type (a sphere's cone axis), and li_over_pdf depends on p alone for every light type (a delta
+ * light's radiance over distance squared, the sphere's radiance times its cone), never on the
+ * sample's numbers.  Returns 0 where the light gives nothing at p (outside a spot's cone, at its
+ * position). */
+HT_FN int ht_light_toward(const HtLight* l, real3 p, HtLightSample* s) {
+    return ht_sample_light(l, p, HT_R(0), HT_R(0), s);
+}
+
+/* What the light of sample s delivers unshadowed, summed over the channels; capped so that a sum
+ * over HT_LIGHT_PICK_MAX lights stays finite. */
+HT_FN real ht_delivered(const HtLightSample* s) {
+    const real w = s->li_over_pdf.x + s->li_over_pdf.y + s->li_over_pdf.z;
     return w > HT_R(0) ? ht_min(w, HT_R(1e30)) : HT_R(0);
 }
 
-/* How squarely the light's centre faces the receiver at p, floored at HT_LIGHT_FACING_MIN (never
- * 0, so no light that reaches p loses its chance): for a fibre with tangent `axis` the cosine of
- * the light's inclination to the fibre's normal plane, sqrt(1 - (axis . w)^2) -- the fibre's width
- * as the light sees it, the cos(theta_i) of every fibre model (kernels/fiber/); for a surface with
- * normal `axis` (axis_is_normal) |axis . w|.  What a light delivers along a fibre's axis scatters
- * little: a spot above a hanging lock is bright at the hair and lights it hardly at all. */
+/* How squarely direction w (unit, towards a light) faces the receiver, floored at
+ * HT_LIGHT_FACING_MIN (never 0, so no light that reaches p loses its chance): for a fibre with
+ * tangent `axis` the cosine of w's inclination to the fibre's normal plane, sqrt(1 - (axis . w)^2)
+ * -- the fibre's width as the light sees it, the cos(theta_i) of every fibre model
+ * (kernels/fiber/); for a surface with normal `axis` (axis_is_normal) |axis . w|.  What a light
+ * delivers along a fibre's axis scatters little: a spot above a hanging lock is bright at the hair
+ * and lights it hardly at all. */
 #define HT_LIGHT_FACING_MIN HT_R(0.1)
-HT_FN real ht_light_facing(const HtLight* l, real3 p, real3 axis, int axis_is_normal) {
-    real3 w;
-#if HT_FEATURE_LIGHT_DIRECTIONAL
-    if (l->type == HT_LIGHT_DIRECTIONAL)
-        w = -make_real3(l->direction[0], l->direction[1], l->direction[2]);
-    else
-#endif
-    {
-        const real3 d = make_real3(l->position[0], l->position[1], l->position[2]) - p;
-        const real d2 = dot(d, d);
-        if (!(d2 > HT_R(1e-20))) return HT_R(1);
-        w = d / sqrt(d2);
-    }
+HT_FN real ht_facing(real3 w, real3 axis, int axis_is_normal) {
     const real c = dot(axis, w);
     const real facing = axis_is_normal ? fabs(c) : ht_safe_sqrt(HT_R(1) - c * c);
     return ht_max(facing, HT_LIGHT_FACING_MIN);
+}
+
+/* The two factors of ht_pick_light's weight for light l at p, each on its own. */
+HT_FN real ht_light_delivered(const HtLight* l, real3 p) {
+    HtLightSample s;
+    return ht_light_toward(l, p, &s) ? ht_delivered(&s) : HT_R(0);
+}
+HT_FN real ht_light_facing(const HtLight* l, real3 p, real3 axis, int axis_is_normal) {
+    HtLightSample s;
+    return ht_light_toward(l, p, &s) ? ht_facing(s.wi, axis, axis_is_normal) : HT_R(1);
 }
 
 /* One of lights[0, count) for a next-event estimate at p (count <= HT_LIGHT_PICK_MAX), u in
@@ -141,8 +144,8 @@ HT_FN uint ht_pick_light(HT_CONST_GLOBAL HtLight* lights, uint count, real3 p, r
     real sum = HT_R(0), reach = HT_R(0);
     for (uint i = 0u; i < count; ++i) {
         const HtLight l = lights[i];
-        const real delivered = ht_light_delivered(&l, p);
-        w[i] = delivered > HT_R(0) ? delivered * ht_light_facing(&l, p, axis, axis_is_normal) : HT_R(0);
+        HtLightSample s;
+        w[i] = ht_light_toward(&l, p, &s) ? ht_delivered(&s) * ht_facing(s.wi, axis, axis_is_normal) : HT_R(0);
         sum += w[i];
         reach += w[i] > HT_R(0) ? HT_R(1) : HT_R(0);
     }

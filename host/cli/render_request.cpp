@@ -290,8 +290,8 @@ RenderSettings resolve_settings(const Scene& scene, const ImageRequest& r, std::
     // ht_nee_sample: the lights and an environment map), each light met once at the first hit
     const int nee_lights = int(scene.lights.size()) + (scene.environment.map_path.empty() ? 0 : 1);
     s.first_hit_light_samples = r.light_samples.value_or(std::clamp(nee_lights, 1, kMaxFirstHitSplits));
-    // the settings say what the render does: with one light, or more than the pick reads, it is uniform
-    if (scene.lights.size() < 2 || scene.lights.size() > HT_LIGHT_PICK_MAX) s.light_pick = RenderSettings::LightPick::Uniform;
+    // the settings say what the render does: without a choice among lights the pick is uniform
+    if (!light_pick_chooses(scene.lights.size())) s.light_pick = RenderSettings::LightPick::Uniform;
     return s;
 }
 

@@ -28,7 +28,7 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& s, const R
                                                   s.spawn_offset == RenderSettings::SpawnOffset::Pbrt,
                                                   s.sampler == RenderSettings::Sampler::Sobol,
                                                   s.light_pick == RenderSettings::LightPick::Importance &&
-                                                      scene.lights.size() >= 2 && scene.lights.size() <= HT_LIGHT_PICK_MAX);
+                                                      light_pick_chooses(scene.lights.size()));
     if (recipe_ready) recipe_ready(p);
     BvhOptions bvh;
     bvh.obb_ratio = s.bvh_oriented;

@@ -5,6 +5,8 @@
 
 #include "render/features.h"
 
+#include "kernels/types.h"
+
 #include <cstddef>
 #include <cstdint>
 
@@ -18,6 +20,10 @@ constexpr int kMaxFirstHitSplits = 64;
 // --light-threshold's range (kernels/integrator/roulette.h): above 1 every estimate of a white
 // fibre would be played for.
 constexpr double kMinLightThreshold = 1e-6, kMaxLightThreshold = 1;
+
+// Whether --light-pick importance has a choice to make among `lights` lights: two or more, and no
+// more than the kernels' pick reads (HT_LIGHT_PICK_MAX); otherwise every pick is uniform.
+inline bool light_pick_chooses(size_t lights) { return lights >= 2 && lights <= HT_LIGHT_PICK_MAX; }
 
 struct RenderSettings {
     int width = 512, height = 512;
