@@ -27,10 +27,8 @@ typedef float real;
 typedef float3 real3;
 #define HT_FN static inline
 /* The fibre models' functions (kernels/fiber/).  A program that defines HT_FIBER_INLINE before its
- * first include gets them force-inlined.  No program does: in the shade kernel it saved ~4 % of a
- * render's CPU but made the shade program's first, uncached, build the cold start's longest and
- * the test suite's kernel builds slower (docs/PERFORMANCE.md §2), and traversal is the opposite
- * case anyway (docs/POCL.md §1).  Kept as a switch for devices whose compilers inline less. */
+ * first include gets them force-inlined: the shade stage does (kernels/stages/shade.cl says what it
+ * buys and costs); traversal is the opposite case (docs/POCL.md section 1). */
 #ifdef HT_FIBER_INLINE
 #define HT_FIBER_FN static inline __attribute__((always_inline))
 #else

@@ -31,6 +31,12 @@
  * HT_NO_PATH) -- at a first vertex in shadow slots k M .. k M + M - 1 and stage slots
  * k N .. k N + N - 1; compact.cl then packs the extension queue in a thread-independent order.
  * Every path ends each call in exactly one of: terminated, continued (stage slot filled). */
+/* The fibre models' helpers are force-inlined here (kernels/compat.h): the shade stage evaluates a
+ * model twice per vertex (the light estimate, then the sample), and inlined, PoCL shares what the
+ * two have in common and keeps the work-group loop whole.  0.93x the CPU of a demo render, 0.96x of
+ * pbrt's lock, for about 1.5 s more of the first, uncached build of a marschner/zinke shade
+ * program (docs/PERFORMANCE.md section 2). */
+#define HT_FIBER_INLINE 1
 #include "../types.h"
 #include "../geometry/pages.h"
 #include "../rng.h"
