@@ -107,20 +107,47 @@ HT_FN real ht_strand_segment_intersect(HT_POINTS_PARAM, HtSegment s, real3 o, re
     return t;
 }
 
+/* The order of closest-hit candidates (host/bvh/NOTES.md "Semantics"): the nearer first and, at a
+ * bit-equal t, the higher global id (HtSegment.segment, Embree's primID).  A total order, so the
+ * answer is the same whichever order the tree presents the candidates in: two segments meet at a
+ * bit-equal t on the circle where a strand's joint sphere meets the next segment's cylinder, or
+ * where fibres coincide, and with "first found wins" the 8-wide layout moved 27 pixels of a render
+ * (issue #15).  The higher id is the segment that begins at the joint, the one Embree's round
+ * linear curves (a segment's cone and end sphere minus its neighbours' cones) report there in most
+ * cases: on the strand anchor's camera rays primIDs agree with Embree at 99.975 % with it, 99.933 %
+ * with the lower id, 99.960 % with the first found (NOTES.md).  Whether leaf entry k at t precedes
+ * the best so far (best = HT_NO_HIT: nothing at tbest = the ray's tmax, which stays excluded); the
+ * ids are read only at a tie. */
+HT_FN int ht_hit_precedes(HT_SEGS_PARAM, real t, uint k, real tbest, uint best) {
+    return t < tbest || (t == tbest && best != HT_NO_HIT && HT_SEG(k).segment > HT_SEG(best).segment);
+}
+
+/* The exclusive far end for the intersection tests that still lets a root at exactly tbest through
+ * (it may win its tie): the next value above tbest.  Roots lie above tmin >= 0, so tbest <= 0 has
+ * none to admit. */
+HT_FN real ht_tie_bound(real tbest) {
+#ifdef HT_OPENCL
+    return tbest > 0.0f ? as_float(as_uint(tbest) + 1u) : tbest;
+#else
+    return tbest > HT_R(0) ? std::nextafter(tbest, HT_R(HT_REAL_MAX)) : tbest;
+#endif
+}
+
 /* Leaf entry k (a capsule or, with meshes, a triangle) against the ray: updates *tbest / *best and
- * returns 1 if it is the closest hit so far. */
+ * returns 1 if it precedes the closest hit so far. */
 HT_FN int ht_leaf_entry(HT_SEGS_PARAM, HT_POINTS_PARAM, uint k, real3 o, real3 d, real tmin, real* tbest, uint* best) {
     const HtSegment s = HT_SEG(k);
+    const real bound = ht_tie_bound(*tbest);
     real t;
 #if HT_FEATURE_MESHES
     if (s.flags & HT_SEG_TRIANGLE) {
         real b1, b2;
         t = ht_triangle_intersect(o, d, ht_point_pos(HT_POINT(s.point)), ht_point_pos(HT_POINT(s.point + 1u)),
-                                  ht_point_pos(HT_POINT(s.point + 2u)), tmin, *tbest, &b1, &b2);
+                                  ht_point_pos(HT_POINT(s.point + 2u)), tmin, bound, &b1, &b2);
     } else
 #endif
-    t = ht_strand_segment_intersect(HT_POINTS_ARG, s, o, d, tmin, *tbest);
-    if (!(t < *tbest)) return 0;
+    t = ht_strand_segment_intersect(HT_POINTS_ARG, s, o, d, tmin, bound);
+    if (!(t < bound && ht_hit_precedes(HT_SEGS_ARG, t, k, *tbest, *best))) return 0;
     *tbest = t;
     *best = k;
     return 1;
@@ -133,10 +160,10 @@ HT_FN int ht_leaf_entry(HT_SEGS_PARAM, HT_POINTS_PARAM, uint k, real3 o, real3 d
  * capsule.h), so a leaf of up to max_leaf = 8 is one branch-free test: the group's loads are issued
  * together and its arithmetic is shared, which is what lets the builder fill leaves (host/bvh/bvh.h
  * BvhOptions::leaf_lanes; host/bvh/NOTES.md "Leaves tested four at a time" and "Leaves tested
- * eight at a time").  A lane's answer is the scalar test's (same operations), and lanes are
- * taken in order with a strict "<", so a group finds what the scalar loop finds: every lane's
- * hit below the group's starting *tbest is a hit the loop would see, and the nearest wins.  A
- * group holding a triangle, and the host build, take the scalar loop. */
+ * eight at a time").  A lane's answer is the scalar test's (same operations), and every lane's
+ * hit up to the group's starting *tbest is offered to ht_hit_precedes, so a group finds what the
+ * scalar loop finds: the first candidate in the order of (t, global id).  A group holding a
+ * triangle, and the host build, take the scalar loop. */
 HT_FN int ht_intersect_leaf(HT_SEGS_PARAM, HT_POINTS_PARAM, uint first, uint count, real3 o, real3 d, real tmin, real* tbest,
                             uint* best) {
     int found = 0;
@@ -171,19 +198,20 @@ HT_FN int ht_intersect_leaf(HT_SEGS_PARAM, HT_POINTS_PARAM, uint first, uint cou
 /* component F of the eight float4s P0..P7 */
 #define HT_LANES8(P, F) (float8)(P##0 .F, P##1 .F, P##2 .F, P##3 .F, P##4 .F, P##5 .F, P##6 .F, P##7 .F)
             const uint8 flags = (uint8)(s0.flags, s1.flags, s2.flags, s3.flags, s4.flags, s5.flags, s6.flags, s7.flags);
+            const float bound = ht_tie_bound(*tbest);
             const float8 t = ht_capsule_lane8(o, d, HT_LANES8(a, x), HT_LANES8(a, y), HT_LANES8(a, z), HT_LANES8(b, x),
                                               HT_LANES8(b, y), HT_LANES8(b, z),
                                               0.5f * (HT_LANES8(a, w) + HT_LANES8(b, w)),
-                                              (flags & (uint8)(HT_SEG_FIRST)) != (uint8)(0u), tmin, *tbest);
+                                              (flags & (uint8)(HT_SEG_FIRST)) != (uint8)(0u), tmin, bound);
 #undef HT_LANES8
             float tl[8];
             vstore8(t, 0, tl);
-            /* Lanes below *tbest as a mask, visited in lane order; an earlier lane's hit may
-             * shorten *tbest, hence the test inside the loop too. */
-            uint lanes = ht_mask8(t < (float8)(*tbest)) & ((1u << n) - 1u); /* padding lanes dropped */
+            /* Lanes with a root up to *tbest as a mask, visited in lane order; an earlier lane's hit
+             * may shorten *tbest, hence the test inside the loop too. */
+            uint lanes = ht_mask8(t < (float8)(bound)) & ((1u << n) - 1u); /* padding lanes dropped */
             for (; lanes != 0u; lanes &= lanes - 1u) {
                 const uint j = ht_lowest_bit(lanes);
-                if (!(tl[j] < *tbest)) continue;
+                if (!ht_hit_precedes(HT_SEGS_ARG, tl[j], g + j, *tbest, *best)) continue;
                 const HtSegment sj = HT_SEG(g + j);
                 /* A root on an interior surface of its strand: that capsule's later roots, one at a
                  * time, as the scalar loop takes them. */
@@ -338,7 +366,8 @@ HT_FN uint ht_node_test(HT_NODES_PARAM, uint ref, HT_CONST_GLOBAL HtBvhNode* n, 
 HT_FN HT_CONST_GLOBAL HtBvhNode* ht_node_of(HT_NODES_PARAM, uint ref) { return HT_NODE_PTR(ref & ~HT_NODE_ORIENTED); }
 
 /* Core traversal.  any_hit: stop at the first intersection in (tmin, tmax).  Returns the leaf
- * segment index of the hit (HT_NO_HIT for none) and its distance in *t_out. */
+ * segment index of the hit (HT_NO_HIT for none) and its distance in *t_out; for closest hits, the
+ * first in the order of ht_hit_precedes, whatever the tree's layout. */
 HT_FN uint ht_traverse(HT_GEOMETRY_PARAMS, HtRay ray, int any_hit, real* t_out) {
     const real3 o = make_real3(ray.ox, ray.oy, ray.oz);
     const real3 d = make_real3(ray.dx, ray.dy, ray.dz);
@@ -373,7 +402,9 @@ HT_FN uint ht_traverse(HT_GEOMETRY_PARAMS, HtRay ray, int any_hit, real* t_out) 
         }
         if (stop) break;
 
-        /* Hit inner children in front of the closest hit, sorted by entry distance (insertion). */
+        /* Hit inner children entered up to the closest hit, sorted by entry distance (insertion).
+         * "<=" here, on pop and in the slab test's far end: a child entered at exactly tbest may
+         * hold a tie that a higher id wins (ht_hit_precedes). */
         uint sc[HT_BVH_WIDTH];
         real st[HT_BVH_WIDTH];
         int m = 0;

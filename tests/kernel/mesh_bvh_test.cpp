@@ -6,6 +6,7 @@
 #include "bvh/device_geometry.h"
 #include "kernels/geometry/bvh_traverse.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <cstdio>
@@ -86,13 +87,15 @@ struct Brute {
     double t = 1e30;
 };
 
-// Every primitive of both kinds in global order.
+// Every primitive of both kinds in descending global order with a strict "<": a tie goes to the
+// higher id, as in the traversal (ht_hit_precedes).
 Brute brute_force(const SceneGeometry& g, const HtRay& ray) {
     Brute b;
     b.t = std::min<double>(ray.tmax, 1e30);
     const real3 o = make_real3(ray.ox, ray.oy, ray.oz), d = make_real3(ray.dx, ray.dy, ray.dz);
     std::vector<HtSegment> base(g.segment_count + g.triangle_count);
     for (const HtSegment& s : g.segments) base[s.segment] = s;
+    std::reverse(base.begin(), base.end());
     for (const HtSegment& s : base) {
         double t;
         if (s.flags & HT_SEG_TRIANGLE) {
@@ -224,6 +227,41 @@ TEST(MeshBvh, RebuildKeepsTriangles) {
     }
 }
 
+// Every triangle of the cloud twice (the copies after the originals, so with the higher ids): each
+// triangle hit is a tie at a bit-equal t, which the copy wins in every layout, on the host and in
+// the kernel, whose leaves holding a triangle take the scalar loop.  Not the floor: a triangle in
+// an axis-aligned plane lies on its flat box's faces, whose entry distance the slab test rounds
+// independently of the triangle's t, so it may cull the copy's leaf as beyond the original's hit
+// (host/bvh/NOTES.md "Semantics": the tie rule's limit).
+TEST(MeshBvhKernel, TrianglesTiedWithACopyGoToTheCopy) {
+    const Mesh cloud = random_meshes(7, 400)[1];
+    const std::vector<Mesh> meshes = {cloud, cloud};
+    std::vector<ht::SurfaceMaterialDesc> mats(2);
+    const Strands strands = random_strands(4, 100, 16, 0.08, 0.006);
+    const auto rays = random_rays(17, 20000);
+    ht::BvhOptions scalar_leaves;  // one primitive per leaf: a tie's two triangles in different leaves
+    scalar_leaves.max_leaf = 1;
+    scalar_leaves.leaf_lanes = 1;
+    for (const ht::BvhOptions& opt : {ht::BvhOptions{}, scalar_leaves, ht::BvhOptions::compact()}) {
+        const SceneGeometry g = ht::build_geometry(strands, meshes, mats, opt);
+        const uint32_t first_copy = uint32_t(g.segment_count + g.triangle_count / 2);
+        ht::DeviceGeometry dg = ht::upload_geometry(cl(), g);
+        const auto kernel = ht::DeviceTracer(cl(), dg).trace_closest(rays);
+        size_t triangle_hits = 0, originals = 0;
+        for (size_t i = 0; i < rays.size(); ++i) {
+            HtHit h;
+            ht_trace_closest(g.nodes.data(), g.segments.data(), g.points.data(), rays[i], &h);
+            if (h.segment == HT_NO_HIT || !(g.segments[h.segment].flags & HT_SEG_TRIANGLE)) continue;
+            ++triangle_hits;
+            EXPECT_EQ(g.segments[h.segment].segment, brute_force(g, rays[i]).prim) << "ray " << i;
+            originals += g.segments[h.segment].segment < first_copy;
+            if (kernel[i].segment != HT_NO_HIT && (g.segments[kernel[i].segment].flags & HT_SEG_TRIANGLE))
+                originals += g.segments[kernel[i].segment].segment < first_copy;
+        }
+        EXPECT_GT(triangle_hits, 500u);
+        EXPECT_EQ(originals, 0u) << "max_leaf " << opt.max_leaf;
+    }
+}
 
 // Paged geometry with triangles: a triangle's three points and its shading record may sit in
 // different pages; the hits must be the unpaged ones bit for bit.
