@@ -6,6 +6,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <memory>
 #include <new>
@@ -54,6 +55,39 @@ void reserve_huge(std::vector<T>& v, size_t n) {
     v.reserve(n);
     advise_huge_pages(v.data(), v.capacity() * sizeof(T));
 }
+
+// For the build's own arrays: blocks of 2 MiB or more are 2 MiB-aligned and rounded up to whole
+// huge pages, so all of a block faults in huge pages (reserve_huge leaves the unaligned ends of a
+// std::vector's block, up to 4 MiB, to 4 KiB faults).
+template <class T>
+struct HugePageAllocator {
+    using value_type = T;
+    static constexpr size_t kHuge = size_t(1) << 21;
+    HugePageAllocator() = default;
+    template <class U>
+    HugePageAllocator(const HugePageAllocator<U>&) {}
+    T* allocate(size_t n) {
+        const size_t bytes = n * sizeof(T);
+        if (bytes < kHuge) return static_cast<T*>(::operator new(bytes));
+        const size_t whole = (bytes + kHuge - 1) & ~(kHuge - 1);
+        void* p = std::aligned_alloc(kHuge, whole);
+        if (!p) throw std::bad_alloc();
+        advise_huge_pages(p, whole);
+        return static_cast<T*>(p);
+    }
+    void deallocate(T* p, size_t n) {
+        if (n * sizeof(T) < kHuge)
+            ::operator delete(p);
+        else
+            std::free(p);
+    }
+    template <class U>
+    bool operator==(const HugePageAllocator<U>&) const { return true; }
+    template <class U>
+    bool operator!=(const HugePageAllocator<U>&) const { return false; }
+};
+template <class T>
+using BuildArray = std::vector<T, HugePageAllocator<T>>;
 
 // Four float lanes: x, y, z and a spare (see Box).  The host is built for the x86-64 baseline
 // (CMakeLists.txt sets no -m flags), of which SSE2 is part, so the binning below is SSE2; other
@@ -204,16 +238,16 @@ double leaf_groups(uint32_t n, const BvhOptions& opt) {
 
 class Builder {
 public:
-    Builder(std::vector<Ref>& refs, const BvhOptions& opt)
+    Builder(BuildArray<Ref>& refs, const BvhOptions& opt)
         : refs_(refs), opt_(opt), bins_(std::clamp(opt.bins, 4, Bins::kMax)) {
         unsigned t = opt.threads ? opt.threads : std::max(1u, std::thread::hardware_concurrency());
         tokens_ = (int)t - 1;
         // A binary tree over n references has at most n - 1 inner nodes (+1 for a leaf root).
-        // Left uninitialised (alloc constructs each node): a build uses about n / 5 of them
+        // Left uninitialised (place() constructs each node): a build uses about n / 5 of them
         // (leaves hold up to max_leaf references), and pages never written are never faulted
         // in; constructing all n (96 bytes each with 4-lane boxes) took a tenth of the build.
-        storage_.reset(new NodeStorage[std::max<size_t>(refs.size(), 1)]);
-        advise_huge_pages(storage_.get(), std::max<size_t>(refs.size(), 1) * sizeof(NodeStorage));
+        storage_.reserve(std::max<size_t>(refs.size(), 1));
+        slots_ = storage_.data();
     }
 
     // Returns the intermediate root node index.
@@ -232,7 +266,7 @@ public:
     }
 
     // The nodes alloc() handed out: [0, used()).
-    BNode* nodes() const { return std::launder(reinterpret_cast<BNode*>(storage_.get())); }
+    BNode* nodes() const { return std::launder(reinterpret_cast<BNode*>(slots_)); }
     uint32_t used() const { return used_.load(); }
 
 private:
@@ -246,7 +280,7 @@ private:
     // first time into a fresh cache line (~4 % of Builder::build in perf).
     uint32_t alloc() { return used_.fetch_add(1); }
     uint32_t place(uint32_t id, const BNode& node) {
-        new (&storage_[id]) BNode(node);
+        new (slots_ + id) BNode(node);
         return id;
     }
 
@@ -428,8 +462,9 @@ private:
         return s;
     }
 
-    std::vector<Ref>& refs_;
-    std::unique_ptr<NodeStorage[]> storage_;
+    BuildArray<Ref>& refs_;
+    BuildArray<NodeStorage> storage_;  // reserved, never resized: alloc() hands out its slots
+    NodeStorage* slots_ = nullptr;     // storage_.data()
     BvhOptions opt_;
     int bins_;
     std::atomic<int> tokens_{0};
@@ -781,7 +816,7 @@ struct Flattener {
 };
 
 // Box of the capsule piece between parameters [a, b] of the segment, split while it pays.
-void add_refs(std::vector<Ref>& refs, uint32_t seg, const float* p0, const float* p1, float r,
+void add_refs(BuildArray<Ref>& refs, uint32_t seg, const float* p0, const float* p1, float r,
               float a, float b, int depth, const BvhOptions& opt) {
     float pa[3], pb[3];
     for (int k = 0; k < 3; ++k) {
@@ -810,9 +845,9 @@ void add_refs(std::vector<Ref>& refs, uint32_t seg, const float* p0, const float
     refs.push_back(ref);
 }
 
-void build_bvh_from(const std::vector<HtSegment>& base, SceneGeometry& geo, const BvhOptions& opt) {
-    std::vector<Ref> refs;
-    reserve_huge(refs, base.size());
+void build_bvh_from(const BuildArray<HtSegment>& base, SceneGeometry& geo, const BvhOptions& opt) {
+    BuildArray<Ref> refs;
+    refs.reserve(base.size());
     for (uint32_t i = 0; i < base.size(); ++i) {
         if (base[i].flags & HT_SEG_TRIANGLE) {
             // Triangles are never split: their boxes are tight already for mesh-like shapes.
@@ -911,8 +946,8 @@ SceneGeometry build_geometry(const Strands& strands, const std::vector<Mesh>& me
         const uint32_t b = strands.first_point[s], e = strands.first_point[s + 1];
         segments += e > b ? e - b - 1 : 0;
     }
-    std::vector<HtSegment> base;
-    reserve_huge(base, segments);
+    BuildArray<HtSegment> base;
+    base.reserve(segments);
     geo.triangles.reserve(triangles);
     for (size_t s = 0; s < ns; ++s) {
         const uint32_t b = strands.first_point[s], e = strands.first_point[s + 1];
@@ -972,7 +1007,7 @@ SceneGeometry build_geometry(const Strands& strands, const std::vector<Mesh>& me
 
 void rebuild_bvh(SceneGeometry& geo, const BvhOptions& opt) {
     const auto t0 = std::chrono::steady_clock::now();
-    std::vector<HtSegment> base(geo.segment_count + geo.triangle_count);
+    BuildArray<HtSegment> base(geo.segment_count + geo.triangle_count);
     for (const HtSegment& s : geo.segments) base[s.segment] = s;
     build_bvh_from(base, geo, opt);
     geo.stats.build_ms =
