@@ -6,6 +6,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <memory>
 #include <new>
@@ -15,6 +16,9 @@
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
+#endif
+#if defined(__linux__)
+#include <sys/mman.h>
 #endif
 
 #include "kernels/geometry/bvh_traverse.h"
@@ -29,6 +33,61 @@ static_assert((HT_BVH_WIDTH - 1) * (ht::kMaxBvhDepth / kCollapseLevels + 1) < HT
 
 namespace ht {
 namespace {
+
+// The build's arrays (points, segment records, references, intermediate nodes: ~30 MB for 250k
+// segments) are written once into fresh memory, and on this project's KVM guest a first touch of a
+// 4 KiB page costs ~11 us (8 MiB: 22 ms), so page faults were about half of the build
+// (host/bvh/NOTES.md "Build time: page faults").  Asking for transparent huge pages on the
+// 2 MiB-aligned part of each large array makes one fault per 2 MiB.  Call it before the first
+// write (after reserve, not resize).  A hint only: no effect without THP, and none on the contents.
+void advise_huge_pages(const void* data, size_t bytes) {
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+    constexpr uintptr_t kHuge = uintptr_t(1) << 21;
+    const uintptr_t b = (reinterpret_cast<uintptr_t>(data) + kHuge - 1) & ~(kHuge - 1);
+    const uintptr_t e = (reinterpret_cast<uintptr_t>(data) + bytes) & ~(kHuge - 1);
+    if (e > b) madvise(reinterpret_cast<void*>(b), e - b, MADV_HUGEPAGE);
+#else
+    (void)data, (void)bytes;
+#endif
+}
+template <class T>
+void reserve_huge(std::vector<T>& v, size_t n) {
+    v.reserve(n);
+    advise_huge_pages(v.data(), v.capacity() * sizeof(T));
+}
+
+// For the build's own arrays: blocks of 2 MiB or more are 2 MiB-aligned and rounded up to whole
+// huge pages, so all of a block faults in huge pages (reserve_huge leaves the unaligned ends of a
+// std::vector's block, up to 4 MiB, to 4 KiB faults).
+template <class T>
+struct HugePageAllocator {
+    using value_type = T;
+    static constexpr size_t kHuge = size_t(1) << 21;
+    HugePageAllocator() = default;
+    template <class U>
+    HugePageAllocator(const HugePageAllocator<U>&) {}
+    T* allocate(size_t n) {
+        const size_t bytes = n * sizeof(T);
+        if (bytes < kHuge) return static_cast<T*>(::operator new(bytes));
+        const size_t whole = (bytes + kHuge - 1) & ~(kHuge - 1);
+        void* p = std::aligned_alloc(kHuge, whole);
+        if (!p) throw std::bad_alloc();
+        advise_huge_pages(p, whole);
+        return static_cast<T*>(p);
+    }
+    void deallocate(T* p, size_t n) {
+        if (n * sizeof(T) < kHuge)
+            ::operator delete(p);
+        else
+            std::free(p);
+    }
+    template <class U>
+    bool operator==(const HugePageAllocator<U>&) const { return true; }
+    template <class U>
+    bool operator!=(const HugePageAllocator<U>&) const { return false; }
+};
+template <class T>
+using BuildArray = std::vector<T, HugePageAllocator<T>>;
 
 // Four float lanes: x, y, z and a spare (see Box).  The host is built for the x86-64 baseline
 // (CMakeLists.txt sets no -m flags), of which SSE2 is part, so the binning below is SSE2; other
@@ -179,35 +238,35 @@ double leaf_groups(uint32_t n, const BvhOptions& opt) {
 
 class Builder {
 public:
-    Builder(std::vector<Ref>& refs, const BvhOptions& opt)
+    Builder(BuildArray<Ref>& refs, const BvhOptions& opt)
         : refs_(refs), opt_(opt), bins_(std::clamp(opt.bins, 4, Bins::kMax)) {
         unsigned t = opt.threads ? opt.threads : std::max(1u, std::thread::hardware_concurrency());
         tokens_ = (int)t - 1;
         // A binary tree over n references has at most n - 1 inner nodes (+1 for a leaf root).
-        // Left uninitialised (alloc constructs each node): a build uses about n / 5 of them
+        // Left uninitialised (place() constructs each node): a build uses about n / 5 of them
         // (leaves hold up to max_leaf references), and pages never written are never faulted
         // in; constructing all n (96 bytes each with 4-lane boxes) took a tenth of the build.
-        storage_.reset(new NodeStorage[std::max<size_t>(refs.size(), 1)]);
+        storage_.reserve(std::max<size_t>(refs.size(), 1));
+        slots_ = storage_.data();
     }
 
     // Returns the intermediate root node index.
     uint32_t run() {
-        if (refs_.empty()) return alloc();  // both slots empty
+        if (refs_.empty()) return place(alloc(), BNode());  // both slots empty
         Box bounds, cbounds;
         bounds_of(0, (uint32_t)refs_.size(), bounds, cbounds);
         Slot top = build(0, (uint32_t)refs_.size(), bounds, cbounds, 1);
         if (top.count == 0) return top.child;
-        uint32_t root = alloc();  // the whole scene is one leaf: root with one used slot
-        BNode& node = nodes()[root];
+        BNode node;  // the whole scene is one leaf: root with one used slot
         node.box[0] = top.box;
         node.child[0] = top.child;
         node.count[0] = top.count;
         node.end = top.count;
-        return root;
+        return place(alloc(), node);
     }
 
     // The nodes alloc() handed out: [0, used()).
-    BNode* nodes() const { return std::launder(reinterpret_cast<BNode*>(storage_.get())); }
+    BNode* nodes() const { return std::launder(reinterpret_cast<BNode*>(slots_)); }
     uint32_t used() const { return used_.load(); }
 
 private:
@@ -216,9 +275,12 @@ private:
     };
     static_assert(std::is_trivially_destructible<BNode>::value, "nodes are never destroyed");
 
-    uint32_t alloc() {
-        const uint32_t id = used_.fetch_add(1);
-        new (&storage_[id]) BNode();
+    // A node's index is taken before its subtrees are built and the node is written once, by
+    // place(), when they are done: constructing it in alloc() as well wrote each node twice, the
+    // first time into a fresh cache line (~4 % of Builder::build in perf).
+    uint32_t alloc() { return used_.fetch_add(1); }
+    uint32_t place(uint32_t id, const BNode& node) {
+        new (slots_ + id) BNode(node);
         return id;
     }
 
@@ -392,15 +454,7 @@ private:
             left = build(b, mid, best_l, cl, depth + 1);
             right = build(mid, e, best_r, cr, depth + 1);
         }
-        BNode& node = nodes()[id];
-        node.box[0] = left.box;
-        node.box[1] = right.box;
-        node.child[0] = left.child;
-        node.child[1] = right.child;
-        node.count[0] = left.count;
-        node.count[1] = right.count;
-        node.begin = b;
-        node.end = e;
+        place(id, BNode{{left.box, right.box}, {left.child, right.child}, {left.count, right.count}, b, e});
         Slot s;
         s.box = bounds;
         s.child = id;
@@ -408,8 +462,9 @@ private:
         return s;
     }
 
-    std::vector<Ref>& refs_;
-    std::unique_ptr<NodeStorage[]> storage_;
+    BuildArray<Ref>& refs_;
+    BuildArray<NodeStorage> storage_;  // reserved, never resized: alloc() hands out its slots
+    NodeStorage* slots_ = nullptr;     // storage_.data()
     BvhOptions opt_;
     int bins_;
     std::atomic<int> tokens_{0};
@@ -761,7 +816,7 @@ struct Flattener {
 };
 
 // Box of the capsule piece between parameters [a, b] of the segment, split while it pays.
-void add_refs(std::vector<Ref>& refs, uint32_t seg, const float* p0, const float* p1, float r,
+void add_refs(BuildArray<Ref>& refs, uint32_t seg, const float* p0, const float* p1, float r,
               float a, float b, int depth, const BvhOptions& opt) {
     float pa[3], pb[3];
     for (int k = 0; k < 3; ++k) {
@@ -790,8 +845,8 @@ void add_refs(std::vector<Ref>& refs, uint32_t seg, const float* p0, const float
     refs.push_back(ref);
 }
 
-void build_bvh_from(const std::vector<HtSegment>& base, SceneGeometry& geo, const BvhOptions& opt) {
-    std::vector<Ref> refs;
+void build_bvh_from(const BuildArray<HtSegment>& base, SceneGeometry& geo, const BvhOptions& opt) {
+    BuildArray<Ref> refs;
     refs.reserve(base.size());
     for (uint32_t i = 0; i < base.size(); ++i) {
         if (base[i].flags & HT_SEG_TRIANGLE) {
@@ -834,7 +889,7 @@ void build_bvh_from(const std::vector<HtSegment>& base, SceneGeometry& geo, cons
     // Each output node stems from its own binary node (two records if oriented).  Not one per
     // reference: with 256-byte records that reservation (64 MB for the strand anchor) made the
     // build ~1.4x slower (host/bvh/NOTES.md "8-wide nodes").
-    geo.nodes.reserve(size_t(builder.used()) * (opt.obb_ratio > 0 ? 2 : 1) + 1);
+    reserve_huge(geo.nodes, size_t(builder.used()) * (opt.obb_ratio > 0 ? 2 : 1) + 1);
     std::vector<Moments> moments;
     if (opt.obb_ratio > 0) {
         moments.resize(builder.used());
@@ -847,8 +902,9 @@ void build_bvh_from(const std::vector<HtSegment>& base, SceneGeometry& geo, cons
     fl.root_area = std::max(rb.half_area(), 1e-30);
     fl.visit(root, 0, fl.root_area);
 
-    geo.segments.resize(refs.size());
-    for (size_t i = 0; i < refs.size(); ++i) geo.segments[i] = base[refs[i].seg()];
+    geo.segments.clear();
+    reserve_huge(geo.segments, refs.size());
+    for (const Ref& ref : refs) geo.segments.push_back(base[ref.seg()]);
 
     BvhStats& st = geo.stats;
     st.nodes = geo.nodes.size();
@@ -876,13 +932,23 @@ SceneGeometry build_geometry(const Strands& strands, const std::vector<Mesh>& me
                              const BvhOptions& opt) {
     const auto t0 = std::chrono::steady_clock::now();
     SceneGeometry geo;
-    geo.points.resize(strands.points.size());
+    const size_t ns = strands.strand_count();
+    size_t triangles = 0;
+    for (const Mesh& m : meshes) triangles += m.indices.size() / 3;
+    reserve_huge(geo.points, strands.points.size() + 3 * triangles);
     for (size_t i = 0; i < strands.points.size(); ++i) {
         const float r = i < strands.radius.size() ? strands.radius[i] : 0.0f;
-        geo.points[i] = HtPoint{strands.points[i][0], strands.points[i][1], strands.points[i][2], r};
+        geo.points.push_back(HtPoint{strands.points[i][0], strands.points[i][1], strands.points[i][2], r});
     }
-    std::vector<HtSegment> base;
-    const size_t ns = strands.strand_count();
+    // Exact: growing by doubling copied the records and faulted in each new block.
+    size_t segments = triangles;
+    for (size_t s = 0; s < ns; ++s) {
+        const uint32_t b = strands.first_point[s], e = strands.first_point[s + 1];
+        segments += e > b ? e - b - 1 : 0;
+    }
+    BuildArray<HtSegment> base;
+    base.reserve(segments);
+    geo.triangles.reserve(triangles);
     for (size_t s = 0; s < ns; ++s) {
         const uint32_t b = strands.first_point[s], e = strands.first_point[s + 1];
         for (uint32_t p = b; p + 1 < e; ++p) {
@@ -941,7 +1007,7 @@ SceneGeometry build_geometry(const Strands& strands, const std::vector<Mesh>& me
 
 void rebuild_bvh(SceneGeometry& geo, const BvhOptions& opt) {
     const auto t0 = std::chrono::steady_clock::now();
-    std::vector<HtSegment> base(geo.segment_count + geo.triangle_count);
+    BuildArray<HtSegment> base(geo.segment_count + geo.triangle_count);
     for (const HtSegment& s : geo.segments) base[s.segment] = s;
     build_bvh_from(base, geo, opt);
     geo.stats.build_ms =

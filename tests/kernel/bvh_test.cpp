@@ -246,6 +246,34 @@ TEST(Bvh, HostTraversalWithSplitReferences) {
     check_host_against_brute(opt);
 }
 
+// The builder bins the root's references on two threads (from 65,536 references) and builds
+// subtrees as tasks (from 4,096): what it writes must not depend on how many threads ran it, with
+// or without split references (one segment in several leaves).
+TEST(Bvh, BuildIsIdenticalForAnyThreadCount) {
+    const Strands s = random_strands(29, 6000, 24, 0.02, 0.002);  // 144,000 segments
+    ht::BvhOptions split;
+    split.split_ratio = 0.9f;
+    for (const ht::BvhOptions& preset : {ht::BvhOptions{}, split}) {
+        ht::BvhOptions opt = preset;
+        opt.threads = 1;
+        const SceneGeometry one = ht::build_geometry(s, opt);
+        ASSERT_GT(one.stats.leaves, 1000u);
+        for (unsigned threads : {2u, 3u}) {
+            opt.threads = threads;
+            const SceneGeometry many = ht::build_geometry(s, opt);
+            SCOPED_TRACE(testing::Message() << threads << " threads, split_ratio " << opt.split_ratio);
+            ASSERT_EQ(one.nodes.size(), many.nodes.size());
+            ASSERT_EQ(one.segments.size(), many.segments.size());
+            ASSERT_EQ(one.points.size(), many.points.size());
+            EXPECT_EQ(std::memcmp(one.nodes.data(), many.nodes.data(), one.nodes.size() * sizeof(HtBvhNode)), 0);
+            EXPECT_EQ(std::memcmp(one.segments.data(), many.segments.data(), one.segments.size() * sizeof(HtSegment)), 0);
+            EXPECT_EQ(std::memcmp(one.points.data(), many.points.data(), one.points.size() * sizeof(HtPoint)), 0);
+            EXPECT_EQ(one.stats.leaves, many.stats.leaves);
+            EXPECT_EQ(one.stats.max_depth, many.stats.max_depth);
+        }
+    }
+}
+
 // --------------------------------------------------------------------------- oriented nodes
 
 // Straight strands of `nseg` segments along `dir` (not normalised), roots spread over [-1,1]^3.
