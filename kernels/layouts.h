@@ -42,7 +42,7 @@
         F(HtLight, radiance, 48) F(HtLight, cos_outer, 64) F(HtLight, cos_inner, 68)               \
     S(HtEnvironment, 32) F(HtEnvironment, width, 0) F(HtEnvironment, height, 4)                   \
         F(HtEnvironment, has_map, 8) F(HtEnvironment, enabled, 12) F(HtEnvironment, scale, 16)     \
-    S(HtMaterial, 224) F(HtMaterial, model, 0) F(HtMaterial, flags, 4) F(HtMaterial, sigma_a, 16) \
+    S(HtMaterial, 272) F(HtMaterial, model, 0) F(HtMaterial, flags, 4) F(HtMaterial, sigma_a, 16) \
         F(HtMaterial, eta, 32) F(HtMaterial, beta_m, 36) F(HtMaterial, beta_n, 40)                 \
         F(HtMaterial, alpha, 44) F(HtMaterial, v, 48) F(HtMaterial, mp_c, 64) F(HtMaterial, s, 80) \
         F(HtMaterial, azim_sigma, 84) F(HtMaterial, ks_norm, 88) F(HtMaterial, ks_exponent, 92)    \
@@ -51,7 +51,8 @@
         F(HtMaterial, beta_tt, 148) F(HtMaterial, beta_trt, 152) F(HtMaterial, caustic_wc, 160)    \
         F(HtMaterial, caustic_kg, 164) F(HtMaterial, caustic_deta, 168)                            \
         F(HtMaterial, caustic_dhm, 172) F(HtMaterial, eccentricity, 176) F(HtMaterial, kd, 192)    \
-        F(HtMaterial, ks, 208)                                                                     \
+        F(HtMaterial, ks, 208) F(HtMaterial, mz_sin_tilt, 224) F(HtMaterial, mz_cos_tilt, 240)     \
+        F(HtMaterial, mz_log_norm, 256)                                                            \
     S(HtFiberQuery, 64) F(HtFiberQuery, wo, 0) F(HtFiberQuery, wi, 16) F(HtFiberQuery, h, 32)     \
         F(HtFiberQuery, u0, 36) F(HtFiberQuery, u1, 40) F(HtFiberQuery, u2, 44)                    \
         F(HtFiberQuery, u3, 48)                                                                    \

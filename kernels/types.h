@@ -217,7 +217,7 @@ typedef struct {
 /* Hair material as the kernels see it: parameters already validated and converted on the host
  * (melanin/colour -> sigma_a, degrees -> radians) and derived quantities precomputed, all by
  * make_kernel_material (host/fiber/material.h).  Fields not used by a model are ignored by it.
- * 224 bytes (14 x 16). */
+ * 272 bytes (17 x 16). */
 typedef struct {
     uint model, flags, pad0, pad1;
     float sigma_a[4];                 /* absorption per unit radius, rgb (all models but kajiya) */
@@ -240,6 +240,12 @@ typedef struct {
     /* Kajiya-Kay */
     float kd[4];
     float ks[4];
+    /* marschner/zinke, per lobe R, TT, TRT (and 0): sin and cos of the cone tilt 2 alpha_p and the
+     * log normaliser of the sampling proxy's variance (2 beta_p)^2, which every shading point
+     * needs (kernels/fiber/marschner.h ht_mz_prepare_material; float kernels read them) */
+    float mz_sin_tilt[4];
+    float mz_cos_tilt[4];
+    float mz_log_norm[4];
 } HtMaterial;
 
 #endif /* HT_TYPES_H */

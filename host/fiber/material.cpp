@@ -3,6 +3,7 @@
 #include "core/constants.h"
 
 #include "kernels/fiber/longitudinal.h"
+#include "kernels/fiber/marschner.h"
 
 #include <cmath>
 #include <sstream>
@@ -125,6 +126,7 @@ HtMaterial make_kernel_material(const HairMaterialDesc& d) {
     m.beta_r = (float)(d.beta_r_deg * kRadiansPerDegree);
     m.beta_tt = (float)(0.5 * d.beta_r_deg * kRadiansPerDegree);
     m.beta_trt = (float)(2.0 * d.beta_r_deg * kRadiansPerDegree);
+    ht_mz_prepare_material(&m);
     check(d, "caustic_wc_deg", d.caustic_wc_deg, 1.0, 45.0);
     check(d, "caustic_kg", d.caustic_kg, 0.0, 10.0);
     check(d, "caustic_deta", d.caustic_deta, 0.01, 1.0);

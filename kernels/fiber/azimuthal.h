@@ -89,6 +89,32 @@ HT_FIBER_FN real ht_wrapped_gaussian(real x, real sigma) {
     return ht_max(sum, HT_R(0)) * HT_INV_TWO_PI;
 }
 
+/* The same as factor * exp(*exponent), the exponent that of the nearest image x wrapped to [-pi, pi]
+ * (the largest term), the other images relative to it (each <= 1: |x + 2 pi k| >= |x|), so that a
+ * caller multiplying by another exponential pays one exp for both (kernels/fiber/zinke.h).  Above
+ * sigma = 1.6 (the Fourier branch) the exponent is 0. */
+HT_FIBER_FN real ht_wrapped_gaussian_parts(real x, real sigma, real* exponent) {
+    x = ht_wrap_pi(x);
+    sigma = ht_max(sigma, HT_R(1e-6));
+    if (!(sigma < HT_R(1.6))) {
+        *exponent = HT_R(0);
+        return ht_wrapped_gaussian(x, sigma);
+    }
+    const real is = HT_R(1) / sigma;
+    real images = HT_R(1);
+    for (int k = -2; k <= 2; ++k) {
+        if (k == 0) continue;
+        /* (x + 2 pi k)^2 - x^2 without cancellation */
+        const real dd = HT_TWO_PI * (real)k * (HT_R(2) * x + HT_TWO_PI * (real)k);
+#ifdef HT_OPENCL
+        if (dd > HT_WRAPPED_GAUSSIAN_SKIP * sigma * sigma) continue; /* relative exponent below -110: 0 */
+#endif
+        images += exp(-HT_R(0.5) * dd * is * is);
+    }
+    *exponent = -HT_R(0.5) * x * x * is * is;
+    return HT_R(0.39894228040143267794) * is * images;
+}
+
 /* ---------------------------------------------------------------- Marschner root finding */
 
 /* Phi(p, gamma) for the far field with inv_ep = 1/eta'(theta_d), gamma = gamma_i' in [-pi/2, pi/2], and

@@ -71,8 +71,9 @@ HT_FIBER_FN real ht_mp_log_norm(real v) {
 
 /* d'Eon M_p(theta_i, theta_o; v) from sines/cosines (cosines >= 0), given log_norm = ht_mp_log_norm(v):
  *   M = i0e(a) exp((cos(theta_i + theta_o) - 1)/v + log_norm)   (no overflow: the exponent is <= log_norm).
- * Finite for v >= 1e-7. */
-HT_FIBER_FN real ht_mp_n(real cos_i, real sin_i, real cos_o, real sin_o, real v, real log_norm) {
+ * Finite for v >= 1e-7.  _parts: M = returned factor * exp(*exponent), for a caller that multiplies
+ * M by another exponential and pays one exp for both (kernels/fiber/zinke.h). */
+HT_FIBER_FN real ht_mp_n_parts(real cos_i, real sin_i, real cos_o, real sin_o, real v, real log_norm, real* exponent) {
     v = ht_max(v, HT_R(1e-7));
     real inv_v = HT_R(1) / v;
     real a = cos_i * cos_o * inv_v;
@@ -80,12 +81,19 @@ HT_FIBER_FN real ht_mp_n(real cos_i, real sin_i, real cos_o, real sin_o, real v,
     real S = sin_i * cos_o + cos_i * sin_o; /* sin(theta_i + theta_o) */
     real cm1 = C > HT_R(0) ? -S * S / (HT_R(1) + C) : C - HT_R(1); /* cos - 1 without cancellation */
 #ifdef HT_HOST
-    return ht_i0e(a) * exp(ht_min(cm1 * inv_v + log_norm, HT_R(80)));
+    *exponent = ht_min(cm1 * inv_v + log_norm, HT_R(80));
+    return ht_i0e(a);
 #else
     float shift;
     const float f = ht_i0e_factor(a, &shift);
-    return f * exp(ht_min(cm1 * inv_v + log_norm, HT_R(80)) + shift);
+    *exponent = ht_min(cm1 * inv_v + log_norm, HT_R(80)) + shift;
+    return f;
 #endif
+}
+HT_FIBER_FN real ht_mp_n(real cos_i, real sin_i, real cos_o, real sin_o, real v, real log_norm) {
+    real e;
+    const real f = ht_mp_n_parts(cos_i, sin_i, cos_o, sin_o, v, log_norm, &e);
+    return f * exp(e);
 }
 HT_FIBER_FN real ht_mp(real cos_i, real sin_i, real cos_o, real sin_o, real v) {
     return ht_mp_n(cos_i, sin_i, cos_o, sin_o, v, ht_mp_log_norm(v));
@@ -109,10 +117,16 @@ HT_FIBER_FN void ht_mp_sample(real u1, real u2, real sin_o, real cos_o, real v, 
     *cos_i = ht_safe_sqrt(HT_R(1) - si * si);
 }
 
-/* Unit-area Gaussian with standard deviation sigma. */
-HT_FIBER_FN real ht_gaussian(real x, real sigma) {
+/* Unit-area Gaussian with standard deviation sigma; _parts: as factor * exp(*exponent). */
+HT_FIBER_FN real ht_gaussian_parts(real x, real sigma, real* exponent) {
     real is = HT_R(1) / ht_max(sigma, HT_R(1e-7));
-    return HT_R(0.39894228040143267794) * is * exp(-HT_R(0.5) * x * x * is * is);
+    *exponent = -HT_R(0.5) * x * x * is * is;
+    return HT_R(0.39894228040143267794) * is;
+}
+HT_FIBER_FN real ht_gaussian(real x, real sigma) {
+    real e;
+    const real f = ht_gaussian_parts(x, sigma, &e);
+    return f * exp(e);
 }
 
 /* Standard normal deviate from two uniforms (Box-Muller). */

@@ -44,14 +44,43 @@ HT_FIBER_FN void ht_marschner_angles(real3 wo, real3 wi, HtMarschnerAngles* a) {
  * with theta_o' = theta_o - 2 alpha_p (cone at theta_h = alpha_p) and v = (2 beta_p)^2 (the Gaussian
  * in theta_h of std beta_p is a Gaussian in theta_i of std 2 beta_p).  It lives on the sphere, so no
  * sample is lost at grazing angles, and its solid-angle density is M (the cos theta_i cancels). */
-HT_FIBER_FN void ht_mz_tilt(const HtMaterial* m, int p, real sin_o, real cos_o, real* sp, real* cp, real* v) {
-    real a = p == 0 ? m->alpha_r : (p == 1 ? m->alpha_tt : m->alpha_trt);
+HT_FIBER_FN void ht_mz_lobe_shape(const HtMaterial* m, int p, real* alpha, real* v) {
     real b = p == 0 ? m->beta_r : (p == 1 ? m->beta_tt : m->beta_trt);
-    real s2, c2;
+    *alpha = p == 0 ? m->alpha_r : (p == 1 ? m->alpha_tt : m->alpha_trt);
+    *v = HT_R(4) * b * b;
+}
+/* The proxy's per-material constants (sin, cos 2 alpha_p; the log normaliser of v): made by the
+ * host once per material (host/fiber/material.cpp) and again where --regularize widens the betas
+ * (kernels/integrator/shading_point.h), so a shading point does not redo three sincos, exps and
+ * logs of the material alone (docs/PERFORMANCE.md §3). */
+HT_FIBER_FN void ht_mz_prepare_material(HtMaterial* m) {
+    for (int p = 0; p < 3; ++p) {
+        real a, v, s2, c2;
+        ht_mz_lobe_shape(m, p, &a, &v);
+        ht_sincos(HT_R(2) * a, &s2, &c2);
+        m->mz_sin_tilt[p] = (float)s2;
+        m->mz_cos_tilt[p] = (float)c2;
+        m->mz_log_norm[p] = (float)ht_mp_log_norm(v);
+    }
+    m->mz_sin_tilt[3] = m->mz_log_norm[3] = 0.0f;
+    m->mz_cos_tilt[3] = 1.0f;
+}
+/* Lobe p's tilted cone (sin, cos theta_o'), v and log normaliser.  The host (double) derives the
+ * constants from alpha_p, beta_p exactly; the float kernels read the material's. */
+HT_FIBER_FN void ht_mz_tilt(const HtMaterial* m, int p, real sin_o, real cos_o, real* sp, real* cp, real* v,
+                            real* log_norm) {
+    real a, s2, c2;
+    ht_mz_lobe_shape(m, p, &a, v);
+#ifdef HT_HOST
     ht_sincos(HT_R(2) * a, &s2, &c2);
+    *log_norm = ht_mp_log_norm(*v);
+#else
+    s2 = m->mz_sin_tilt[p];
+    c2 = m->mz_cos_tilt[p];
+    *log_norm = m->mz_log_norm[p];
+#endif
     *sp = ht_clamp(sin_o * c2 - cos_o * s2, HT_R(-1), HT_R(1));
     *cp = fabs(cos_o * c2 + sin_o * s2);
-    *v = HT_R(4) * b * b;
 }
 
 /* What marschner and zinke need of wo (and, for zinke, h) alone: theta_o, each lobe's tilted cone
@@ -63,10 +92,11 @@ typedef struct {
     real sin_o, cos_o, theta_o;
     real tilt_s[3], tilt_c[3], tilt_v[3], tilt_n[3];
     real pr[3];
+    real gamma_i, cos_gamma_i; /* zinke: asin h, sqrt(1 - h^2) of the hit's h (marschner: 0) */
 } HtMzWo;
 
 HT_FIBER_FN void ht_mz_wo_clear(HtMzWo* o) {
-    o->sin_o = o->cos_o = o->theta_o = HT_R(0);
+    o->sin_o = o->cos_o = o->theta_o = o->gamma_i = o->cos_gamma_i = HT_R(0);
     for (int p = 0; p < 3; ++p) o->tilt_s[p] = o->tilt_c[p] = o->tilt_v[p] = o->tilt_n[p] = o->pr[p] = HT_R(0);
 }
 HT_FIBER_FN void ht_mz_wo_theta(const HtMaterial* m, real3 wo, HtMzWo* o) {
@@ -75,13 +105,15 @@ HT_FIBER_FN void ht_mz_wo_theta(const HtMaterial* m, real3 wo, HtMzWo* o) {
     o->theta_o = ht_asin(o->sin_o);
     for (int p = 0; p < 3; ++p) {
         if (!HT_LOBE_ON(p)) continue;
-        ht_mz_tilt(m, p, o->sin_o, o->cos_o, &o->tilt_s[p], &o->tilt_c[p], &o->tilt_v[p]);
-        o->tilt_n[p] = ht_mp_log_norm(o->tilt_v[p]);
+        ht_mz_tilt(m, p, o->sin_o, o->cos_o, &o->tilt_s[p], &o->tilt_c[p], &o->tilt_v[p], &o->tilt_n[p]);
     }
 }
 /* The proxy's density of theta_i for lobe p (per solid angle / dphi) and its sampler. */
 HT_FIBER_FN real ht_mz_theta_pdf(const HtMzWo* o, int p, real sin_i, real cos_i) {
     return ht_mp_n(cos_i, sin_i, o->tilt_c[p], o->tilt_s[p], o->tilt_v[p], o->tilt_n[p]);
+}
+HT_FIBER_FN real ht_mz_theta_pdf_parts(const HtMzWo* o, int p, real sin_i, real cos_i, real* exponent) {
+    return ht_mp_n_parts(cos_i, sin_i, o->tilt_c[p], o->tilt_s[p], o->tilt_v[p], o->tilt_n[p], exponent);
 }
 HT_FIBER_FN void ht_mz_theta_sample(const HtMzWo* o, int p, real u1, real u2, real* sin_i, real* cos_i) {
     ht_mp_sample(u1, u2, o->tilt_s[p], o->tilt_c[p], o->tilt_v[p], sin_i, cos_i);

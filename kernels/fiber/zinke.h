@@ -26,27 +26,33 @@
 
 #include "marschner.h"
 
-/* Lobe weights W_p(h) = A_p(h) and exit azimuths Phi(p, h) at theta_d. */
-HT_FIBER_FN void ht_zinke_w(const HtMaterial* m, real h, real sin_d, real cos_d, real3* w, real* phis) {
+/* Lobe weights W_p(h) = A_p(h) and exit azimuths Phi(p, h) at theta_d; _g: given c = cos gamma_i
+ * = sqrt(1 - h^2) and gi = gamma_i = asin h, which a shading point makes once (HtMzWo). */
+HT_FIBER_FN void ht_zinke_w_g(const HtMaterial* m, real h, real c, real gi, real sin_d, real cos_d, real3* w,
+                              real* phis) {
     real eta = m->eta;
     real inv_ep = ht_inv_eta_prime(eta, sin_d, cos_d), ctt = ht_cos_theta_t(eta, sin_d);
-    real c = ht_safe_sqrt(HT_R(1) - h * h);
-    real gi = ht_asin(h), gt = ht_asin(h * inv_ep);
+    real gt = ht_asin(h * inv_ep);
     for (int p = 0; p < 3; ++p) phis[p] = ht_phi_path(p, gi, gt);
     ht_marschner_ap3_k(m, h, c, eta, cos_d, inv_ep, ctt, w);
 }
+HT_FIBER_FN void ht_zinke_w(const HtMaterial* m, real h, real sin_d, real cos_d, real3* w, real* phis) {
+    ht_zinke_w_g(m, h, ht_safe_sqrt(HT_R(1) - h * h), ht_asin(h), sin_d, cos_d, w, phis);
+}
 
-HT_FIBER_FN void ht_zinke_probs(const HtMaterial* m, real h, real sin_o, real cos_o, real* pr) {
+HT_FIBER_FN void ht_zinke_probs(const HtMaterial* m, real h, real c, real gi, real sin_o, real cos_o, real* pr) {
     real3 w[3];
     real phis[3];
-    ht_zinke_w(m, h, sin_o, cos_o, w, phis);
+    ht_zinke_w_g(m, h, c, gi, sin_o, cos_o, w, phis);
     real s = HT_R(0);
     for (int p = 0; p < 3; ++p) { pr[p] = HT_LOBE_ON(p) ? ht_max(ht_luminance(w[p]), HT_R(0)) : HT_R(0); s += pr[p]; }
     ht_lobe_probs_finish(pr, s);
 }
 HT_FIBER_FN void ht_zinke_wo(const HtMaterial* m, real3 wo, real h, HtMzWo* o) {
     ht_mz_wo_theta(m, wo, o);
-    ht_zinke_probs(m, h, o->sin_o, o->cos_o, o->pr);
+    o->cos_gamma_i = ht_safe_sqrt(HT_R(1) - h * h);
+    o->gamma_i = ht_asin(h);
+    ht_zinke_probs(m, h, o->cos_gamma_i, o->gamma_i, o->sin_o, o->cos_o, o->pr);
 }
 
 /* o: ht_zinke_wo of this wo and h */
@@ -56,7 +62,7 @@ HT_FIBER_FN void ht_zinke_eval_o(const HtMaterial* m, const HtMzWo* o, real3 wo,
     ht_mz_angles(o, wo, wi, &a);
     real3 w[3];
     real phis[3];
-    ht_zinke_w(m, h, a.sin_d, a.cos_d, w, phis);
+    ht_zinke_w_g(m, h, o->cos_gamma_i, o->gamma_i, a.sin_d, a.cos_d, w, phis);
     real geo = HT_R(0.5) * a.cos_i / ht_max(a.cos_d * a.cos_d, HT_R(1e-6));
     real ab[3] = {m->alpha_r, m->alpha_tt, m->alpha_trt};
     real bb[3] = {m->beta_r, m->beta_tt, m->beta_trt};
@@ -64,11 +70,18 @@ HT_FIBER_FN void ht_zinke_eval_o(const HtMaterial* m, const HtMzWo* o, real3 wo,
     real3 sum = ht_splat(HT_R(0));
     for (int p = 0; p < 3; ++p) {
         if (!HT_LOBE_ON(p)) { lobes[p] = ht_splat(HT_R(0)); continue; }
-        real g = ht_gaussian(a.theta_h - ab[p], bb[p]);
-        real d = ht_wrapped_gaussian(a.phi - phis[p], m->azim_sigma);
-        lobes[p] = ht_sanitize3(w[p] * (geo * g * d));
+        /* the longitudinal Gaussian, the azimuthal one and the proxy's M_p as factor * exp(exponent):
+         * two exps per lobe for the value and the pdf instead of three */
+        real eg, ed;
+        const real g = ht_gaussian_parts(a.theta_h - ab[p], bb[p], &eg);
+        const real d = ht_wrapped_gaussian_parts(a.phi - phis[p], m->azim_sigma, &ed);
+        lobes[p] = ht_sanitize3(w[p] * (geo * g * d * exp(eg + ed)));
         sum += lobes[p];
-        if (pdf) pd += o->pr[p] * ht_mz_theta_pdf(o, p, a.sin_i, a.cos_i) * d;
+        if (pdf) {
+            real em;
+            const real mp = ht_mz_theta_pdf_parts(o, p, a.sin_i, a.cos_i, &em);
+            pd += o->pr[p] * mp * d * exp(em + ed);
+        }
     }
     lobes[3] = ht_splat(HT_R(0));
     *value = sum;
@@ -90,7 +103,7 @@ HT_FIBER_FN int ht_zinke_sample_o(const HtMaterial* m, const HtMzWo* o, real3 wo
     real n2, n3;
     ht_normal_pair(u3, ur, &n2, &n3);
     real inv_ep = ht_inv_eta_prime(m->eta, sin_d, cos_d);
-    real phi_p = ht_phi_path(p, ht_asin(h), ht_asin(h * inv_ep));
+    real phi_p = ht_phi_path(p, o->gamma_i, ht_asin(h * inv_ep));
     real3 w = ht_dir_from(wo, sin_i, cos_i, ht_wrap_pi(phi_p + m->azim_sigma * n2));
     real3 lobes[4];
     real3 value;

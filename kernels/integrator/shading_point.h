@@ -47,6 +47,9 @@ HT_FN void ht_regularize(HtMaterial* m, uint bounce) {
         m->beta_tt = ht_max(m->beta_tt, HT_REGULARIZE_WIDTH);
         m->beta_trt = ht_max(m->beta_trt, HT_REGULARIZE_WIDTH);
         m->azim_sigma = ht_max(m->azim_sigma, HT_REGULARIZE_WIDTH);
+#if HT_FEATURE_MODEL_MARSCHNER || HT_FEATURE_MODEL_ZINKE
+        ht_mz_prepare_material(m); /* the sampling proxy's constants follow the wider betas */
+#endif
     }
 #endif
 }

@@ -192,3 +192,39 @@ TEST(FiberMarschner, CubicApproximationIsOnlyAStart) {
     double phis = (6 * p * c / HT_PI - 2) * gs - 8 * p * c / (HT_PI * HT_PI * HT_PI) * gs * gs * gs;
     EXPECT_NEAR(phis * 180 / HT_PI, 20.49, 0.01);
 }
+
+TEST(FiberMarschner, ExponentPartsAreTheFunctions) {
+    // zinke's eval multiplies factor * exp(exponent) forms to pay one exp per product: each must be
+    // its function.  The wrapped Gaussian against an independent sum over 201 images (truncation
+    // far below 1e-300 for sigma <= 3), the Gaussian and M_p against their closed forms; relative
+    // 1e-12 (double rounding of a few operations and of exp at |exponent| <= ~700).
+    for (double sigma : {1e-3, 0.05, 0.2, 1.0, 1.59, 1.61, 3.0}) {
+        for (double x = -10.0; x <= 10.0; x += 0.0625) {
+            for (double xx : {x, 3.14159265358979, -3.14159265358979, 3.1415926536, -3.1415926536}) {
+                double truth = 0;
+                for (int k = -100; k <= 100; ++k) {
+                    const double d = xx + 2 * 3.14159265358979323846 * k;
+                    truth += std::exp(-0.5 * d * d / (sigma * sigma)) / (sigma * std::sqrt(2 * 3.14159265358979323846));
+                }
+                double e;
+                const double f = ht_wrapped_gaussian_parts(xx, sigma, &e);
+                EXPECT_LE(e, 0.0);
+                EXPECT_NEAR(f * std::exp(e), truth, 1e-12 * truth + 1e-300) << sigma << " " << xx;
+                const double g = ht_gaussian_parts(xx, sigma, &e);
+                const double gt = std::exp(-0.5 * xx * xx / (sigma * sigma)) / (sigma * std::sqrt(2 * 3.14159265358979323846));
+                EXPECT_NEAR(g * std::exp(e), gt, 1e-12 * gt + 1e-300);
+            }
+        }
+    }
+    // M_p against d'Eon's closed form exp(-sin ti sin to / v) I0(cos ti cos to / v) / (2 v sinh(1/v)),
+    // for the v where it does not overflow
+    for (double v : {0.05, 0.2, 0.5, 4.0})
+        for (double ti = -1.5; ti <= 1.5; ti += 0.1)
+            for (double to = -1.5; to <= 1.5; to += 0.3) {
+                const double ci = std::cos(ti), si = std::sin(ti), co = std::cos(to), so = std::sin(to);
+                double e;
+                const double f = ht_mp_n_parts(ci, si, co, so, v, ht_mp_log_norm(v), &e);
+                const double truth = std::exp(-si * so / v) * std::cyl_bessel_i(0.0, ci * co / v) / (2 * v * std::sinh(1 / v));
+                EXPECT_NEAR(f * std::exp(e), truth, 1e-12 * truth + 1e-300) << v << " " << ti << " " << to;
+            }
+}

@@ -86,6 +86,17 @@ TEST(FiberMaterial, Conversions) {
     EXPECT_NEAR(m.beta_tt, 3 * deg, 1e-7);
     EXPECT_NEAR(m.beta_trt, 12 * deg, 1e-7);
     EXPECT_NEAR(m.caustic_wc, 15 * deg, 1e-7);
+    // the sampling proxy's per-lobe constants the float kernels read (kernels/fiber/marschner.h
+    // ht_mz_tilt): sin, cos 2 alpha_p and d'Eon's log normaliser -log v - log(1 - e^{-2/v}) of
+    // v = (2 beta_p)^2, to float rounding (relative 6e-8; 2e-7 allows for the float inputs)
+    const double alphas[3] = {-8 * deg, 4 * deg, 12 * deg}, betas[3] = {6 * deg, 3 * deg, 12 * deg};
+    for (int p = 0; p < 3; ++p) {
+        const double v = 4 * betas[p] * betas[p];
+        EXPECT_NEAR(m.mz_sin_tilt[p], std::sin(2 * alphas[p]), 2e-7) << p;
+        EXPECT_NEAR(m.mz_cos_tilt[p], std::cos(2 * alphas[p]), 2e-7) << p;
+        const double log_norm = -std::log(v) - std::log(1 - std::exp(-2 / v));
+        EXPECT_NEAR(m.mz_log_norm[p], log_norm, 2e-7 * std::fabs(log_norm)) << p;
+    }
     // Kajiya-Kay normaliser: p = 1 -> 1/(2 pi * pi/2) = 1/pi^2
     EXPECT_NEAR(kajiya_ks_norm(1.0), 1 / (3.14159265358979 * 3.14159265358979), 1e-12);
     // colour inversion round trip at beta_n = 0.3 (docs/MODEL.md §11: c = 0.5 -> 0.013857)
