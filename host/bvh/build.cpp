@@ -13,6 +13,7 @@
 #include <stdexcept>
 #include <thread>
 #include <type_traits>
+#include <utility>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -105,6 +106,11 @@ inline F4 mul4(F4 a, F4 b) { return _mm_mul_ps(a, b); }
 // function, so ties of -0 and +0 keep the zero the scalar builder kept: identical node boxes.
 inline F4 min4(F4 a, F4 b) { return _mm_min_ps(b, a); }
 inline F4 max4(F4 a, F4 b) { return _mm_max_ps(b, a); }
+// a where take, else b.
+inline F4 select4(bool take, F4 a, F4 b) {
+    const __m128 m = _mm_castsi128_ps(_mm_set1_epi32(-(int)take));
+    return _mm_or_ps(_mm_and_ps(m, a), _mm_andnot_ps(m, b));
+}
 // Lanes 0-2 of p, lane 3 = 0.
 inline F4 load_xyz(const float* p) {
     return _mm_and_ps(_mm_load_ps(p), _mm_castsi128_ps(_mm_setr_epi32(-1, -1, -1, 0)));
@@ -135,6 +141,7 @@ inline F4 sub4(F4 a, F4 b) { return lanewise(a, b, [](float x, float y) { return
 inline F4 mul4(F4 a, F4 b) { return lanewise(a, b, [](float x, float y) { return x * y; }); }
 inline F4 min4(F4 a, F4 b) { return lanewise(a, b, [](float x, float y) { return std::min(x, y); }); }
 inline F4 max4(F4 a, F4 b) { return lanewise(a, b, [](float x, float y) { return std::max(x, y); }); }
+inline F4 select4(bool take, F4 a, F4 b) { return take ? a : b; }
 inline F4 load_xyz(const float* p) { return F4{{p[0], p[1], p[2], 0.0f}}; }
 inline void clamp_to_int4(F4 x, int top, int32_t out[4]) {
     for (int k = 0; k < 4; ++k) out[k] = std::clamp((int)x.v[k], 0, top);
@@ -239,7 +246,10 @@ double leaf_groups(uint32_t n, const BvhOptions& opt) {
 class Builder {
 public:
     Builder(BuildArray<Ref>& refs, const BvhOptions& opt)
-        : refs_(refs), opt_(opt), bins_(std::clamp(opt.bins, 4, Bins::kMax)) {
+        : refs_(refs), opt_(opt), bins_(std::clamp(opt.bins, 4, Bins::kMax)),
+          lanes_((uint32_t)std::max(1, opt.leaf_lanes)), lane_shift_(-1) {
+        for (int k = 0; k < 31; ++k)
+            if (lanes_ == 1u << k) lane_shift_ = k;
         unsigned t = opt.threads ? opt.threads : std::max(1u, std::thread::hardware_concurrency());
         tokens_ = (int)t - 1;
         // A binary tree over n references has at most n - 1 inner nodes (+1 for a leaf root).
@@ -247,6 +257,7 @@ public:
         // (leaves hold up to max_leaf references), and pages never written are never faulted
         // in; constructing all n (96 bytes each with 4-lane boxes) took a tenth of the build.
         storage_.reserve(std::max<size_t>(refs.size(), 1));
+        mask_.reset(new uint64_t[refs.size() / 32 + 2]);  // see partition_by_mask
         slots_ = storage_.data();
     }
 
@@ -289,6 +300,123 @@ private:
             bounds.grow(refs_[i].lo4(), refs_[i].hi4());
             cbounds.grow_centroid(refs_[i].center4());
         }
+    }
+
+    // std::partition of [b, e) as libstdc++ does it for random-access iterators (Hoare: the first
+    // reference from the left that goes right swaps with the first from the right that goes left),
+    // so the order of the references, and with it the tree, is the one std::partition gave; each
+    // reference is tested once, and its centroid grows the bounds of the side it ends on, which
+    // saves the children's two centroid passes.  Min and max over a different order can differ
+    // from the passes' only in the sign of a zero, which no bin index or scale sees (see Box).
+    template <class Left>
+    uint32_t partition(uint32_t b, uint32_t e, Box& cl, Box& cr, Left left_of) {
+        return e - b >= kMaskFrom ? partition_by_mask(b, e, cl, cr, left_of) : partition_hoare(b, e, cl, cr, left_of);
+    }
+    static constexpr uint32_t kMaskFrom = 64;  // references; partition_by_mask needs >= 32
+
+    // The same permutation without a branch per reference: Hoare's k-th swap pairs the k-th
+    // reference of [b, mid) that goes right with the k-th of [mid, e), counted from the end, that
+    // goes left.  A first pass writes each side bit to a mask and grows both sides' centroid
+    // bounds (a select instead of a branch), the second swaps those pairs found in the mask words.
+    // On a strand's run of references the sides alternate too irregularly for the branch
+    // predictor: the mispredictions were most of std::partition's time in perf.
+    template <class Left>
+    uint32_t partition_by_mask(uint32_t b, uint32_t e, Box& cl, Box& cr, Left left_of) {
+        // Range [b, e) owns the words from b / 32 on: ceil(n / 64) of them fit below the next
+        // range's first word for n >= 32, so the two threads' ranges never share a word.
+        uint64_t* const w = mask_.get() + b / 32;
+        const Ref* const r = refs_.data() + b;
+        const uint32_t n = e - b;
+        const F4 pinf = load4(Box().lo), minf = load4(Box().hi);
+        F4 llo = load4(cl.lo), lhi = load4(cl.hi), rlo = load4(cr.lo), rhi = load4(cr.hi);
+        uint32_t m = 0;  // references that go left
+        for (uint32_t k0 = 0; k0 < n; k0 += 64) {
+            const uint32_t k1 = std::min(n, k0 + 64);
+            uint64_t word = 0;
+            for (uint32_t k = k0; k < k1; ++k) {
+                const bool left = left_of(r[k]);
+                word |= uint64_t(left) << (k - k0);
+                m += left;
+                const F4 c = r[k].center4();
+                llo = min4(llo, select4(left, c, pinf));
+                lhi = max4(lhi, select4(left, c, minf));
+                rlo = min4(rlo, select4(left, pinf, c));
+                rhi = max4(rhi, select4(left, minf, c));
+            }
+            w[k0 >> 6] = word;
+        }
+        store4(cl.lo, llo);
+        store4(cl.hi, lhi);
+        store4(cr.lo, rlo);
+        store4(cr.hi, rhi);
+
+        // Bits of word j: positions below m that go right, and positions from m on that go left.
+        auto wrong_left = [&](uint32_t j) {
+            const uint64_t go_right = ~w[j];
+            return (j + 1) * 64 <= m ? go_right : go_right & ((uint64_t(1) << (m - j * 64)) - 1);
+        };
+        auto wrong_right = [&](uint32_t j) {
+            return j * 64 >= m ? w[j] : w[j] & ~((uint64_t(1) << (m - j * 64)) - 1);
+        };
+        Ref* const out = refs_.data() + b;
+        const uint32_t left_words = (m + 63) / 64;
+        uint32_t jl = 0, jr = (n - 1) / 64;
+        uint64_t bl = wrong_left(jl), br = wrong_right(jr);
+        for (;;) {
+            while (bl == 0) {
+                if (++jl == left_words) return b + m;
+                bl = wrong_left(jl);
+            }
+            while (br == 0) br = wrong_right(--jr);  // as many wrong on the right as on the left
+            const uint32_t i = jl * 64 + (uint32_t)__builtin_ctzll(bl);
+            bl &= bl - 1;
+            const int top = 63 - __builtin_clzll(br);
+            br &= ~(uint64_t(1) << top);
+            std::swap(out[i], out[jr * 64 + (uint32_t)top]);
+        }
+    }
+
+    template <class Left>
+    uint32_t partition_hoare(uint32_t b, uint32_t e, Box& cl, Box& cr, Left left_of) {
+        Ref* const base = refs_.data();
+        Ref* first = base + b;
+        Ref* last = base + e;
+        F4 llo = load4(cl.lo), lhi = load4(cl.hi), rlo = load4(cr.lo), rhi = load4(cr.hi);
+        for (;;) {
+            for (;; ++first) {
+                if (first == last) goto done;
+                if (!left_of(*first)) break;
+                const F4 c = first->center4();
+                llo = min4(llo, c);
+                lhi = max4(lhi, c);
+            }
+            {
+                const F4 c = first->center4();
+                rlo = min4(rlo, c);
+                rhi = max4(rhi, c);
+            }
+            for (;;) {
+                --last;
+                if (first == last) goto done;
+                if (left_of(*last)) break;
+                const F4 c = last->center4();
+                rlo = min4(rlo, c);
+                rhi = max4(rhi, c);
+            }
+            {
+                const F4 c = last->center4();
+                llo = min4(llo, c);
+                lhi = max4(lhi, c);
+            }
+            std::swap(*first, *last);
+            ++first;
+        }
+    done:
+        store4(cl.lo, llo);
+        store4(cl.hi, lhi);
+        store4(cr.lo, rlo);
+        store4(cr.hi, rhi);
+        return (uint32_t)(first - base);
     }
 
     // scale: 4 lanes, the last 0.  The bin of each axis is clamp((int)((c - lo) * scale)) of
@@ -345,7 +473,11 @@ private:
         return s;
     }
 
-    double groups(uint32_t n) const { return leaf_groups(n, opt_); }
+    // leaf_groups without its division: the sweep asks for two group counts per candidate plane,
+    // and a 32-bit div per count was a visible share of Builder::build in perf.
+    double groups(uint32_t n) const {
+        return lane_shift_ >= 0 ? (double)((n + lanes_ - 1) >> lane_shift_) : leaf_groups(n, opt_);
+    }
 
     Slot build(uint32_t b, uint32_t e, const Box& bounds, const Box& cbounds, int depth) {
         const uint32_t n = e - b;
@@ -417,30 +549,21 @@ private:
         if (n <= (uint32_t)opt_.max_leaf && leaf_cost <= best_cost) return leaf(b, e, bounds);
 
         uint32_t mid;
+        Box cl, cr;
         if (best_axis >= 0) {
             const int a = best_axis;
             const float lo = cbounds.lo[a], sc = scale[a];
-            auto it = std::partition(refs_.begin() + b, refs_.begin() + e, [&](const Ref& r) {
+            mid = partition(b, e, cl, cr, [&](const Ref& r) {
                 int k = std::clamp((int)((r.box.center(a) - lo) * sc), 0, nb - 1);
                 return k < best_split;
             });
-            mid = (uint32_t)(it - refs_.begin());
         } else {
             // All centroids coincide (duplicated or split pieces): halve the range.
             mid = b + n / 2;
             best_l = Box();
             best_r = Box();
-        }
-        Box cl, cr;
-        if (best_axis < 0) {
             bounds_of(b, mid, best_l, cl);
             bounds_of(mid, e, best_r, cr);
-        } else {
-            cl = Box();
-            cr = Box();
-            // Centroid bounds of the children (one pass each; the boxes came from the bins).
-            for (uint32_t i = b; i < mid; ++i) cl.grow_centroid(refs_[i].center4());
-            for (uint32_t i = mid; i < e; ++i) cr.grow_centroid(refs_[i].center4());
         }
 
         const uint32_t id = alloc();
@@ -464,9 +587,12 @@ private:
 
     BuildArray<Ref>& refs_;
     BuildArray<NodeStorage> storage_;  // reserved, never resized: alloc() hands out its slots
+    std::unique_ptr<uint64_t[]> mask_;  // partition_by_mask's side bits
     NodeStorage* slots_ = nullptr;     // storage_.data()
     BvhOptions opt_;
     int bins_;
+    uint32_t lanes_;   // max(1, opt_.leaf_lanes)
+    int lane_shift_;   // log2(lanes_) if a power of two, else -1
     std::atomic<int> tokens_{0};
     std::atomic<uint32_t> used_{0};
 };
