@@ -219,7 +219,7 @@ struct Bins {
     static constexpr int kMax = 64;
     Box box[3][kMax];
     uint32_t n[3][kMax];
-    Box right_box[kMax];  // sweep scratch
+    double right_cost[kMax];  // sweep scratch
     uint32_t right_n[kMax];
     void reset(int bins) {
         for (int a = 0; a < 3; ++a)
@@ -483,6 +483,10 @@ private:
         const uint32_t n = e - b;
         const double leaf_cost = opt_.c_isect * groups(n);
         if (n == 1 || depth >= kMaxBvhDepth) return leaf(b, e, bounds);
+        // Every split costs at least c_trav (areas and groups are not negative), so when a leaf
+        // costs no more, the leaf test after the sweep takes the leaf: the compact() preset's
+        // nodes of up to max_leaf need no binning.
+        if (n <= (uint32_t)opt_.max_leaf && opt_.c_isect >= 0 && leaf_cost <= opt_.c_trav) return leaf(b, e, bounds);
 
         // ---- binning (two threads for the big top-level ranges)
         // Small nodes get fewer bins: the SAH sweep is O(bins) per axis and dominated the
@@ -512,19 +516,21 @@ private:
 
         // ---- best SAH plane over all axes
         const double inv_area = 1.0 / std::max(bounds.half_area(), 1e-30);
+        const double isect_per_area = opt_.c_isect * inv_area;
         double best_cost = INFINITY;
         int best_axis = -1, best_split = 0;
         Box best_l, best_r;
         for (int a = 0; a < 3; ++a) {
             if (scale[a] == 0.0f) continue;
-            Box* right_box = bins.right_box;
+            // The right side's area x groups per plane, as the cost below would compute it.
+            double* right_cost = bins.right_cost;
             uint32_t* right_n = bins.right_n;
             Box acc;
             uint32_t cnt = 0;
             for (int i = nb - 1; i > 0; --i) {
                 acc.grow(bins.box[a][i]);
                 cnt += bins.n[a][i];
-                right_box[i] = acc;
+                right_cost[i] = acc.half_area() * groups(cnt);
                 right_n[i] = cnt;
             }
             Box left;
@@ -533,17 +539,19 @@ private:
                 left.grow(bins.box[a][i - 1]);
                 ln += bins.n[a][i - 1];
                 if (ln == 0 || right_n[i] == 0) continue;
-                const double cost = opt_.c_trav + opt_.c_isect * inv_area *
-                                                      (left.half_area() * groups(ln) +
-                                                       right_box[i].half_area() * groups(right_n[i]));
+                const double cost = opt_.c_trav + isect_per_area * (left.half_area() * groups(ln) + right_cost[i]);
                 if (cost < best_cost) {
                     best_cost = cost;
                     best_axis = a;
                     best_split = i;
-                    best_l = left;
-                    best_r = right_box[i];
                 }
             }
+        }
+        // The winner's boxes, grown in the sweeps' order: copying them at each better plane was a
+        // store of two boxes per improvement in the sweep.
+        if (best_axis >= 0) {
+            for (int i = 0; i < best_split; ++i) best_l.grow(bins.box[best_axis][i]);
+            for (int i = nb - 1; i >= best_split; --i) best_r.grow(bins.box[best_axis][i]);
         }
 
         if (n <= (uint32_t)opt_.max_leaf && leaf_cost <= best_cost) return leaf(b, e, bounds);
