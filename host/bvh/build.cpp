@@ -106,11 +106,9 @@ inline F4 mul4(F4 a, F4 b) { return _mm_mul_ps(a, b); }
 // function, so ties of -0 and +0 keep the zero the scalar builder kept: identical node boxes.
 inline F4 min4(F4 a, F4 b) { return _mm_min_ps(b, a); }
 inline F4 max4(F4 a, F4 b) { return _mm_max_ps(b, a); }
-// a where take, else b.
-inline F4 select4(bool take, F4 a, F4 b) {
-    const __m128 m = _mm_castsi128_ps(_mm_set1_epi32(-(int)take));
-    return _mm_or_ps(_mm_and_ps(m, a), _mm_andnot_ps(m, b));
-}
+// c, or all lanes NaN if drop: min4(x, NaN) and max4(x, NaN) are x (minps and maxps return the
+// second operand, here x, when either is NaN), so a dropped value grows no box.
+inline F4 unless4(bool drop, F4 c) { return _mm_or_ps(c, _mm_castsi128_ps(_mm_set1_epi32(-(int)drop))); }
 // Lanes 0-2 of p, lane 3 = 0.
 inline F4 load_xyz(const float* p) {
     return _mm_and_ps(_mm_load_ps(p), _mm_castsi128_ps(_mm_setr_epi32(-1, -1, -1, 0)));
@@ -141,7 +139,7 @@ inline F4 sub4(F4 a, F4 b) { return lanewise(a, b, [](float x, float y) { return
 inline F4 mul4(F4 a, F4 b) { return lanewise(a, b, [](float x, float y) { return x * y; }); }
 inline F4 min4(F4 a, F4 b) { return lanewise(a, b, [](float x, float y) { return std::min(x, y); }); }
 inline F4 max4(F4 a, F4 b) { return lanewise(a, b, [](float x, float y) { return std::max(x, y); }); }
-inline F4 select4(bool take, F4 a, F4 b) { return take ? a : b; }
+inline F4 unless4(bool drop, F4 c) { return drop ? set4(NAN, NAN, NAN, NAN) : c; }
 inline F4 load_xyz(const float* p) { return F4{{p[0], p[1], p[2], 0.0f}}; }
 inline void clamp_to_int4(F4 x, int top, int32_t out[4]) {
     for (int k = 0; k < 4; ++k) out[k] = std::clamp((int)x.v[k], 0, top);
@@ -317,9 +315,9 @@ private:
     // The same permutation without a branch per reference: Hoare's k-th swap pairs the k-th
     // reference of [b, mid) that goes right with the k-th of [mid, e), counted from the end, that
     // goes left.  A first pass writes each side bit to a mask and grows both sides' centroid
-    // bounds (a select instead of a branch), the second swaps those pairs found in the mask words.
-    // On a strand's run of references the sides alternate too irregularly for the branch
-    // predictor: the mispredictions were most of std::partition's time in perf.
+    // bounds (each with the centroid or NaN, see unless4), the second swaps the pairs the mask
+    // words name.  On a strand's run of references the sides alternate too irregularly for the
+    // branch predictor: the mispredictions were most of std::partition's time in perf.
     template <class Left>
     uint32_t partition_by_mask(uint32_t b, uint32_t e, Box& cl, Box& cr, Left left_of) {
         // Range [b, e) owns the words from b / 32 on: ceil(n / 64) of them fit below the next
@@ -327,7 +325,6 @@ private:
         uint64_t* const w = mask_.get() + b / 32;
         const Ref* const r = refs_.data() + b;
         const uint32_t n = e - b;
-        const F4 pinf = load4(Box().lo), minf = load4(Box().hi);
         F4 llo = load4(cl.lo), lhi = load4(cl.hi), rlo = load4(cr.lo), rhi = load4(cr.hi);
         uint32_t m = 0;  // references that go left
         for (uint32_t k0 = 0; k0 < n; k0 += 64) {
@@ -338,10 +335,11 @@ private:
                 word |= uint64_t(left) << (k - k0);
                 m += left;
                 const F4 c = r[k].center4();
-                llo = min4(llo, select4(left, c, pinf));
-                lhi = max4(lhi, select4(left, c, minf));
-                rlo = min4(rlo, select4(left, pinf, c));
-                rhi = max4(rhi, select4(left, minf, c));
+                const F4 cl4 = unless4(!left, c), cr4 = unless4(left, c);
+                llo = min4(llo, cl4);
+                lhi = max4(lhi, cl4);
+                rlo = min4(rlo, cr4);
+                rhi = max4(rhi, cr4);
             }
             w[k0 >> 6] = word;
         }
@@ -577,10 +575,17 @@ private:
         const uint32_t id = alloc();
         Slot left, right;
         if (n >= 4096 && take_token()) {
-            std::thread th([&] { left = build(b, mid, best_l, cl, depth + 1); });
+            // A token is a thread free to take a subtree.  Each side hands its token back as soon
+            // as its own subtree is done, not at the join: the subtrees of an uneven split
+            // finish apart, and the one still running can split off work to the idle thread.
+            std::thread th([&] {
+                left = build(b, mid, best_l, cl, depth + 1);
+                give_token();
+            });
             right = build(mid, e, best_r, cr, depth + 1);
-            th.join();
             give_token();
+            th.join();
+            tokens_.fetch_sub(1);  // this thread runs on (the other one has given its token back)
         } else {
             left = build(b, mid, best_l, cl, depth + 1);
             right = build(mid, e, best_r, cr, depth + 1);
