@@ -255,7 +255,7 @@ public:
         // (leaves hold up to max_leaf references), and pages never written are never faulted
         // in; constructing all n (96 bytes each with 4-lane boxes) took a tenth of the build.
         storage_.reserve(std::max<size_t>(refs.size(), 1));
-        mask_.reset(new uint64_t[refs.size() / 32 + 2]);  // see partition_by_mask
+        mask_.reset(new uint64_t[refs.size() / 32 + 2]);  // see partition
         slots_ = storage_.data();
     }
 
@@ -300,31 +300,25 @@ private:
         }
     }
 
-    // std::partition of [b, e) as libstdc++ does it for random-access iterators (Hoare: the first
-    // reference from the left that goes right swaps with the first from the right that goes left),
-    // so the order of the references, and with it the tree, is the one std::partition gave; each
-    // reference is tested once, and its centroid grows the bounds of the side it ends on, which
-    // saves the children's two centroid passes.  Min and max over a different order can differ
-    // from the passes' only in the sign of a zero, which no bin index or scale sees (see Box).
+    // The permutation std::partition gave (libstdc++'s Hoare loop: the next reference from the
+    // left that goes right swaps with the next from the right that goes left), so the tree is the
+    // same, without its branch per reference: on a strand's run of references the sides alternate
+    // too irregularly for the branch predictor, and the mispredictions were most of its time in
+    // perf.  Hoare's k-th swap pairs the k-th reference of [b, mid) that goes right with the k-th
+    // of [mid, e), counted from the end, that goes left; a first pass writes each reference's side
+    // to a bit mask, the second swaps the pairs the mask names.  The first pass also grows each
+    // side's centroid bounds (with the centroid or NaN, see unless4), which saves the children's
+    // two centroid passes; min and max in another order than those passes' can differ from theirs
+    // only in the sign of a zero, which no bin index or scale sees (see Box).
     template <class Left>
     uint32_t partition(uint32_t b, uint32_t e, Box& cl, Box& cr, Left left_of) {
-        return e - b >= kMaskFrom ? partition_by_mask(b, e, cl, cr, left_of) : partition_hoare(b, e, cl, cr, left_of);
-    }
-    static constexpr uint32_t kMaskFrom = 64;  // references; partition_by_mask needs >= 32
-
-    // The same permutation without a branch per reference: Hoare's k-th swap pairs the k-th
-    // reference of [b, mid) that goes right with the k-th of [mid, e), counted from the end, that
-    // goes left.  A first pass writes each side bit to a mask and grows both sides' centroid
-    // bounds (each with the centroid or NaN, see unless4), the second swaps the pairs the mask
-    // words name.  On a strand's run of references the sides alternate too irregularly for the
-    // branch predictor: the mispredictions were most of std::partition's time in perf.
-    template <class Left>
-    uint32_t partition_by_mask(uint32_t b, uint32_t e, Box& cl, Box& cr, Left left_of) {
-        // Range [b, e) owns the words from b / 32 on: ceil(n / 64) of them fit below the next
-        // range's first word for n >= 32, so the two threads' ranges never share a word.
-        uint64_t* const w = mask_.get() + b / 32;
-        const Ref* const r = refs_.data() + b;
+        // Up to 64 references need one word, on the stack; a longer range [b, e) owns the words
+        // of mask_ from b / 32 on: ceil(n / 64) of them fit below the next range's first word
+        // for n >= 32, so the two threads' ranges never share a word.
         const uint32_t n = e - b;
+        uint64_t one_word;
+        uint64_t* const w = n <= 64 ? &one_word : mask_.get() + b / 32;
+        const Ref* const r = refs_.data() + b;
         F4 llo = load4(cl.lo), lhi = load4(cl.hi), rlo = load4(cr.lo), rhi = load4(cr.hi);
         uint32_t m = 0;  // references that go left
         for (uint32_t k0 = 0; k0 < n; k0 += 64) {
@@ -348,6 +342,7 @@ private:
         store4(cr.lo, rlo);
         store4(cr.hi, rhi);
 
+        if (m == 0 || m == n) return b + m;
         // Bits of word j: positions below m that go right, and positions from m on that go left.
         auto wrong_left = [&](uint32_t j) {
             const uint64_t go_right = ~w[j];
@@ -372,49 +367,6 @@ private:
             br &= ~(uint64_t(1) << top);
             std::swap(out[i], out[jr * 64 + (uint32_t)top]);
         }
-    }
-
-    template <class Left>
-    uint32_t partition_hoare(uint32_t b, uint32_t e, Box& cl, Box& cr, Left left_of) {
-        Ref* const base = refs_.data();
-        Ref* first = base + b;
-        Ref* last = base + e;
-        F4 llo = load4(cl.lo), lhi = load4(cl.hi), rlo = load4(cr.lo), rhi = load4(cr.hi);
-        for (;;) {
-            for (;; ++first) {
-                if (first == last) goto done;
-                if (!left_of(*first)) break;
-                const F4 c = first->center4();
-                llo = min4(llo, c);
-                lhi = max4(lhi, c);
-            }
-            {
-                const F4 c = first->center4();
-                rlo = min4(rlo, c);
-                rhi = max4(rhi, c);
-            }
-            for (;;) {
-                --last;
-                if (first == last) goto done;
-                if (left_of(*last)) break;
-                const F4 c = last->center4();
-                rlo = min4(rlo, c);
-                rhi = max4(rhi, c);
-            }
-            {
-                const F4 c = last->center4();
-                llo = min4(llo, c);
-                lhi = max4(lhi, c);
-            }
-            std::swap(*first, *last);
-            ++first;
-        }
-    done:
-        store4(cl.lo, llo);
-        store4(cl.hi, lhi);
-        store4(cr.lo, rlo);
-        store4(cr.hi, rhi);
-        return (uint32_t)(first - base);
     }
 
     // scale: 4 lanes, the last 0.  The bin of each axis is clamp((int)((c - lo) * scale)) of
@@ -600,7 +552,7 @@ private:
 
     BuildArray<Ref>& refs_;
     BuildArray<NodeStorage> storage_;  // reserved, never resized: alloc() hands out its slots
-    std::unique_ptr<uint64_t[]> mask_;  // partition_by_mask's side bits
+    std::unique_ptr<uint64_t[]> mask_;  // partition's side bits
     NodeStorage* slots_ = nullptr;     // storage_.data()
     BvhOptions opt_;
     int bins_;
