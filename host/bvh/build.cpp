@@ -109,6 +109,12 @@ inline F4 max4(F4 a, F4 b) { return _mm_max_ps(b, a); }
 // c, or all lanes NaN if drop: min4(x, NaN) and max4(x, NaN) are x (minps and maxps return the
 // second operand, here x, when either is NaN), so a dropped value grows no box.
 inline F4 unless4(bool drop, F4 c) { return _mm_or_ps(c, _mm_castsi128_ps(_mm_set1_epi32(-(int)drop))); }
+// Lanes 0-2 of v, lane 3 all ones (NaN, which min4 and max4 ignore in their second operand).
+inline F4 nan_w(F4 v) { return _mm_or_ps(v, _mm_castsi128_ps(_mm_setr_epi32(0, 0, 0, -1))); }
+// v with the integer n added to the bits of lane 3 (lanes 0-2: + 0, unchanged bits).
+inline F4 add_w(F4 v, uint32_t n) {
+    return _mm_castsi128_ps(_mm_add_epi32(_mm_castps_si128(v), _mm_setr_epi32(0, 0, 0, (int)n)));
+}
 // Lanes 0-2 of p, lane 3 = 0.
 inline F4 load_xyz(const float* p) {
     return _mm_and_ps(_mm_load_ps(p), _mm_castsi128_ps(_mm_setr_epi32(-1, -1, -1, 0)));
@@ -140,6 +146,17 @@ inline F4 mul4(F4 a, F4 b) { return lanewise(a, b, [](float x, float y) { return
 inline F4 min4(F4 a, F4 b) { return lanewise(a, b, [](float x, float y) { return std::min(x, y); }); }
 inline F4 max4(F4 a, F4 b) { return lanewise(a, b, [](float x, float y) { return std::max(x, y); }); }
 inline F4 unless4(bool drop, F4 c) { return drop ? set4(NAN, NAN, NAN, NAN) : c; }
+inline F4 nan_w(F4 v) {
+    v.v[3] = NAN;
+    return v;
+}
+inline F4 add_w(F4 v, uint32_t n) {
+    uint32_t w;
+    std::memcpy(&w, &v.v[3], sizeof w);
+    w += n;
+    std::memcpy(&v.v[3], &w, sizeof w);
+    return v;
+}
 inline F4 load_xyz(const float* p) { return F4{{p[0], p[1], p[2], 0.0f}}; }
 inline void clamp_to_int4(F4 x, int top, int32_t out[4]) {
     for (int k = 0; k < 4; ++k) out[k] = std::clamp((int)x.v[k], 0, top);
@@ -213,25 +230,33 @@ struct Slot {
 // Binning scratch.  Reused per thread (thread_local in Builder::build) and reset for the bins
 // in use only: initialising all kMax boxes of 3 axes for each of ~N/1.3 nodes cost about a
 // quarter of the build.
+// A bin's reference count is the integer in the spare lane of its box's lo (0 in Box()), so
+// binning a reference writes two vectors per axis and no count: the binning was bound by its
+// stores.  A positive count's bits are a positive float, never below the 0 of lane 3 of a box
+// grown from bins, so grow() leaves that lane 0 and the boxes are as before.
 struct Bins {
     static constexpr int kMax = 64;
     Box box[3][kMax];
-    uint32_t n[3][kMax];
     double right_cost[kMax];  // sweep scratch
     uint32_t right_n[kMax];
     void reset(int bins) {
         for (int a = 0; a < 3; ++a)
-            for (int i = 0; i < bins; ++i) {
-                box[a][i] = Box();
-                n[a][i] = 0;
-            }
+            for (int i = 0; i < bins; ++i) box[a][i] = Box();
+    }
+    uint32_t n(int a, int i) const {
+        uint32_t c;
+        std::memcpy(&c, &box[a][i].lo[3], sizeof c);
+        return c;
+    }
+    // Adds a reference's box: lo is its lo with lane 3 NaN (nan_w), so the count's lane comes
+    // from add_w alone.
+    static void add(Box& bin, F4 lo, F4 hi, uint32_t count) {
+        store4(bin.lo, min4(add_w(load4(bin.lo), count), lo));
+        store4(bin.hi, max4(load4(bin.hi), hi));
     }
     void merge(const Bins& o, int bins) {
         for (int a = 0; a < 3; ++a)
-            for (int i = 0; i < bins; ++i) {
-                box[a][i].grow(o.box[a][i]);
-                n[a][i] += o.n[a][i];
-            }
+            for (int i = 0; i < bins; ++i) add(box[a][i], nan_w(load4(o.box[a][i].lo)), load4(o.box[a][i].hi), o.n(a, i));
     }
 };
 
@@ -372,13 +397,10 @@ private:
     // scale: 4 lanes, the last 0.  The bin of each axis is clamp((int)((c - lo) * scale)) of
     // the centroid c as in the partition's predicate, for the three axes at once.
     static void bin_ref(const Ref& r, F4 clo, F4 scale, int nb, Bins& out) {
-        const F4 lo = r.lo4(), hi = r.hi4();
         alignas(16) int32_t k[4];
         clamp_to_int4(mul4(sub4(r.center4(), clo), scale), nb - 1, k);
-        for (int a = 0; a < 3; ++a) {
-            out.box[a][k[a]].grow(lo, hi);
-            out.n[a][k[a]]++;
-        }
+        const F4 lo = nan_w(load4(r.box.lo)), hi = r.hi4();
+        for (int a = 0; a < 3; ++a) Bins::add(out.box[a][k[a]], lo, hi, 1);
     }
 
     // Consecutive references of a strand mostly fall in the same bins, so one pass is a chain
@@ -479,7 +501,7 @@ private:
             uint32_t cnt = 0;
             for (int i = nb - 1; i > 0; --i) {
                 acc.grow(bins.box[a][i]);
-                cnt += bins.n[a][i];
+                cnt += bins.n(a, i);
                 right_cost[i] = acc.half_area() * groups(cnt);
                 right_n[i] = cnt;
             }
@@ -487,7 +509,7 @@ private:
             uint32_t ln = 0;
             for (int i = 1; i < nb; ++i) {
                 left.grow(bins.box[a][i - 1]);
-                ln += bins.n[a][i - 1];
+                ln += bins.n(a, i - 1);
                 if (ln == 0 || right_n[i] == 0) continue;
                 const double cost = opt_.c_trav + isect_per_area * (left.half_area() * groups(ln) + right_cost[i]);
                 if (cost < best_cost) {
