@@ -106,9 +106,15 @@ inline F4 mul4(F4 a, F4 b) { return _mm_mul_ps(a, b); }
 // function, so ties of -0 and +0 keep the zero the scalar builder kept: identical node boxes.
 inline F4 min4(F4 a, F4 b) { return _mm_min_ps(b, a); }
 inline F4 max4(F4 a, F4 b) { return _mm_max_ps(b, a); }
-// c, or all lanes NaN if drop: min4(x, NaN) and max4(x, NaN) are x (minps and maxps return the
-// second operand, here x, when either is NaN), so a dropped value grows no box.
-inline F4 unless4(bool drop, F4 c) { return _mm_or_ps(c, _mm_castsi128_ps(_mm_set1_epi32(-(int)drop))); }
+// All lanes' bits set if (int)x[A] < split (truncated as clamp_to_int4 does), else 0.
+template <int A>
+inline F4 below4(F4 x, int split) {
+    const __m128i lt = _mm_cmplt_epi32(_mm_cvttps_epi32(x), _mm_set1_epi32(split));
+    return _mm_castsi128_ps(_mm_shuffle_epi32(lt, _MM_SHUFFLE(A, A, A, A)));
+}
+inline F4 or4(F4 a, F4 b) { return _mm_or_ps(a, b); }
+inline F4 not4(F4 a) { return _mm_xor_ps(a, _mm_castsi128_ps(_mm_set1_epi32(-1))); }
+inline uint32_t bit0(F4 m) { return (uint32_t)_mm_movemask_ps(m) & 1u; }
 // Lanes 0-2 of v, lane 3 all ones (NaN, which min4 and max4 ignore in their second operand).
 inline F4 nan_w(F4 v) { return _mm_or_ps(v, _mm_castsi128_ps(_mm_setr_epi32(0, 0, 0, -1))); }
 // v with the integer n added to the bits of lane 3 (lanes 0-2: + 0, unchanged bits).
@@ -145,7 +151,31 @@ inline F4 sub4(F4 a, F4 b) { return lanewise(a, b, [](float x, float y) { return
 inline F4 mul4(F4 a, F4 b) { return lanewise(a, b, [](float x, float y) { return x * y; }); }
 inline F4 min4(F4 a, F4 b) { return lanewise(a, b, [](float x, float y) { return std::min(x, y); }); }
 inline F4 max4(F4 a, F4 b) { return lanewise(a, b, [](float x, float y) { return std::max(x, y); }); }
-inline F4 unless4(bool drop, F4 c) { return drop ? set4(NAN, NAN, NAN, NAN) : c; }
+template <int A>
+inline F4 below4(F4 x, int split) {
+    const uint32_t m = (int)x.v[A] < split ? ~0u : 0u;
+    F4 r;
+    for (int k = 0; k < 4; ++k) std::memcpy(&r.v[k], &m, sizeof m);
+    return r;
+}
+template <class Op>
+inline F4 bitwise(F4 a, F4 b, Op op) {
+    for (int k = 0; k < 4; ++k) {
+        uint32_t x, y;
+        std::memcpy(&x, &a.v[k], sizeof x);
+        std::memcpy(&y, &b.v[k], sizeof y);
+        x = op(x, y);
+        std::memcpy(&a.v[k], &x, sizeof x);
+    }
+    return a;
+}
+inline F4 or4(F4 a, F4 b) { return bitwise(a, b, [](uint32_t x, uint32_t y) { return x | y; }); }
+inline F4 not4(F4 a) { return bitwise(a, a, [](uint32_t x, uint32_t) { return ~x; }); }
+inline uint32_t bit0(F4 m) {
+    uint32_t x;
+    std::memcpy(&x, &m.v[0], sizeof x);
+    return x >> 31;
+}
 inline F4 nan_w(F4 v) {
     v.v[3] = NAN;
     return v;
@@ -256,7 +286,8 @@ struct Bins {
     }
     void merge(const Bins& o, int bins) {
         for (int a = 0; a < 3; ++a)
-            for (int i = 0; i < bins; ++i) add(box[a][i], nan_w(load4(o.box[a][i].lo)), load4(o.box[a][i].hi), o.n(a, i));
+            for (int i = 0; i < bins; ++i)
+                add(box[a][i], nan_w(load4(o.box[a][i].lo)), load4(o.box[a][i].hi), o.n(a, i));
     }
 };
 
@@ -332,11 +363,18 @@ private:
     // perf.  Hoare's k-th swap pairs the k-th reference of [b, mid) that goes right with the k-th
     // of [mid, e), counted from the end, that goes left; a first pass writes each reference's side
     // to a bit mask, the second swaps the pairs the mask names.  The first pass also grows each
-    // side's centroid bounds (with the centroid or NaN, see unless4), which saves the children's
-    // two centroid passes; min and max in another order than those passes' can differ from theirs
-    // only in the sign of a zero, which no bin index or scale sees (see Box).
-    template <class Left>
-    uint32_t partition(uint32_t b, uint32_t e, Box& cl, Box& cr, Left left_of) {
+    // side's centroid bounds, with the centroid or NaN (min4(x, NaN) and max4(x, NaN) are x, as
+    // minps and maxps return their second operand, here x, when either is NaN): that saves the
+    // children's two centroid passes.  Min and max in another order than those passes' can differ
+    // from theirs only in the sign of a zero, which no bin index or scale sees (see Box).
+    //
+    // A reference goes left if its centroid's bin on axis A, computed as bin_ref does but not
+    // clamped, is below split (1 <= split <= nb - 1): clamping changes no side, as bins below 0
+    // clamp to 0 < split, bins above nb - 1 to nb - 1 >= split, and cvttps2dq's 0x80000000 for
+    // a value out of range is below split as its clamp to 0 is.
+    template <int A>
+    uint32_t partition(uint32_t b, uint32_t e, const Box& cbounds, const float* scale, int split, Box& cl,
+                       Box& cr) {
         // Up to 64 references need one word, on the stack; a longer range [b, e) owns the words
         // of mask_ from b / 32 on: ceil(n / 64) of them fit below the next range's first word
         // for n >= 32, so the two threads' ranges never share a word.
@@ -344,17 +382,19 @@ private:
         uint64_t one_word;
         uint64_t* const w = n <= 64 ? &one_word : mask_.get() + b / 32;
         const Ref* const r = refs_.data() + b;
+        const F4 clo = load4(cbounds.lo), sc = load4(scale);
         F4 llo = load4(cl.lo), lhi = load4(cl.hi), rlo = load4(cr.lo), rhi = load4(cr.hi);
         uint32_t m = 0;  // references that go left
         for (uint32_t k0 = 0; k0 < n; k0 += 64) {
             const uint32_t k1 = std::min(n, k0 + 64);
             uint64_t word = 0;
             for (uint32_t k = k0; k < k1; ++k) {
-                const bool left = left_of(r[k]);
-                word |= uint64_t(left) << (k - k0);
-                m += left;
                 const F4 c = r[k].center4();
-                const F4 cl4 = unless4(!left, c), cr4 = unless4(left, c);
+                const F4 left = below4<A>(mul4(sub4(c, clo), sc), split);
+                const uint32_t bit = bit0(left);
+                word |= uint64_t(bit) << (k - k0);
+                m += bit;
+                const F4 cl4 = or4(c, not4(left)), cr4 = or4(c, left);
                 llo = min4(llo, cl4);
                 lhi = max4(lhi, cl4);
                 rlo = min4(rlo, cr4);
@@ -531,12 +571,9 @@ private:
         uint32_t mid;
         Box cl, cr;
         if (best_axis >= 0) {
-            const int a = best_axis;
-            const float lo = cbounds.lo[a], sc = scale[a];
-            mid = partition(b, e, cl, cr, [&](const Ref& r) {
-                int k = std::clamp((int)((r.box.center(a) - lo) * sc), 0, nb - 1);
-                return k < best_split;
-            });
+            mid = best_axis == 0 ? partition<0>(b, e, cbounds, scale, best_split, cl, cr)
+                : best_axis == 1 ? partition<1>(b, e, cbounds, scale, best_split, cl, cr)
+                                 : partition<2>(b, e, cbounds, scale, best_split, cl, cr);
         } else {
             // All centroids coincide (duplicated or split pieces): halve the range.
             mid = b + n / 2;
