@@ -193,8 +193,8 @@ inline void clamp_to_int4(F4 x, int top, int32_t out[4]) {
 }
 #endif
 
-// Lanes 0-2 are x, y, z; lane 3 is no part of the box (0, except in a Ref's lo: see Ref), so
-// growing is one min and one max of four lanes.
+// Lanes 0-2 are x, y, z; lane 3 is no part of the box (0, except in the lo of a Ref and of a
+// bin: see Ref and Bins), so growing is one min and one max of four lanes.
 struct Box {
     alignas(16) float lo[4] = {INFINITY, INFINITY, INFINITY, 0.0f};
     alignas(16) float hi[4] = {-INFINITY, -INFINITY, -INFINITY, 0.0f};
