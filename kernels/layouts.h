@@ -55,7 +55,7 @@
         F(HtMaterial, mz_log_norm, 256)                                                            \
     S(HtFiberQuery, 64) F(HtFiberQuery, wo, 0) F(HtFiberQuery, wi, 16) F(HtFiberQuery, h, 32)     \
         F(HtFiberQuery, u0, 36) F(HtFiberQuery, u1, 40) F(HtFiberQuery, u2, 44)                    \
-        F(HtFiberQuery, u3, 48)                                                                    \
+        F(HtFiberQuery, u3, 48) F(HtFiberQuery, lobe_weight, 52)                                   \
     S(HtFiberResult, 112) F(HtFiberResult, value, 0) F(HtFiberResult, lobes, 16)                  \
         F(HtFiberResult, wi, 80) F(HtFiberResult, pdf, 96) F(HtFiberResult, ok, 100)
 

@@ -146,9 +146,13 @@ HT_FIBER_FN void ht_bcsdf_eval(const HtMaterial* m, real3 wo, real3 wi, real h, 
     ht_bcsdf_eval_o(m, &o, wo, wi, h, value, pdf);
 }
 
-/* o: ht_bcsdf_prepare of m, wo and h */
-HT_FIBER_FN int ht_bcsdf_sample_o(const HtMaterial* m, const HtBcsdfWo* o, real3 wo, real h, real u0, real u1, real u2,
-                            real u3, real3* wi, real3* weight, real* pdf) {
+/* o: ht_bcsdf_prepare of m, wo and h.  mixture 1: weight = value / pdf with pdf the whole
+ * sampler's density at *wi (what MIS needs).  mixture 0, for a caller that has no MIS partner
+ * (no light a sampled ray can meet): the same directions, and zinke and chiang weigh the drawn
+ * lobe alone (ht_zinke_sample_lobe_o, ht_chiang_sample_lobe_setup: unbiased, cheaper) with *pdf
+ * 0; kajiya and marschner as with 1. */
+HT_FIBER_FN int ht_bcsdf_sample_mode_o(const HtMaterial* m, const HtBcsdfWo* o, real3 wo, real h, real u0, real u1,
+                                       real u2, real u3, int mixture, real3* wi, real3* weight, real* pdf) {
     h = ht_sanitize_h(h);
     u0 = ht_sanitize_u(u0);
     u1 = ht_sanitize_u(u1);
@@ -163,10 +167,24 @@ HT_FIBER_FN int ht_bcsdf_sample_o(const HtMaterial* m, const HtBcsdfWo* o, real3
     case HT_MODEL_MARSCHNER: ok = ht_marschner_sample_o(m, &o->mz, wo, u0, u1, u2, u3, wi, weight, pdf); break;
 #endif
 #if HT_FEATURE_MODEL_ZINKE
-    case HT_MODEL_ZINKE: ok = ht_zinke_sample_o(m, &o->mz, wo, h, u0, u1, u2, u3, wi, weight, pdf); break;
+    case HT_MODEL_ZINKE:
+        if (mixture) {
+            ok = ht_zinke_sample_o(m, &o->mz, wo, h, u0, u1, u2, u3, wi, weight, pdf);
+        } else {
+            ok = ht_zinke_sample_lobe_o(m, &o->mz, wo, h, u0, u1, u2, u3, wi, weight);
+            *pdf = HT_R(0);
+        }
+        break;
 #endif
 #if HT_FEATURE_MODEL_CHIANG
-    case HT_MODEL_CHIANG: ok = ht_chiang_sample_setup(m, &o->chiang, wo, u0, u1, u2, u3, wi, weight, pdf); break;
+    case HT_MODEL_CHIANG:
+        if (mixture) {
+            ok = ht_chiang_sample_setup(m, &o->chiang, wo, u0, u1, u2, u3, wi, weight, pdf);
+        } else {
+            ok = ht_chiang_sample_lobe_setup(m, &o->chiang, wo, u0, u1, u2, u3, wi, weight);
+            *pdf = HT_R(0);
+        }
+        break;
 #endif
     default: break;
     }
@@ -178,13 +196,22 @@ HT_FIBER_FN int ht_bcsdf_sample_o(const HtMaterial* m, const HtBcsdfWo* o, real3
     }
     return ok;
 }
+HT_FIBER_FN int ht_bcsdf_sample_o(const HtMaterial* m, const HtBcsdfWo* o, real3 wo, real h, real u0, real u1, real u2,
+                            real u3, real3* wi, real3* weight, real* pdf) {
+    return ht_bcsdf_sample_mode_o(m, o, wo, h, u0, u1, u2, u3, 1, wi, weight, pdf);
+}
 
+// mixture: as ht_bcsdf_sample_mode_o's
+HT_FIBER_FN int ht_bcsdf_sample_mode(const HtMaterial* m, real3 wo, real h, real u0, real u1, real u2, real u3,
+                                     int mixture, real3* wi, real3* weight, real* pdf) {
+    HtBcsdfWo o;
+    ht_bcsdf_prepare(m, wo, h, &o);
+    return ht_bcsdf_sample_mode_o(m, &o, wo, h, u0, u1, u2, u3, mixture, wi, weight, pdf);
+}
 // u: 4 uniforms in [0,1). Returns 0 if no direction could be sampled. weight = value/pdf.
 HT_FIBER_FN int ht_bcsdf_sample(const HtMaterial* m, real3 wo, real h, real u0, real u1, real u2, real u3, real3* wi,
                           real3* weight, real* pdf) {
-    HtBcsdfWo o;
-    ht_bcsdf_prepare(m, wo, h, &o);
-    return ht_bcsdf_sample_o(m, &o, wo, h, u0, u1, u2, u3, wi, weight, pdf);
+    return ht_bcsdf_sample_mode(m, wo, h, u0, u1, u2, u3, 1, wi, weight, pdf);
 }
 
 #endif

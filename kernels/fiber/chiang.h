@@ -115,9 +115,10 @@ HT_FIBER_FN void ht_chiang_eval(const HtMaterial* m, real3 wo, real3 wi, real h,
     ht_chiang_eval_setup(m, &c, wo, wi, lobes, value, pdf);
 }
 
-/* c: ht_chiang_setup of m, wo and h (a shading point makes it once: kernels/fiber/bcsdf.h) */
-HT_FIBER_FN int ht_chiang_sample_setup(const HtMaterial* m, const HtChiangSetup* c, real3 wo, real u0, real u1, real u2,
-                                 real u3, real3* wi, real3* weight, real* pdf) {
+/* pbrt-v4's sampler: lobe p by ap_pdf, theta_i from M_p, phi from the trimmed logistic around
+ * Phi(p, h) (uniform for the residual lobe).  Returns p. */
+HT_FIBER_FN int ht_chiang_draw(const HtMaterial* m, const HtChiangSetup* c, real3 wo, real u0, real u1, real u2,
+                               real u3, real3* w) {
     int p = 3;
     real acc = HT_R(0);
     for (int k = 0; k < 3; ++k) {
@@ -132,7 +133,16 @@ HT_FIBER_FN int ht_chiang_sample_setup(const HtMaterial* m, const HtChiangSetup*
     ht_mp_sample(u1, u2, sp, cp, m->v[p], &sin_i, &cos_i);
     real dphi = p < 3 ? ht_phi_path(p, c->gamma_o, c->gamma_t) + ht_trimmed_logistic_sample(u3, m->s)
                       : HT_TWO_PI * (u3 - HT_R(0.5));
-    real3 w = ht_dir_from(wo, sin_i, cos_i, dphi);
+    *w = ht_dir_from(wo, sin_i, cos_i, dphi);
+    return p;
+}
+
+/* c: ht_chiang_setup of m, wo and h (a shading point makes it once: kernels/fiber/bcsdf.h).
+ * weight = value / pdf of all lobes at the drawn direction (MIS needs that pdf). */
+HT_FIBER_FN int ht_chiang_sample_setup(const HtMaterial* m, const HtChiangSetup* c, real3 wo, real u0, real u1, real u2,
+                                 real u3, real3* wi, real3* weight, real* pdf) {
+    real3 w;
+    ht_chiang_draw(m, c, wo, u0, u1, u2, u3, &w);
     real3 lobes[4];
     real3 value;
     real pd;
@@ -144,6 +154,18 @@ HT_FIBER_FN int ht_chiang_sample_setup(const HtMaterial* m, const HtChiangSetup*
         return 0;
     }
     *weight = ht_sanitize3(value / pd);
+    return 1;
+}
+
+/* For a caller without an MIS partner: the drawn lobe's value over its own density.  The sampler
+ * draws M_p and N_p exactly, so that ratio is A_p / ap_pdf_p wherever the density is not 0: no
+ * lobe is evaluated (the one-sample estimator over the lobes; zinke.h ht_zinke_sample_lobe_o). */
+HT_FIBER_FN int ht_chiang_sample_lobe_setup(const HtMaterial* m, const HtChiangSetup* c, real3 wo, real u0, real u1,
+                                            real u2, real u3, real3* wi, real3* weight) {
+    const int p = ht_chiang_draw(m, c, wo, u0, u1, u2, u3, wi);
+    *weight = ht_splat(HT_R(0));
+    if (!(c->ap_pdf[p] > HT_R(0))) return 0;
+    *weight = ht_sanitize3(c->ap[p] / c->ap_pdf[p]);
     return 1;
 }
 

@@ -32,7 +32,8 @@ __kernel void fiber_sample(__global const HtMaterial* mats, __global const HtFib
     HtFiberQuery q = qs[i];
     float3 wi, weight;
     float pdf;
-    int ok = ht_bcsdf_sample(&m, (float3)(q.wo[0], q.wo[1], q.wo[2]), q.h, q.u0, q.u1, q.u2, q.u3, &wi, &weight, &pdf);
+    int ok = ht_bcsdf_sample_mode(&m, (float3)(q.wo[0], q.wo[1], q.wo[2]), q.h, q.u0, q.u1, q.u2, q.u3,
+                                  q.lobe_weight != 0.0f ? 0 : 1, &wi, &weight, &pdf);
     HtFiberResult r;
     r.value[0] = weight.x; r.value[1] = weight.y; r.value[2] = weight.z; r.value[3] = 0.0f;
     for (int p = 0; p < 4; ++p) { r.lobes[p][0] = 0.0f; r.lobes[p][1] = 0.0f; r.lobes[p][2] = 0.0f; r.lobes[p][3] = 0.0f; }

@@ -8,7 +8,9 @@ typedef struct {
     float wo[4];           /* xyz */
     float wi[4];           /* xyz (eval) */
     float h, u0, u1, u2;
-    float u3, pad0, pad1, pad2;
+    float u3;
+    float lobe_weight;     /* sample: nonzero asks for the drawn lobe's weight (mixture 0 in bcsdf.h) */
+    float pad1, pad2;
 } HtFiberQuery;            /* 64 bytes */
 
 typedef struct {

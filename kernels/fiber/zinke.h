@@ -93,8 +93,9 @@ HT_FIBER_FN void ht_zinke_eval(const HtMaterial* m, real3 wo, real3 wi, real h, 
     ht_zinke_eval_o(m, &o, wo, wi, h, lobes, value, pdf);
 }
 
-HT_FIBER_FN int ht_zinke_sample_o(const HtMaterial* m, const HtMzWo* o, real3 wo, real h, real u0, real u1, real u2,
-                            real u3, real3* wi, real3* weight, real* pdf) {
+/* The sampler's direction (the header's "Sampling"): returns the drawn lobe. */
+HT_FIBER_FN int ht_zinke_draw(const HtMaterial* m, const HtMzWo* o, real3 wo, real h, real u0, real u1, real u2,
+                              real u3, real3* w) {
     real ur;
     int p = ht_pick_lobe(o->pr, u0, &ur);
     real sin_i, cos_i, sin_d, cos_d;
@@ -104,12 +105,54 @@ HT_FIBER_FN int ht_zinke_sample_o(const HtMaterial* m, const HtMzWo* o, real3 wo
     ht_normal_pair(u3, ur, &n2, &n3);
     real inv_ep = ht_inv_eta_prime(m->eta, sin_d, cos_d);
     real phi_p = ht_phi_path(p, o->gamma_i, ht_asin(h * inv_ep));
-    real3 w = ht_dir_from(wo, sin_i, cos_i, ht_wrap_pi(phi_p + m->azim_sigma * n2));
+    *w = ht_dir_from(wo, sin_i, cos_i, ht_wrap_pi(phi_p + m->azim_sigma * n2));
+    return p;
+}
+
+/* weight = value / pdf of the whole model at the drawn direction (MIS needs that pdf) */
+HT_FIBER_FN int ht_zinke_sample_o(const HtMaterial* m, const HtMzWo* o, real3 wo, real h, real u0, real u1, real u2,
+                            real u3, real3* wi, real3* weight, real* pdf) {
+    real3 w;
+    ht_zinke_draw(m, o, wo, h, u0, u1, u2, u3, &w);
     real3 lobes[4];
     real3 value;
     real pd;
     ht_zinke_eval_o(m, o, wo, w, h, lobes, &value, &pd);
     return ht_finish_sample(w, value, pd, wi, weight, pdf);
+}
+
+/* Lobe p's value at wi over the density with which the sampler draws wi as lobe p,
+ * pr_p M_p(theta_i) D(phi - Phi(p, h)): the azimuthal Gaussian is the same function in both and
+ * cancels, which leaves A_p(h) 1/2 cos(theta_i)/cos^2(theta_d) g(theta_h - alpha_p) / (pr_p M_p),
+ * one exp.  Returns 0 (weight 0) where that density is 0. */
+HT_FIBER_FN int ht_zinke_lobe_weight(const HtMaterial* m, const HtMzWo* o, real3 wo, real3 wi, real h, int p,
+                                     real3* weight) {
+    HtMarschnerAngles a;
+    ht_mz_angles(o, wo, wi, &a);
+    const real eta = m->eta;
+    const real3 ap = ht_marschner_ap_k(m, p, h, o->cos_gamma_i, eta, a.cos_d, ht_inv_eta_prime(eta, a.sin_d, a.cos_d),
+                                       ht_cos_theta_t(eta, a.sin_d));
+    const real geo = HT_R(0.5) * a.cos_i / ht_max(a.cos_d * a.cos_d, HT_R(1e-6));
+    const real alpha = p == 0 ? m->alpha_r : (p == 1 ? m->alpha_tt : m->alpha_trt);
+    const real beta = p == 0 ? m->beta_r : (p == 1 ? m->beta_tt : m->beta_trt);
+    real eg, em;
+    const real g = ht_gaussian_parts(a.theta_h - alpha, beta, &eg);
+    const real mp = o->pr[p] * ht_mz_theta_pdf_parts(o, p, a.sin_i, a.cos_i, &em);
+    *weight = ht_splat(HT_R(0));
+    if (!(mp > HT_R(0))) return 0;
+    *weight = ht_sanitize3(ap * (geo * g / mp * exp(eg - em)));
+    return 1;
+}
+
+/* For a caller without an MIS partner: the drawn lobe's value over its own density
+ * (ht_zinke_lobe_weight), an unbiased weight for the same directions as ht_zinke_sample_o's
+ * (the one-sample estimator over the lobes), without evaluating the other lobes or the mixture
+ * pdf.  Where the lobes overlap it is noisier than value / pdf; docs/ESTIMATOR.md "The drawn
+ * lobe's weight" has what that costs and buys. */
+HT_FIBER_FN int ht_zinke_sample_lobe_o(const HtMaterial* m, const HtMzWo* o, real3 wo, real h, real u0, real u1,
+                                       real u2, real u3, real3* wi, real3* weight) {
+    const int p = ht_zinke_draw(m, o, wo, h, u0, u1, u2, u3, wi);
+    return ht_zinke_lobe_weight(m, o, wo, *wi, h, p, weight);
 }
 HT_FIBER_FN int ht_zinke_sample(const HtMaterial* m, real3 wo, real h, real u0, real u1, real u2, real u3,
                           real3* wi, real3* weight, real* pdf) {

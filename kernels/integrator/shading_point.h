@@ -169,8 +169,10 @@ HT_FN void ht_point_eval(const HtShadingPoint* sp, real3 wi, real3* value, real*
                     pdf);
 }
 
-/* Draws the vertex's uniforms from the BSDF slots of `bounce` (kernels/rng.h's layout). */
-HT_FN int ht_point_sample(const HtShadingPoint* sp, uint seed, uint pixel, uint sample, uint bounce,
+/* Draws the vertex's uniforms from the BSDF slots of `bounce` (kernels/rng.h's layout).  mixture
+ * 0 when no light can be met by the sampled ray (no MIS): *pdf may then be 0 and the weight that
+ * of the drawn lobe alone (kernels/fiber/bcsdf.h, ht_bcsdf_sample_mode_o). */
+HT_FN int ht_point_sample(const HtShadingPoint* sp, uint seed, uint pixel, uint sample, uint bounce, int mixture,
                           real3* wi, real3* weight, real* pdf) {
     /* the jointly stratified pair: a surface's cosine-weighted direction, a fibre's longitudinal angle */
     real u1 = ht_sample(seed, pixel, sample, bounce, HT_DIM_BSDF_0 + 1u);
@@ -186,7 +188,8 @@ HT_FN int ht_point_sample(const HtShadingPoint* sp, uint seed, uint pixel, uint 
     real u3 = ht_sample(seed, pixel, sample, bounce, HT_DIM_BSDF_0 + 3u);
     real3 wi_l = make_real3(0, 0, 0);
     *weight = make_real3(0, 0, 0);
-    if (!ht_bcsdf_sample_o(&sp->mat, &sp->wo_prep, sp->wo_l, sp->h, u0, u1, u2, u3, &wi_l, weight, pdf)) return 0;
+    if (!ht_bcsdf_sample_mode_o(&sp->mat, &sp->wo_prep, sp->wo_l, sp->h, u0, u1, u2, u3, mixture, &wi_l, weight, pdf))
+        return 0;
     *wi = sp->fx * wi_l.x + sp->fy * wi_l.y + sp->fz * wi_l.z;
     return 1;
 }

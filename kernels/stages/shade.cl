@@ -374,7 +374,7 @@ __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM, HT_SCENE_PARA
             float3 wi, weight;
             float pdf;
             const int sampled =
-                ht_point_sample(&sp, seed, st.pixel, cont_sample, bounce, &wi, &weight, &pdf);
+                ht_point_sample(&sp, seed, st.pixel, cont_sample, bounce, ht_env_in_nee(&env), &wi, &weight, &pdf);
             if (extend && sampled) {
                 float3 nthr =
                     ht_roulette_at(thr * weight * split_weight, share, seed, st.pixel, cont_sample, bounce);

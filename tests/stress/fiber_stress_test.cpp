@@ -103,7 +103,9 @@ TEST(FiberStress, RandomQueriesHostDouble) {
         } else {
             real3 w, wsmp;
             ++samples;
-            int ok = ht_bcsdf_sample(&m, wo, h, rnd(s), rnd(s), rnd(s), rnd(s), &wsmp, &w, &pdf);
+            // every other sample asks for the drawn lobe's weight (bcsdf.h mixture 0)
+            const double u0 = rnd(s), u1 = rnd(s), u2 = rnd(s), u3 = rnd(s);
+            int ok = ht_bcsdf_sample_mode(&m, wo, h, u0, u1, u2, u3, int((i >> 1) & 1), &wsmp, &w, &pdf);
             sampled_ok += ok;
             if (!finite_nonneg(w) || !std::isfinite(pdf) || pdf < 0 || !std::isfinite(length(wsmp)) ||
                 std::fabs(length(wsmp) - 1) > 1e-6) {
@@ -148,9 +150,11 @@ TEST(FiberStress, EdgeCasesHostDouble) {
                             for (double u : {0.0, 1e-7, 0.5, 0.9999999}) {
                                 real3 w, wi;
                                 real pdf;
-                                ht_bcsdf_sample(&m, wo, h, u, u, 1 - u, u, &wi, &w, &pdf);
-                                ++count;
-                                if (!finite_nonneg(w) || !std::isfinite(pdf) || pdf < 0) ++bad;
+                                for (int mixture = 0; mixture < 2; ++mixture) {
+                                    ht_bcsdf_sample_mode(&m, wo, h, u, u, 1 - u, u, mixture, &wi, &w, &pdf);
+                                    ++count;
+                                    if (!finite_nonneg(w) || !std::isfinite(pdf) || pdf < 0) ++bad;
+                                }
                             }
                         }
                 }
@@ -170,9 +174,11 @@ TEST(FiberStress, EdgeCasesHostDouble) {
                     ht_bcsdf_eval(&m, a, b, h, &v, &pdf);
                     ++count;
                     if (!finite_nonneg(v) || !std::isfinite(pdf) || pdf < 0) ++bad;
-                    ht_bcsdf_sample(&m, a, h, 0.3, nan, 0.5, inf, &wi, &w, &pdf);
-                    ++count;
-                    if (!finite_nonneg(w) || !std::isfinite(pdf) || pdf < 0 || !std::isfinite(length(wi))) ++bad;
+                    for (int mixture = 0; mixture < 2; ++mixture) {
+                        ht_bcsdf_sample_mode(&m, a, h, 0.3, nan, 0.5, inf, mixture, &wi, &w, &pdf);
+                        ++count;
+                        if (!finite_nonneg(w) || !std::isfinite(pdf) || pdf < 0 || !std::isfinite(length(wi))) ++bad;
+                    }
                 }
     }
     std::printf("host double edge cases: %ld queries, %ld bad\n", count, bad);
@@ -207,6 +213,7 @@ TEST(FiberStress, RandomAndEdgeQueriesOpenClFloat) {
         if (i % 107 == 106) { q.wo[0] = q.wo[1] = q.wo[2] = 0.0f; }
         q.u0 = (float)rnd(s); q.u1 = (float)(edge ? 0.0 : rnd(s)); q.u3 = (float)(edge ? 0.99999994 : rnd(s));
         if (!(i % 103 == 102)) q.u2 = (float)rnd(s);
+        q.lobe_weight = float((i >> 1) & 1);
         mats.push_back(m);
         qs.push_back(q);
     }

@@ -1,9 +1,11 @@
 // Sampling of every model: weight == value/pdf, the returned pdf is the density eval reports, the
 // sampled directions follow the pdf (chi-square), and the sampled estimator of the albedo agrees
-// with the deterministic quadrature (uniform/deterministic estimator).
+// with the deterministic quadrature (uniform/deterministic estimator) -- also with the drawn lobe's
+// weight (bcsdf.h mixture 0), whose formula is checked against eval's lobes.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "fiber_test_util.h"
@@ -26,7 +28,7 @@ struct Case {
 };
 const Case kCases[] = {{"kajiya", 20, 0.3},    {"chiang", 0, -0.4},    {"chiang", 60, 0.9},
                        {"marschner", 10, 0.0}, {"marschner", 55, 0.0}, {"zinke", 0, 0.2},
-                       {"zinke", 45, -0.8}};
+                       {"zinke", 45, -0.8},    {"zinke", 75, 0.95}};
 
 }  // namespace
 
@@ -114,27 +116,94 @@ TEST(FiberSampling, ChiSquareOfSampledDirections) {
     }
 }
 
+TEST(FiberSampling, DrawnLobeWeightIsTheLobeOverItsDensity) {
+    // ht_zinke_lobe_weight x (pr_p M_p(theta_i) D(phi - Phi_p)) == eval's lobe p, relative 1e-9
+    // (double; the azimuthal Gaussian the weight leaves out is put back here).
+    HtMaterial m = material("zinke");
+    uint64_t st = 11;
+    int checked = 0;
+    for (int i = 0; i < 3000; ++i) {
+        const real3 wo = fibertest::rand_dir(st), wi = fibertest::rand_dir(st);
+        const double h = 1.98 * fibertest::rnd(st) - 0.99;
+        HtMzWo o;
+        ht_zinke_wo(&m, wo, h, &o);
+        real3 lobes[4], value;
+        ht_zinke_eval_o(&m, &o, wo, wi, h, lobes, &value, nullptr);
+        HtMarschnerAngles a;
+        ht_mz_angles(&o, wo, wi, &a);
+        real3 wl[3];
+        real phis[3];
+        ht_zinke_w(&m, h, a.sin_d, a.cos_d, wl, phis);
+        for (int p = 0; p < 3; ++p) {
+            real3 w;
+            if (!ht_zinke_lobe_weight(&m, &o, wo, wi, h, p, &w)) continue;
+            const double density =
+                o.pr[p] * ht_mz_theta_pdf(&o, p, a.sin_i, a.cos_i) * ht_wrapped_gaussian(a.phi - phis[p], m.azim_sigma);
+            if (!(density > 1e-200)) continue;
+            ++checked;
+            ASSERT_NEAR(w.x * density, lobes[p].x, 1e-9 * lobes[p].x + 1e-300) << "p " << p;
+            ASSERT_NEAR(w.z * density, lobes[p].z, 1e-9 * lobes[p].z + 1e-300) << "p " << p;
+        }
+    }
+    EXPECT_GT(checked, 8000);
+}
+
+TEST(FiberSampling, DrawnLobeWeightSamplesTheSameDirections) {
+    // mixture 0 and 1 draw the same direction from the same uniforms (every model); the models
+    // without a drawn-lobe weight (kajiya, marschner) return the same weight as well.
+    for (const char* model : {"kajiya", "marschner", "zinke", "chiang"}) {
+        HtMaterial m = material(model);
+        uint64_t st = 21;
+        for (int i = 0; i < 2000; ++i) {
+            const real3 wo = fibertest::rand_dir(st);
+            const double h = 2 * fibertest::rnd(st) - 1;
+            double u[4];
+            for (double& x : u) x = fibertest::rnd(st);
+            real3 wi0, wi1, w0, w1;
+            real pdf0, pdf1;
+            const int ok0 = ht_bcsdf_sample_mode(&m, wo, h, u[0], u[1], u[2], u[3], 0, &wi0, &w0, &pdf0);
+            const int ok1 = ht_bcsdf_sample_mode(&m, wo, h, u[0], u[1], u[2], u[3], 1, &wi1, &w1, &pdf1);
+            if (!ok0 || !ok1) continue;
+            ASSERT_EQ(wi0.x, wi1.x) << model;
+            ASSERT_EQ(wi0.z, wi1.z) << model;
+            if (std::string(model) != "zinke" && std::string(model) != "chiang") {
+                ASSERT_EQ(w0.y, w1.y) << model;
+                ASSERT_EQ(pdf0, pdf1) << model;
+            } else {
+                ASSERT_EQ(pdf0, 0.0) << model;
+            }
+        }
+    }
+}
+
 TEST(FiberSampling, SampledUniformAndQuadratureEstimatorsAgree) {
     // Mean sample weight vs the deterministic quadrature of integral value dwi: |diff| < 5 standard errors
-    // + 2e-4 (quadrature error bound, the doubling check of fiber_furnace_test).
+    // + 2e-4 (quadrature error bound, the doubling check of fiber_furnace_test); for the drawn lobe's
+    // weight (mixture 0) as well as for value / pdf.
     for (const Case& c : kCases) {
         HtMaterial m = material(c.model);
         real3 wo = fibertest::wo_at(c.theta_deg);
         double q = fibertest::albedo_at(m, wo, c.h);
+        double mean = 0, se = 0;
         uint64_t st = 5;
-        double s = 0, s2 = 0;
-        const int N = 60000;
-        for (int i = 0; i < N; ++i) {
-            double u[4];
-            for (double& x : u) x = fibertest::rnd(st);
-            real3 wi, w;
-            real pdf;
-            if (!ht_bcsdf_sample(&m, wo, c.h, u[0], u[1], u[2], u[3], &wi, &w, &pdf)) continue;
-            s += w.x;
-            s2 += w.x * w.x;
+        for (int mixture = 0; mixture < 2; ++mixture) {  // value / pdf last: its state goes on below
+            st = 5;
+            double s = 0, s2 = 0;
+            const int N = 60000;
+            for (int i = 0; i < N; ++i) {
+                double u[4];
+                for (double& x : u) x = fibertest::rnd(st);
+                real3 wi, w;
+                real pdf;
+                if (!ht_bcsdf_sample_mode(&m, wo, c.h, u[0], u[1], u[2], u[3], mixture, &wi, &w, &pdf)) continue;
+                s += w.x;
+                s2 += w.x * w.x;
+            }
+            mean = s / N;
+            se = std::sqrt(std::max(0.0, s2 / N - mean * mean) / N);
+            EXPECT_NEAR(mean, q, 5 * se + 2e-4)
+                << c.model << " theta " << c.theta_deg << " h " << c.h << " mixture " << mixture;
         }
-        double mean = s / N, se = std::sqrt(std::max(0.0, s2 / N - mean * mean) / N);
-        EXPECT_NEAR(mean, q, 5 * se + 2e-4) << c.model << " theta " << c.theta_deg << " h " << c.h;
         // uniform-sphere estimator 4 pi value(wi): agrees with the sampled one within 5 combined errors
         double us = 0, us2 = 0;
         const int NU = 200000;

@@ -47,7 +47,7 @@ void expect_sample_matches_eval(const HtShadingPoint& sp, double tol) {
     for (uint s = 0; s < 2000; ++s) {
         real3 wi, weight;
         real pdf = 0;
-        if (!ht_point_sample(&sp, 7u, 3u, s, 0u, &wi, &weight, &pdf)) continue;
+        if (!ht_point_sample(&sp, 7u, 3u, s, 0u, 1, &wi, &weight, &pdf)) continue;
         ++sampled;
         real3 value;
         real pdf_eval = 0;
