@@ -60,45 +60,27 @@ HT_FIBER_FN real ht_trimmed_logistic_sample(real u, real s) {
 
 /* ---------------------------------------------------------------- wrapped Gaussian */
 
-/* Gaussian of std sigma wrapped onto the circle, evaluated at x (any real).  Spatial sum over
- * k = -2..2 for sigma < 1.6 (truncation < 1e-20), Fourier series n <= 6 above (truncation < 1e-14).
- * In float a term whose exponent is below -110 is exactly 0 (exp underflows below -103.97), so the
- * kernels skip it: for the narrow azimuthal lobes of hair (zinke's sigma ~ 0.2 rad) only the k = 0
- * term is left, one exp instead of five, the same bits. */
+/* Gaussian of std sigma wrapped onto the circle at x (any real), as factor * exp(*exponent): for
+ * sigma < 1.6 the spatial sum over the images k = -2..2 (truncation < 1e-20), the exponent that of
+ * the nearest image (x wrapped to [-pi, pi], the largest term) and the other images relative to it
+ * (each <= 1: |x + 2 pi k| >= |x|), so that a caller multiplying by another exponential pays one
+ * exp for both (kernels/fiber/zinke.h); above, the Fourier series n <= 6 (truncation < 1e-14) with
+ * exponent 0.  In float an image whose relative exponent is below -110 is exactly 0 next to the
+ * nearest one (exp underflows below -103.97), so the kernels skip it: for the narrow azimuthal lobes
+ * of hair (zinke's sigma ~ 0.2 rad) only the nearest image is left. */
 #define HT_WRAPPED_GAUSSIAN_SKIP HT_R(220) /* (d / sigma)^2 above it: exponent below -110 */
-HT_FIBER_FN real ht_wrapped_gaussian(real x, real sigma) {
-    x = ht_wrap_pi(x);
-    sigma = ht_max(sigma, HT_R(1e-6));
-    if (sigma < HT_R(1.6)) {
-        real g = HT_R(0);
-        for (int k = -2; k <= 2; ++k) {
-            const real d = x + HT_TWO_PI * (real)k;
-#ifdef HT_OPENCL
-            if (d * d > HT_WRAPPED_GAUSSIAN_SKIP * sigma * sigma) continue;
-#endif
-            g += ht_gaussian(d, sigma);
-        }
-        return g;
-    }
-    real sum = HT_R(1);
-    for (int n = 1; n <= 6; ++n) {
-        real s, c;
-        ht_sincos((real)n * x, &s, &c);
-        sum += HT_R(2) * exp(-HT_R(0.5) * (real)(n * n) * sigma * sigma) * c;
-    }
-    return ht_max(sum, HT_R(0)) * HT_INV_TWO_PI;
-}
-
-/* The same as factor * exp(*exponent), the exponent that of the nearest image x wrapped to [-pi, pi]
- * (the largest term), the other images relative to it (each <= 1: |x + 2 pi k| >= |x|), so that a
- * caller multiplying by another exponential pays one exp for both (kernels/fiber/zinke.h).  Above
- * sigma = 1.6 (the Fourier branch) the exponent is 0. */
 HT_FIBER_FN real ht_wrapped_gaussian_parts(real x, real sigma, real* exponent) {
     x = ht_wrap_pi(x);
     sigma = ht_max(sigma, HT_R(1e-6));
     if (!(sigma < HT_R(1.6))) {
+        real sum = HT_R(1);
+        for (int n = 1; n <= 6; ++n) {
+            real s, c;
+            ht_sincos((real)n * x, &s, &c);
+            sum += HT_R(2) * exp(-HT_R(0.5) * (real)(n * n) * sigma * sigma) * c;
+        }
         *exponent = HT_R(0);
-        return ht_wrapped_gaussian(x, sigma);
+        return ht_max(sum, HT_R(0)) * HT_INV_TWO_PI;
     }
     const real is = HT_R(1) / sigma;
     real images = HT_R(1);
@@ -107,12 +89,17 @@ HT_FIBER_FN real ht_wrapped_gaussian_parts(real x, real sigma, real* exponent) {
         /* (x + 2 pi k)^2 - x^2 without cancellation */
         const real dd = HT_TWO_PI * (real)k * (HT_R(2) * x + HT_TWO_PI * (real)k);
 #ifdef HT_OPENCL
-        if (dd > HT_WRAPPED_GAUSSIAN_SKIP * sigma * sigma) continue; /* relative exponent below -110: 0 */
+        if (dd > HT_WRAPPED_GAUSSIAN_SKIP * sigma * sigma) continue;
 #endif
         images += exp(-HT_R(0.5) * dd * is * is);
     }
     *exponent = -HT_R(0.5) * x * x * is * is;
     return HT_R(0.39894228040143267794) * is * images;
+}
+HT_FIBER_FN real ht_wrapped_gaussian(real x, real sigma) {
+    real e;
+    const real f = ht_wrapped_gaussian_parts(x, sigma, &e);
+    return f * exp(e);
 }
 
 /* ---------------------------------------------------------------- Marschner root finding */

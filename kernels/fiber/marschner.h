@@ -25,13 +25,17 @@ typedef struct {
     real sin_o, cos_o, sin_i, cos_i, theta_o, theta_i, theta_h, sin_d, cos_d, phi;
 } HtMarschnerAngles;
 
-/* The wi-dependent half of the angles; a->sin_o, cos_o, theta_o already set. */
-HT_FIBER_FN void ht_marschner_angles_i(real3 wo, real3 wi, HtMarschnerAngles* a) {
-    ht_theta(wi, &a->sin_i, &a->cos_i);
+/* theta_i, theta_h and theta_d of a->sin_i and a->theta_o. */
+HT_FIBER_FN void ht_marschner_angles_theta(HtMarschnerAngles* a) {
     a->theta_i = ht_asin(a->sin_i);
     a->theta_h = HT_R(0.5) * (a->theta_i + a->theta_o);
     ht_sincos(HT_R(0.5) * (a->theta_o - a->theta_i), &a->sin_d, &a->cos_d);
     a->cos_d = fabs(a->cos_d);
+}
+/* The wi-dependent half of the angles; a->sin_o, cos_o, theta_o already set. */
+HT_FIBER_FN void ht_marschner_angles_i(real3 wo, real3 wi, HtMarschnerAngles* a) {
+    ht_theta(wi, &a->sin_i, &a->cos_i);
+    ht_marschner_angles_theta(a);
     a->phi = ht_relative_phi(wo, wi);
 }
 HT_FIBER_FN void ht_marschner_angles(real3 wo, real3 wi, HtMarschnerAngles* a) {
@@ -44,9 +48,13 @@ HT_FIBER_FN void ht_marschner_angles(real3 wo, real3 wi, HtMarschnerAngles* a) {
  * with theta_o' = theta_o - 2 alpha_p (cone at theta_h = alpha_p) and v = (2 beta_p)^2 (the Gaussian
  * in theta_h of std beta_p is a Gaussian in theta_i of std 2 beta_p).  It lives on the sphere, so no
  * sample is lost at grazing angles, and its solid-angle density is M (the cos theta_i cancels). */
-HT_FIBER_FN void ht_mz_lobe_shape(const HtMaterial* m, int p, real* alpha, real* v) {
-    real b = p == 0 ? m->beta_r : (p == 1 ? m->beta_tt : m->beta_trt);
+HT_FIBER_FN void ht_mz_lobe_ab(const HtMaterial* m, int p, real* alpha, real* beta) {
     *alpha = p == 0 ? m->alpha_r : (p == 1 ? m->alpha_tt : m->alpha_trt);
+    *beta = p == 0 ? m->beta_r : (p == 1 ? m->beta_tt : m->beta_trt);
+}
+HT_FIBER_FN void ht_mz_lobe_shape(const HtMaterial* m, int p, real* alpha, real* v) {
+    real b;
+    ht_mz_lobe_ab(m, p, alpha, &b);
     *v = HT_R(4) * b * b;
 }
 /* The proxy's per-material constants (sin, cos 2 alpha_p; the log normaliser of v): made by the
@@ -125,11 +133,16 @@ HT_FIBER_FN void ht_mz_angles(const HtMzWo* o, real3 wo, real3 wi, HtMarschnerAn
     a->theta_o = o->theta_o;
     ht_marschner_angles_i(wo, wi, a);
 }
-/* theta_d of a sampled sin theta_i: the azimuthal half of a sampler starts from it. */
-HT_FIBER_FN void ht_mz_theta_d(const HtMzWo* o, real sin_i, real* sin_d, real* cos_d) {
-    real theta_i = ht_asin(sin_i);
-    ht_sincos(HT_R(0.5) * (o->theta_o - theta_i), sin_d, cos_d);
-    *cos_d = fabs(*cos_d);
+/* The angles of a sampled theta_i (phi not drawn yet: 0): the azimuthal half of a sampler starts
+ * from theta_d. */
+HT_FIBER_FN void ht_mz_angles_drawn(const HtMzWo* o, real sin_i, real cos_i, HtMarschnerAngles* a) {
+    a->sin_o = o->sin_o;
+    a->cos_o = o->cos_o;
+    a->theta_o = o->theta_o;
+    a->sin_i = sin_i;
+    a->cos_i = cos_i;
+    ht_marschner_angles_theta(a);
+    a->phi = HT_R(0);
 }
 
 /* A_p(h) at theta_d for index eta (p = 0, 1, 2), c = sqrt(1 - h^2); _k: given inv_ep = 1/eta' and
@@ -347,10 +360,11 @@ HT_FIBER_FN int ht_marschner_sample_o(const HtMaterial* m, const HtMzWo* o, real
                                 real3* wi, real3* weight, real* pdf) {
     real ur;
     int p = ht_pick_lobe(o->pr, u0, &ur);
-    real sin_i, cos_i, sin_d, cos_d;
+    real sin_i, cos_i;
     ht_mz_theta_sample(o, p, u1, u2, &sin_i, &cos_i);
-    ht_mz_theta_d(o, sin_i, &sin_d, &cos_d);
-    real inv_ep = ht_inv_eta_prime(m->eta, sin_d, cos_d);
+    HtMarschnerAngles a;
+    ht_mz_angles_drawn(o, sin_i, cos_i, &a);
+    real inv_ep = ht_inv_eta_prime(m->eta, a.sin_d, a.cos_d);
     real hh = HT_R(2) * u3 - HT_R(1);
     real dphi;
     if (p < 2) {

@@ -93,18 +93,19 @@ HT_FIBER_FN void ht_zinke_eval(const HtMaterial* m, real3 wo, real3 wi, real h, 
     ht_zinke_eval_o(m, &o, wo, wi, h, lobes, value, pdf);
 }
 
-/* The sampler's direction (the header's "Sampling"): returns the drawn lobe. */
+/* The sampler's direction (the header's "Sampling"): returns the drawn lobe, with the drawn
+ * angles (phi left 0) and 1/eta' at their theta_d. */
 HT_FIBER_FN int ht_zinke_draw(const HtMaterial* m, const HtMzWo* o, real3 wo, real h, real u0, real u1, real u2,
-                              real u3, real3* w) {
+                              real u3, real3* w, HtMarschnerAngles* a, real* inv_ep) {
     real ur;
     int p = ht_pick_lobe(o->pr, u0, &ur);
-    real sin_i, cos_i, sin_d, cos_d;
+    real sin_i, cos_i;
     ht_mz_theta_sample(o, p, u1, u2, &sin_i, &cos_i);
-    ht_mz_theta_d(o, sin_i, &sin_d, &cos_d);
+    ht_mz_angles_drawn(o, sin_i, cos_i, a);
     real n2, n3;
     ht_normal_pair(u3, ur, &n2, &n3);
-    real inv_ep = ht_inv_eta_prime(m->eta, sin_d, cos_d);
-    real phi_p = ht_phi_path(p, o->gamma_i, ht_asin(h * inv_ep));
+    *inv_ep = ht_inv_eta_prime(m->eta, a->sin_d, a->cos_d);
+    real phi_p = ht_phi_path(p, o->gamma_i, ht_asin(h * *inv_ep));
     *w = ht_dir_from(wo, sin_i, cos_i, ht_wrap_pi(phi_p + m->azim_sigma * n2));
     return p;
 }
@@ -113,7 +114,9 @@ HT_FIBER_FN int ht_zinke_draw(const HtMaterial* m, const HtMzWo* o, real3 wo, re
 HT_FIBER_FN int ht_zinke_sample_o(const HtMaterial* m, const HtMzWo* o, real3 wo, real h, real u0, real u1, real u2,
                             real u3, real3* wi, real3* weight, real* pdf) {
     real3 w;
-    ht_zinke_draw(m, o, wo, h, u0, u1, u2, u3, &w);
+    HtMarschnerAngles drawn;
+    real inv_ep;
+    ht_zinke_draw(m, o, wo, h, u0, u1, u2, u3, &w, &drawn, &inv_ep);
     real3 lobes[4];
     real3 value;
     real pd;
@@ -121,38 +124,43 @@ HT_FIBER_FN int ht_zinke_sample_o(const HtMaterial* m, const HtMzWo* o, real3 wo
     return ht_finish_sample(w, value, pd, wi, weight, pdf);
 }
 
-/* Lobe p's value at wi over the density with which the sampler draws wi as lobe p,
+/* Lobe p's value over the density with which the sampler draws its direction as lobe p,
  * pr_p M_p(theta_i) D(phi - Phi(p, h)): the azimuthal Gaussian is the same function in both and
  * cancels, which leaves A_p(h) 1/2 cos(theta_i)/cos^2(theta_d) g(theta_h - alpha_p) / (pr_p M_p),
- * one exp.  Returns 0 (weight 0) where that density is 0. */
-HT_FIBER_FN int ht_zinke_lobe_weight(const HtMaterial* m, const HtMzWo* o, real3 wo, real3 wi, real h, int p,
-                                     real3* weight) {
-    HtMarschnerAngles a;
-    ht_mz_angles(o, wo, wi, &a);
+ * one exp.  _a: given the direction's angles (phi unused) and inv_ep = 1/eta' at their theta_d.
+ * Returns 0 (weight 0) where that density is 0. */
+HT_FIBER_FN int ht_zinke_lobe_weight_a(const HtMaterial* m, const HtMzWo* o, const HtMarschnerAngles* a,
+                                       real inv_ep, real h, int p, real3* weight) {
     const real eta = m->eta;
-    const real3 ap = ht_marschner_ap_k(m, p, h, o->cos_gamma_i, eta, a.cos_d, ht_inv_eta_prime(eta, a.sin_d, a.cos_d),
-                                       ht_cos_theta_t(eta, a.sin_d));
-    const real geo = HT_R(0.5) * a.cos_i / ht_max(a.cos_d * a.cos_d, HT_R(1e-6));
-    const real alpha = p == 0 ? m->alpha_r : (p == 1 ? m->alpha_tt : m->alpha_trt);
-    const real beta = p == 0 ? m->beta_r : (p == 1 ? m->beta_tt : m->beta_trt);
-    real eg, em;
-    const real g = ht_gaussian_parts(a.theta_h - alpha, beta, &eg);
-    const real mp = o->pr[p] * ht_mz_theta_pdf_parts(o, p, a.sin_i, a.cos_i, &em);
+    const real3 ap = ht_marschner_ap_k(m, p, h, o->cos_gamma_i, eta, a->cos_d, inv_ep, ht_cos_theta_t(eta, a->sin_d));
+    const real geo = HT_R(0.5) * a->cos_i / ht_max(a->cos_d * a->cos_d, HT_R(1e-6));
+    real alpha, beta, eg, em;
+    ht_mz_lobe_ab(m, p, &alpha, &beta);
+    const real g = ht_gaussian_parts(a->theta_h - alpha, beta, &eg);
+    const real mp = o->pr[p] * ht_mz_theta_pdf_parts(o, p, a->sin_i, a->cos_i, &em);
     *weight = ht_splat(HT_R(0));
     if (!(mp > HT_R(0))) return 0;
     *weight = ht_sanitize3(ap * (geo * g / mp * exp(eg - em)));
     return 1;
 }
+HT_FIBER_FN int ht_zinke_lobe_weight(const HtMaterial* m, const HtMzWo* o, real3 wo, real3 wi, real h, int p,
+                                     real3* weight) {
+    HtMarschnerAngles a;
+    ht_mz_angles(o, wo, wi, &a);
+    return ht_zinke_lobe_weight_a(m, o, &a, ht_inv_eta_prime(m->eta, a.sin_d, a.cos_d), h, p, weight);
+}
 
 /* For a caller without an MIS partner: the drawn lobe's value over its own density
- * (ht_zinke_lobe_weight), an unbiased weight for the same directions as ht_zinke_sample_o's
- * (the one-sample estimator over the lobes), without evaluating the other lobes or the mixture
- * pdf.  Where the lobes overlap it is noisier than value / pdf; docs/ESTIMATOR.md "The drawn
- * lobe's weight" has what that costs and buys. */
+ * (ht_zinke_lobe_weight, from the angles the draw made), an unbiased weight for the same
+ * directions as ht_zinke_sample_o's (the one-sample estimator over the lobes), without evaluating
+ * the other lobes or the mixture pdf.  Where the lobes overlap it is noisier than value / pdf;
+ * docs/ESTIMATOR.md "The drawn lobe's weight" has what that costs and buys. */
 HT_FIBER_FN int ht_zinke_sample_lobe_o(const HtMaterial* m, const HtMzWo* o, real3 wo, real h, real u0, real u1,
                                        real u2, real u3, real3* wi, real3* weight) {
-    const int p = ht_zinke_draw(m, o, wo, h, u0, u1, u2, u3, wi);
-    return ht_zinke_lobe_weight(m, o, wo, *wi, h, p, weight);
+    HtMarschnerAngles a;
+    real inv_ep;
+    const int p = ht_zinke_draw(m, o, wo, h, u0, u1, u2, u3, wi, &a, &inv_ep);
+    return ht_zinke_lobe_weight_a(m, o, &a, inv_ep, h, p, weight);
 }
 HT_FIBER_FN int ht_zinke_sample(const HtMaterial* m, real3 wo, real h, real u0, real u1, real u2, real u3,
                           real3* wi, real3* weight, real* pdf) {
