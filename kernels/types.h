@@ -163,6 +163,10 @@ typedef struct {
     uint light_samples; /* --first-hit-light-samples: next-event estimates at that vertex */
 } HtBounce;
 
+/* --first-hit-splits auto: the continuations per camera sample of its pilot render
+ * (kernels/stages/split_pilot.cl, host/render/split_choice.h) */
+#define HT_PILOT_SPLITS 2u
+
 /* ---------------------------------------------------------------- camera and lights */
 
 typedef struct {

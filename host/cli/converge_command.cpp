@@ -64,7 +64,9 @@ std::vector<ConvergeConfig> parse_configs(const std::string& text, const ImageRe
                 r.settings.sampler = require_choice("--configs sampler", v, {"sobol", "independent"}) == "sobol"
                                          ? RenderSettings::Sampler::Sobol
                                          : RenderSettings::Sampler::Independent;
-            if (k == "splits") r.settings.first_hit_splits = parse_int("--configs splits", v, 1, kMaxFirstHitSplits);
+            if (k == "splits")
+                r.settings.first_hit_splits =
+                    v == "auto" ? kAutoFirstHitSplits : parse_int("--configs splits", v, 1, kMaxFirstHitSplits);
             if (k == "light_samples") r.light_samples = parse_int("--configs light_samples", v, 1, kMaxFirstHitSplits);
             if (k == "light_threshold")
                 r.settings.light_threshold = v == "off" ? 0.0f : float(parse_double("--configs light_threshold", v, kMinLightThreshold, kMaxLightThreshold));
@@ -243,6 +245,16 @@ int cmd_converge(const std::vector<std::string>& args) {
                              std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
         }
         double seconds = 0, cpu_seconds = 0;
+        // --first-hit-splits auto: the warm-up sample ran the pilot untimed; it runs again here,
+        // warm and timed, and makes the same choice (render/split_choice.h)
+        if (rs.first_hit_splits == kAutoFirstHitSplits) {
+            auto t0 = std::chrono::steady_clock::now();
+            const double c0 = process_cpu_seconds();
+            const SplitChoice choice = r.choose_first_hit_splits();
+            seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            cpu_seconds += process_cpu_seconds() - c0;
+            if (!quiet) std::fprintf(stderr, "%-32s %s\n", cfg.label.c_str(), choice.describe().c_str());
+        }
         size_t next = 0;
         for (int sample = 0; sample < spps.back(); ++sample) {
             auto t0 = std::chrono::steady_clock::now();

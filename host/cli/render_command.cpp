@@ -105,6 +105,12 @@ void open_devices(PreparedRender& job, const RenderRequest& request, bool quiet)
     };
     job.prepared = std::make_unique<PreparedScene>(prepare_scene(job.scene, job.settings, start_builds));
     for (auto& c : job.contexts) job.renderers.push_back(std::make_unique<Renderer>(*c, *job.prepared));
+    // --first-hit-splits auto: one pilot, on the first device; every device uses its choice
+    if (job.settings.first_hit_splits == kAutoFirstHitSplits) {
+        const SplitChoice choice = job.renderers.front()->choose_first_hit_splits();
+        for (size_t i = 1; i < job.renderers.size(); ++i) job.renderers[i]->set_first_hit_splits(choice.splits);
+        if (!quiet && choice.seconds > 0) std::fprintf(stderr, "%s\n", choice.describe().c_str());
+    }
     const Renderer& renderer = *job.renderers.front();
     if (!quiet && renderer.stats().clamp_indirect > 0)
         std::fprintf(stderr, "indirect light clamped at %g per sample (--clamp-indirect)\n",
@@ -369,7 +375,8 @@ ImageMetadata metadata_of(const PreparedRender& job, const RenderRequest& reques
     meta.ints["hairtrace:spp"] = job.acc->samples();
     meta.ints["hairtrace:seed"] = int(job.settings.seed);
     meta.ints["hairtrace:max_depth"] = job.settings.max_depth;
-    meta.ints["hairtrace:first_hit_splits"] = job.settings.first_hit_splits;
+    meta.ints["hairtrace:first_hit_splits"] = job.renderers.front()->first_hit_splits();
+    meta.text["hairtrace:first_hit_splits_mode"] = job.settings.first_hit_splits == kAutoFirstHitSplits ? "auto" : "fixed";
     meta.ints["hairtrace:first_hit_light_samples"] = job.settings.first_hit_light_samples;
     meta.text["hairtrace:light_pick"] =
         job.settings.light_pick == RenderSettings::LightPick::Importance ? "importance" : "uniform";

@@ -20,6 +20,7 @@
 #include "render/memory_plan.h"
 #include "render/path_buffers.h"
 #include "render/ray_dump.h"
+#include "render/split_choice.h"
 #include "render/stage_args.h"
 #include "kernels/surface/texture.h"
 
@@ -119,6 +120,7 @@ struct Renderer::Impl {
     cl::Kernel k_generate, k_closest, k_shade, k_shadow, k_resolve, k_accumulate;
     cl::Kernel k_compact_count, k_compact_scan, k_compact_scatter;
     cl::Kernel k_shadow_afs, k_resolve_afs, k_shadow_dual;
+    cl::Kernel k_pilot_record, k_pilot_accumulate;  // --first-hit-splits auto's pilot
     RenderStats stats;
     cl::Buffer film_buf, film_aov;  // film_aov: --aovs only
     cl::Buffer film_even;           // --target-error: the even samples' half film (core/film.h)
@@ -131,8 +133,19 @@ struct Renderer::Impl {
     size_t capacity = 0;         // path slots per pass
     size_t pixels_per_pass = 0;  // capacity / paths_per_pixel
     // --first-hit-splits, or 1 where no path goes on past its first vertex (depth 1 without an
-    // environment): there is nothing to split, and the image is the same either way
+    // environment): there is nothing to split, and the image is the same either way.  auto: the
+    // pilot's N until the pilot has run (splits_pending), then its choice.
     uint32_t splits = 1;
+    bool can_split = false;  // a path can go on past its first vertex
+    bool splits_pending = false;
+    uint32_t seed = 0;  // settings.seed; the pilot's own while it runs (render/split_choice.h)
+    // While the pilot runs: each path slot's first-vertex radiance, and the pilot pixels' moments
+    // (kernels/stages/split_pilot.cl).
+    struct Pilot {
+        cl::Buffer first_vertex, moments;
+        uint32_t half = 0;  // which of its two seeds
+    };
+    Pilot* pilot = nullptr;
     uint32_t light_samples = 1;    // --first-hit-light-samples
     uint32_t paths_per_pixel = 1;  // path states of a camera path: max(splits, light_samples)
     cl::Buffer buffers[size_t(PathBuffer::Count)];
@@ -160,7 +173,10 @@ struct Renderer::Impl {
         const bool dual = s.indirect == RenderSettings::Indirect::Dual;
         buffer_set.indirect_dual = dual;
         buffer_set.aovs = s.aovs;
-        splits = s.max_depth > 1 || p.environment.header.enabled ? uint32_t(s.first_hit_splits) : 1u;
+        seed = s.seed;
+        can_split = s.max_depth > 1 || p.environment.header.enabled;
+        splits_pending = can_split && s.first_hit_splits == kAutoFirstHitSplits;
+        splits = !can_split ? 1u : splits_pending ? uint32_t(kPilotSplits) : uint32_t(s.first_hit_splits);
         light_samples = uint32_t(s.first_hit_light_samples);
         paths_per_pixel = std::max(splits, light_samples);
         buffer_set.slots_per_pixel = paths_per_pixel;
@@ -190,6 +206,10 @@ struct Renderer::Impl {
         k_compact_count = cl::Kernel(trace_program, "compact_count");
         k_compact_scan = cl::Kernel(trace_program, "compact_scan");
         k_compact_scatter = cl::Kernel(trace_program, "compact_scatter");
+        if (splits_pending) {
+            k_pilot_record = cl::Kernel(trace_program, "pilot_record_first_vertex");
+            k_pilot_accumulate = cl::Kernel(trace_program, "pilot_accumulate");
+        }
         if (afs) {
             afs_table = device_array(cl.context(), p.afs_table);
             const cl::Program afs_program = build(kAfsShadowProgram);
@@ -201,15 +221,33 @@ struct Renderer::Impl {
             k_shadow_dual = cl::Kernel(build(kAfsShadowProgram), "shadow_dual");
         }
 
-        const uint64_t scene_bytes = device_geometry.bytes + p.extra_scene_bytes();
-        MemoryPlan plan = plan_device_memory(uint64_t(s.width) * uint64_t(s.height), scene_bytes,
-                                             cl.info().max_alloc, cl.info().global_mem, s.max_device_bytes,
-                                             std::max<size_t>(s.max_paths_per_pass, 1), buffer_set,
-                                             device_geometry.paging);
+        const MemoryPlan plan = plan_memory();
         upload_textures();
+        use_plan(plan);
+        pixel_list = device_array(cl.context(), std::vector<cl_uint>{});
+    }
+
+    MemoryPlan plan_memory() const {
+        const RenderSettings& s = settings;
+        const uint64_t scene_bytes = device_geometry.bytes + prepared.extra_scene_bytes();
+        return plan_device_memory(uint64_t(s.width) * uint64_t(s.height), scene_bytes, cl.info().max_alloc,
+                                  cl.info().global_mem, s.max_device_bytes, std::max<size_t>(s.max_paths_per_pass, 1),
+                                  buffer_set, device_geometry.paging);
+    }
+
+    void use_plan(const MemoryPlan& plan) {
         pixels_per_pass = plan.pixels_per_pass;
         allocate(plan.paths_per_pass);
-        pixel_list = device_array(cl.context(), std::vector<cl_uint>{});
+    }
+
+    // N continuations from now on; the pass buffers are planned again for N's path slots.
+    void set_splits(uint32_t n) {
+        splits = n;
+        splits_pending = false;
+        if (std::max(splits, light_samples) == paths_per_pixel) return;
+        paths_per_pixel = std::max(splits, light_samples);
+        buffer_set.slots_per_pixel = paths_per_pixel;
+        use_plan(plan_memory());
     }
 
     // After the memory plan, so textures that cannot fit are refused before they are copied.
@@ -243,6 +281,65 @@ struct Renderer::Impl {
         counters = cl::Buffer(cl.context(), CL_MEM_READ_WRITE, HT_COUNTER_COUNT * sizeof(uint32_t));
     }
 
+    // One sample over every pixel (or the listed ones), pass by pass; the pilot's when `pilot`.
+    void trace_sample(uint32_t sample) {
+        const RenderSettings& s = settings;
+        const size_t pixels = listed_pixels ? listed_pixels : size_t(s.width) * size_t(s.height);
+        for (size_t offset = 0; offset < pixels; offset += pixels_per_pass) {
+            const uint32_t count = uint32_t(std::min(pixels_per_pass, pixels - offset));
+            generate_camera_rays(uint32_t(offset), count, sample);
+            stats.camera_rays += count;
+            stats.paths += uint64_t(count) * splits;
+            int q = 0;
+            uint32_t n = count;
+            // max_depth scattering vertices; with an environment, the last vertex's BCSDF ray is
+            // traced too, for the environment light it sees (kernels/stages/shade.cl)
+            const uint32_t vertices = uint32_t(s.max_depth);
+            const uint32_t traced = vertices + (scene.environment.enabled ? 1u : 0u);
+            for (uint32_t bounce = 0; n > 0 && bounce < traced; ++bounce) {
+                const auto t_bounce = std::chrono::steady_clock::now();
+                intersect_closest(q, n);
+                if (dump) dump->closest(cl.queue(), queue_rays(q), buffer(PathBuffer::Hits), n, bounce);
+                shade(q, n, sample, bounce);
+                // the first shade leaves `light_samples` shadow slots and `splits` stage slots
+                // per camera ray, later ones one of each per ray
+                const uint32_t shadow_slots = bounce == 0 ? n * light_samples : n;
+                if (bounce + 1 == vertices && s.indirect == RenderSettings::Indirect::Afs) {
+                    intersect_shadow_afs(shadow_slots);
+                    resolve_shadows_afs(shadow_slots);
+                } else if (bounce + 1 == vertices && s.indirect == RenderSettings::Indirect::Dual) {
+                    shadow_dual(shadow_slots);
+                } else if (bounce < vertices) {
+                    intersect_shadow(shadow_slots);
+                    if (dump) dump->shadow(cl.queue(), buffer(PathBuffer::ShadowRays), buffer(PathBuffer::Occluded), shadow_slots, bounce);
+                    resolve_shadows(shadow_slots);
+                }
+                if (pilot && bounce == 0) pilot_record_first_vertex(count);
+                const uint32_t staged = bounce == 0 ? n * splits : n;
+                if (bounce + 1 < traced) compact(1 - q, staged);  // else no path continues
+                const ShadeCounters c = read_counters();
+                stats.nonfinite_caught += c.nonfinite;
+                stats.shadow_rays += c.shadow;
+                stats.extension_rays += c.next;
+                stats.cut_paths += c.cut;
+                if (stats.bounces.size() <= bounce) stats.bounces.resize(bounce + 1);
+                BounceStats& bs = stats.bounces[bounce];
+                bs.paths += n;
+                bs.shadow_rays += c.shadow;
+                bs.cut_paths += c.cut;
+                // read_counters() waited for the queue: this is the bounce's wall time
+                bs.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t_bounce).count();
+                q = 1 - q;
+                n = c.next;
+            }
+            if (pilot)
+                pilot_accumulate(count, uint32_t(offset));
+            else
+                accumulate(film_buf, count, sample);
+        }
+        cl.queue().finish();
+    }
+
     // ---- stages ---------------------------------------------------------------------------
     // The traversal's arrays, paged or not (kernels/geometry/pages.h); returns the next argument.
     cl_uint set_geometry_args(cl::Kernel& k) {
@@ -255,7 +352,7 @@ struct Renderer::Impl {
         k_generate.setArg(0, prepared.camera);
         k_generate.setArg(1, offset);
         k_generate.setArg(2, count);
-        k_generate.setArg(3, settings.seed);
+        k_generate.setArg(3, seed);
         k_generate.setArg(4, sample);
         k_generate.setArg(5, cl_uint(paths_per_pixel));
         k_generate.setArg(6, pixel_list);
@@ -287,7 +384,7 @@ struct Renderer::Impl {
                                buffer(PathBuffer::ShadowContrib), buffer(PathBuffer::StageRays),
                                buffer(PathBuffer::StagePath), counters};
         a = set_bundle_args(k_shade, a, queue);
-        const HtBounce b{settings.seed, sample, bounce, uint32_t(settings.max_depth), settings.fiber_field,
+        const HtBounce b{seed, sample, bounce, uint32_t(settings.max_depth), settings.fiber_field,
                          prepared.pixel_angle, splits, light_samples};
         k_shade.setArg(a++, b);
         if (settings.aovs) {
@@ -404,6 +501,25 @@ struct Renderer::Impl {
         launch(k_accumulate, count);
     }
 
+    void pilot_record_first_vertex(uint32_t cameras) {
+        const uint32_t slots = cameras * paths_per_pixel;
+        k_pilot_record.setArg(0, buffer(PathBuffer::Paths));
+        k_pilot_record.setArg(1, slots);
+        k_pilot_record.setArg(2, pilot->first_vertex);
+        launch(k_pilot_record, slots);
+    }
+
+    void pilot_accumulate(uint32_t count, uint32_t list_offset) {
+        k_pilot_accumulate.setArg(0, buffer(PathBuffer::Paths));
+        k_pilot_accumulate.setArg(1, pilot->first_vertex);
+        k_pilot_accumulate.setArg(2, count);
+        k_pilot_accumulate.setArg(3, cl_uint(paths_per_pixel));
+        k_pilot_accumulate.setArg(4, list_offset);
+        k_pilot_accumulate.setArg(5, pilot->half);
+        k_pilot_accumulate.setArg(6, pilot->moments);
+        launch(k_pilot_accumulate, count);
+    }
+
     // A film's AOV sums or even half on the device: a copy of `sums`, or zeros when it is empty
     // (a chunk's first upload).
     cl::Buffer film_sums(const std::vector<float>& sums, size_t floats, const char* what) {
@@ -518,64 +634,79 @@ void Renderer::set_pixels(const std::vector<uint32_t>& pixels) {
 
 void Renderer::render_sample(uint32_t sample) {
     Impl& r = *impl_;
-    const RenderSettings& s = r.settings;
-    const size_t pixels = r.listed_pixels ? r.listed_pixels : size_t(s.width) * size_t(s.height);
+    if (r.splits_pending) choose_first_hit_splits();
     auto t0 = std::chrono::steady_clock::now();
     try {
-        for (size_t offset = 0; offset < pixels; offset += r.pixels_per_pass) {
-            const uint32_t count = uint32_t(std::min(r.pixels_per_pass, pixels - offset));
-            r.generate_camera_rays(uint32_t(offset), count, sample);
-            r.stats.camera_rays += count;
-            r.stats.paths += uint64_t(count) * r.splits;
-            int q = 0;
-            uint32_t n = count;
-            // max_depth scattering vertices; with an environment, the last vertex's BCSDF ray is
-            // traced too, for the environment light it sees (kernels/stages/shade.cl)
-            const uint32_t vertices = uint32_t(s.max_depth);
-            const uint32_t traced = vertices + (r.scene.environment.enabled ? 1u : 0u);
-            for (uint32_t bounce = 0; n > 0 && bounce < traced; ++bounce) {
-                const auto t_bounce = std::chrono::steady_clock::now();
-                r.intersect_closest(q, n);
-                if (r.dump) r.dump->closest(r.cl.queue(), r.queue_rays(q), r.buffer(PathBuffer::Hits), n, bounce);
-                r.shade(q, n, sample, bounce);
-                // the first shade leaves `light_samples` shadow slots and `splits` stage slots
-                // per camera ray, later ones one of each per ray
-                const uint32_t shadow_slots = bounce == 0 ? n * r.light_samples : n;
-                if (bounce + 1 == vertices && s.indirect == RenderSettings::Indirect::Afs) {
-                    r.intersect_shadow_afs(shadow_slots);
-                    r.resolve_shadows_afs(shadow_slots);
-                } else if (bounce + 1 == vertices && s.indirect == RenderSettings::Indirect::Dual) {
-                    r.shadow_dual(shadow_slots);
-                } else if (bounce < vertices) {
-                    r.intersect_shadow(shadow_slots);
-                    if (r.dump) r.dump->shadow(r.cl.queue(), r.buffer(PathBuffer::ShadowRays), r.buffer(PathBuffer::Occluded), shadow_slots, bounce);
-                    r.resolve_shadows(shadow_slots);
-                }
-                const uint32_t staged = bounce == 0 ? n * r.splits : n;
-                if (bounce + 1 < traced) r.compact(1 - q, staged);  // else no path continues
-                const Impl::ShadeCounters c = r.read_counters();
-                r.stats.nonfinite_caught += c.nonfinite;
-                r.stats.shadow_rays += c.shadow;
-                r.stats.extension_rays += c.next;
-                r.stats.cut_paths += c.cut;
-                if (r.stats.bounces.size() <= bounce) r.stats.bounces.resize(bounce + 1);
-                BounceStats& bs = r.stats.bounces[bounce];
-                bs.paths += n;
-                bs.shadow_rays += c.shadow;
-                bs.cut_paths += c.cut;
-                // read_counters() waited for the queue: this is the bounce's wall time
-                bs.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t_bounce).count();
-                q = 1 - q;
-                n = c.next;
-            }
-            r.accumulate(r.film_buf, count, sample);
-        }
-        r.cl.queue().finish();
+        r.trace_sample(sample);
     } catch (const cl::Error& e) {
         throw DeviceError(std::string("OpenCL failure in ") + e.what() + ": " + cl_error_name(e.err()));
     }
     r.stats.samples += 1;
     r.stats.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+int Renderer::first_hit_splits() const { return impl_->splits_pending ? 0 : int(impl_->splits); }
+
+void Renderer::set_first_hit_splits(int n) {
+    if (n < 1 || n > kMaxFirstHitSplits) throw std::invalid_argument("set_first_hit_splits: N out of range");
+    Impl& r = *impl_;
+    if (!r.splits_pending && r.splits == uint32_t(n)) return;
+    try {
+        r.set_splits(uint32_t(n));
+    } catch (const cl::Error& e) {
+        throw DeviceError(std::string("cannot allocate the path buffers on the device: ") + cl_error_name(e.err()));
+    }
+}
+
+SplitChoice Renderer::choose_first_hit_splits() {
+    Impl& r = *impl_;
+    SplitChoice choice;
+    if (r.settings.first_hit_splits != kAutoFirstHitSplits || !r.can_split) {
+        choice.splits = first_hit_splits();
+        return choice;
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    // the pilot runs with N = kPilotSplits, its own seed and pixels, and statistics of its own
+    RenderStats render_stats = std::move(r.stats);
+    r.stats = RenderStats{};
+    const cl::Buffer render_pixels = r.pixel_list;
+    const size_t render_listed = r.listed_pixels;
+    RayDump* const render_dump = r.dump;
+    std::vector<float> moments;
+    try {
+        if (!r.splits_pending) r.set_splits(uint32_t(kPilotSplits));  // chosen before: again
+        const std::vector<uint32_t> pixels = pilot_pixels(r.settings.width, r.settings.height);
+        r.pixel_list = device_array(r.cl.context(), pixels);
+        r.listed_pixels = pixels.size();
+        r.dump = nullptr;
+        moments.assign(16 * pixels.size(), 0.0f);
+        Impl::Pilot pilot;
+        pilot.moments = cl::Buffer(r.cl.context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR,
+                                   moments.size() * sizeof(float), moments.data());
+        pilot.first_vertex = cl::Buffer(r.cl.context(), CL_MEM_READ_WRITE, r.capacity * 4 * sizeof(float));
+        r.pilot = &pilot;
+        for (pilot.half = 0; pilot.half < 2; ++pilot.half) {
+            r.seed = pilot_seed(r.settings.seed, int(pilot.half));
+            for (int i = 0; i < kPilotSamples; ++i) r.trace_sample(uint32_t(i));
+        }
+        r.cl.queue().enqueueReadBuffer(pilot.moments, CL_TRUE, 0, moments.size() * sizeof(float), moments.data());
+    } catch (const cl::Error& e) {
+        r.pilot = nullptr;
+        throw DeviceError(std::string("OpenCL failure in the first-hit splits' pilot, ") + e.what() + ": " +
+                          cl_error_name(e.err()));
+    }
+    r.pilot = nullptr;
+    choice.variance = split_variance(moments);
+    choice.cost = split_cost(r.stats, kPilotSplits);
+    choice.splits = best_splits(choice.variance, choice.cost);
+    r.seed = r.settings.seed;
+    r.pixel_list = render_pixels;
+    r.listed_pixels = render_listed;
+    r.dump = render_dump;
+    r.stats = std::move(render_stats);
+    set_first_hit_splits(choice.splits);
+    choice.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return choice;
 }
 
 void RenderStats::add(const RenderStats& o) {

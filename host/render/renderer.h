@@ -7,6 +7,7 @@
 #include "render/memory_plan.h"
 #include "render/prepared_scene.h"
 #include "render/settings.h"
+#include "render/split_choice.h"
 #include "scene/scene.h"
 
 #include <cstdint>
@@ -87,6 +88,15 @@ public:
     // others keep their film values untouched.
     void set_pixels(const std::vector<uint32_t>& pixels);
     const RenderStats& stats() const;
+
+    // --first-hit-splits: the continuations per camera sample in use; 0 while auto has not yet
+    // chosen (the first render_sample chooses when nobody did before).
+    int first_hit_splits() const;
+    // auto: runs the pilot (render/split_choice.h) and uses its choice from now on; it may be run
+    // again and chooses the same.  Otherwise returns the fixed N.  Throws DeviceError.
+    SplitChoice choose_first_hit_splits();
+    // Uses N continuations from now on (another device's choice, so that all devices agree).
+    void set_first_hit_splits(int n);
 
     const std::string& kernel_options() const;
     // How the scene's geometry was cut into device buffers on this device.

@@ -16,6 +16,8 @@ namespace ht {
 // work-group, the smallest pass the memory plan admits, and sample * N stays far below 2^32
 // (kernels/rng.h).
 constexpr int kMaxFirstHitSplits = 64;
+// RenderSettings::first_hit_splits for --first-hit-splits auto (render/split_choice.h).
+constexpr int kAutoFirstHitSplits = 0;
 
 // --light-threshold's range (kernels/integrator/roulette.h): above 1 every estimate of a white
 // fibre would be played for.
@@ -58,8 +60,8 @@ struct RenderSettings {
     enum class Sampler { Sobol, Independent } sampler = Sampler::Sobol;
     // Continuations per camera path from its first vertex, each with 1/N of the weight, while the
     // camera ray, its hit and its next-event estimate are done once (kernels/stages/shade.cl).
-    // 1 here, the plain estimator; the command line's default is chosen by measurement
-    // (cli/render_request.cpp, docs/PERFORMANCE.md §8).
+    // 1 here, the plain estimator; kAutoFirstHitSplits: chosen per scene by a pilot render
+    // (render/split_choice.h), the command line's default (docs/PERFORMANCE.md §8).
     int first_hit_splits = 1;
     // Next-event estimates at that first vertex, each with 1/M of the weight and its own stratum
     // of the light pick (1 here; the command line's auto is one per light).

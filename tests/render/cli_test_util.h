@@ -50,6 +50,12 @@ inline std::vector<float> image(const std::string& p) {
     return ht::read_rgb_image(p, w, h);
 }
 
+// An integer attribute of an image's metadata (0 when it has none).
+inline int int_attribute(const std::string& p, const std::string& name) {
+    auto in = OIIO::ImageInput::open(p);
+    return in ? in->spec().get_int_attribute(name) : 0;
+}
+
 // Every channel of an image by name, each value as its bits: equal maps are the same channels
 // with the same bits (float == would call -0 and 0 equal and a NaN unequal to itself).
 using ChannelBits = std::map<std::string, std::vector<uint32_t>>;

@@ -57,6 +57,9 @@ TEST(Converge, WritesSparklesDrawsExternalPointsAndKeepsTheWarmUpApart) {
         EXPECT_LE(share, 1.0);
     }
     EXPECT_NE(slurp(d / "err.txt").find("warm-up sample (first launch, not counted)"), std::string::npos);
+    // depth 2 takes the command line's --first-hit-splits auto: its pilot is timed and reported
+    EXPECT_NE(slurp(d / "err.txt").find("depth=2                          first-hit splits: auto chose"),
+              std::string::npos) << slurp(d / "err.txt");
     EXPECT_GT(std::filesystem::file_size(d / "c.png"), 1000u);
     // The same run with the reference's noise removed: every RMSE at most the plain one.
     ASSERT_EQ(run(kBin + " converge " + kScene + " --reference " + (d / "ref.exr") + " --configs depth=2 --spp 1,4" +

@@ -153,18 +153,48 @@ TEST(FirstHitSplitsCli, ChunksThreadsPartsAndCheckpointsGiveTheSameBits) {
     EXPECT_EQ(whole, image(d / "resumed.exr"));
 }
 
-TEST(FirstHitSplitsCli, DefaultsAreTwoSplitsAndOneEstimatePerLightAndTheRangeIsChecked) {
+TEST(FirstHitSplitsCli, DefaultsAreAutoSplitsAndOneEstimatePerLightAndTheRangeIsChecked) {
     TempDir d("ht_splits_");
     ASSERT_EQ(run(kRender + " --spp 2 -o " + (d / "default.exr")), 0);
-    ASSERT_EQ(run(kRender + " --first-hit-splits 2 --first-hit-light-samples auto --spp 2 -o " + (d / "auto.exr")), 0);
+    ASSERT_EQ(run(kRender + " --first-hit-splits auto --first-hit-light-samples auto --spp 2 -o " + (d / "auto.exr")), 0);
     EXPECT_EQ(image(d / "default.exr"), image(d / "auto.exr"));
+    // auto's pilot leaves the render's numbers alone: the image is that of the N it chose
+    const int chosen = clitest::int_attribute(d / "auto.exr", "hairtrace:first_hit_splits");
+    ASSERT_GE(chosen, 2);
+    ASSERT_LE(chosen, 8);
+    const std::string n = " --first-hit-splits " + std::to_string(chosen);
     // the builtin strand has one light: auto is one estimate
-    ASSERT_EQ(run(kRender + " --first-hit-splits 2 --first-hit-light-samples 1 --spp 2 -o " + (d / "one.exr")), 0);
-    EXPECT_EQ(image(d / "default.exr"), image(d / "one.exr"));
+    ASSERT_EQ(run(kRender + n + " --first-hit-light-samples 1 --spp 2 -o " + (d / "fixed.exr")), 0);
+    EXPECT_EQ(image(d / "default.exr"), image(d / "fixed.exr"));
     ASSERT_EQ(run(kRender + " --first-hit-splits 1 --spp 2 -o " + (d / "plain.exr")), 0);
     EXPECT_NE(image(d / "default.exr"), image(d / "plain.exr"));
-    for (const std::string bad : {" --first-hit-splits 0", " --first-hit-splits 65", " --first-hit-light-samples 0",
-                                  " --first-hit-light-samples 65", " --first-hit-light-samples all"})
+    for (const std::string bad : {" --first-hit-splits 0", " --first-hit-splits 65", " --first-hit-splits any",
+                                  " --first-hit-light-samples 0", " --first-hit-light-samples 65",
+                                  " --first-hit-light-samples all"})
         EXPECT_EQ(run(kRender + bad + " --spp 2 -o " + (d / "x.exr") + " 2>/dev/null"), 2) << bad;
+}
+
+TEST(FirstHitSplitsCli, AutoChoosesTheSameOnEveryDeviceThreadCountPartAndResume) {
+    // One pilot on the first device; its choice is a pure function of the scene and options, so
+    // a second device, one thread, a render-farm part and a resumed checkpoint all use it.
+    TempDir d("ht_splits_");
+    const std::string a = kRender + " --spp 6 --chunk 2";
+    ASSERT_EQ(run(a + " -o " + (d / "whole.exr")), 0);
+    const auto whole = image(d / "whole.exr");
+    ASSERT_EQ(run("POCL_MAX_PTHREAD_COUNT=1 POCL_DEVICES='pthread basic' " + a + " --device 0,1 -o " + (d / "d2.exr")), 0);
+    EXPECT_EQ(whole, image(d / "d2.exr"));
+    ASSERT_EQ(run(a + " --sample-range 0:4 -o " + (d / "p0.exr")), 0);
+    ASSERT_EQ(run(a + " --sample-range 4:6 -o " + (d / "p1.exr")), 0);
+    ASSERT_EQ(run(std::string(HT_BINARY) + " merge " + (d / "p1.exr") + " " + (d / "p0.exr") + " -o " +
+                  (d / "merged.exr") + " --quiet"), 0);
+    EXPECT_EQ(whole, image(d / "merged.exr"));
+    ASSERT_EQ(run(kRender + " --spp 2 --chunk 2 --checkpoint " + (d / "c.ckpt") + " -o " + (d / "a.exr")), 0);
+    // a checkpoint of auto resumes with auto only
+    const std::string resume = " --spp 6 --chunk 2 --resume " + (d / "c.ckpt");
+    const int chosen = clitest::int_attribute(d / "whole.exr", "hairtrace:first_hit_splits");
+    EXPECT_EQ(run(kRender + " --first-hit-splits " + std::to_string(chosen) + resume + " -o " + (d / "x.exr") +
+                  " 2>/dev/null"), 2);
+    ASSERT_EQ(run(kRender + resume + " -o " + (d / "resumed.exr")), 0);
+    EXPECT_EQ(whole, image(d / "resumed.exr"));
 }
 #endif

@@ -1,0 +1,66 @@
+/* --first-hit-splits auto: the pilot's two stages (host/render/split_choice.h chooses N from what
+ * they gather).  A pilot sample is an ordinary sample with N = HT_PILOT_SPLITS continuations
+ * (kernels/types.h); besides the film it needs how much of each sample's variance the
+ * continuations carry.
+ *
+ * pilot_record_first_vertex runs after the first bounce's shadow rays are resolved: each path
+ * slot's radiance is then all its camera sample's first vertex gave it (the camera ray's
+ * environment, the first-hit next-event estimates credited to that slot), so what a slot gains
+ * later is its continuation's alone.
+ *
+ * pilot_accumulate, in place of accumulate: camera path i (pilot pixel list_offset + i), with slot
+ * radiances R_j and first-vertex parts F_j (continuation j in slot j < N), gives the sample
+ * Y = sum_j R_j, its first vertex's part F = sum_j F_j and the continuations' values
+ * c_j = R_j - F_j (each 1/N of a continuation's estimate C_j).  The pilot renders every pixel
+ * with two seeds (`seed_half` 0 and 1: two independent scramblings of the same sampler); per
+ * pilot pixel, with |v|^2 summed over the channels, it sums
+ *   moments[4 list + 0]            += (Y, |Y|^2)
+ *   moments[4 list + 1 + seed_half] += (F, 0)
+ *   moments[4 list + 1].w          += |F|^2
+ *   moments[4 list + 2].w          += N^2 / (N - 1) sum_j |c_j - mean c|^2
+ *   moments[4 list + 3].w          += 1:
+ * the sample's moments, the first vertex's per half (whose means differ by the error of either)
+ * and its second moment, and an unbiased estimate of E[Var(C | first vertex)]: the variance the
+ * splits divide by N.  Sums are taken in sample order, one work-item per pixel. */
+#include "../types.h"
+
+__kernel void pilot_record_first_vertex(__global const HtPathState* paths, uint count,
+                                        __global float4* first_vertex) {
+    uint i = get_global_id(0);
+    if (i >= count) return;
+    const HtPathState s = paths[i];
+    first_vertex[i] = (float4)(s.radiance[0], s.radiance[1], s.radiance[2], 0.0f);
+}
+
+__kernel void pilot_accumulate(__global const HtPathState* paths, __global const float4* first_vertex,
+                               uint count, uint slots, uint list_offset, uint seed_half,
+                               __global float4* moments) {
+    uint i = get_global_id(0);
+    if (i >= count) return;
+    const uint first = i * slots;
+    float3 y = (float3)(0.0f), f = (float3)(0.0f);
+    for (uint j = 0u; j < slots; ++j) {
+        const HtPathState s = paths[first + j];
+        y += (float3)(s.radiance[0], s.radiance[1], s.radiance[2]);
+        f += first_vertex[first + j].xyz;
+    }
+    /* the continuations are the first HT_PILOT_SPLITS slots; any after them (more first-hit light
+     * samples than continuations) hold light samples only */
+    float3 c[HT_PILOT_SPLITS];
+    float3 c_mean = (float3)(0.0f);
+    for (uint j = 0u; j < HT_PILOT_SPLITS; ++j) {
+        const HtPathState s = paths[first + j];
+        c[j] = (float3)(s.radiance[0], s.radiance[1], s.radiance[2]) - first_vertex[first + j].xyz;
+        c_mean += c[j];
+    }
+    c_mean /= (float)HT_PILOT_SPLITS;
+    float spread = 0.0f;
+    for (uint j = 0u; j < HT_PILOT_SPLITS; ++j) spread += dot(c[j] - c_mean, c[j] - c_mean);
+    const float n = (float)HT_PILOT_SPLITS;
+    __global float4* m = moments + 4u * (size_t)(list_offset + i);
+    m[0] += (float4)(y, dot(y, y));
+    m[1u + seed_half].xyz += f;
+    m[1].w += dot(f, f);
+    m[2].w += n * n / (n - 1.0f) * spread;
+    m[3].w += 1.0f;
+}
