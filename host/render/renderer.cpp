@@ -683,7 +683,9 @@ SplitChoice Renderer::choose_first_hit_splits() {
         Impl::Pilot pilot;
         pilot.moments = cl::Buffer(r.cl.context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR,
                                    moments.size() * sizeof(float), moments.data());
-        pilot.first_vertex = cl::Buffer(r.cl.context(), CL_MEM_READ_WRITE, r.capacity * 4 * sizeof(float));
+        // a pass of the pilot holds at most all its pixels: outside the memory plan, but small
+        const size_t slots = std::min(r.capacity, PathBufferSet::slots(pixels.size() * r.paths_per_pixel));
+        pilot.first_vertex = cl::Buffer(r.cl.context(), CL_MEM_READ_WRITE, slots * 4 * sizeof(float));
         r.pilot = &pilot;
         for (pilot.half = 0; pilot.half < 2; ++pilot.half) {
             r.seed = pilot_seed(r.settings.seed, int(pilot.half));
