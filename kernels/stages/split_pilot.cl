@@ -38,20 +38,20 @@ __kernel void pilot_accumulate(__global const HtPathState* paths, __global const
     uint i = get_global_id(0);
     if (i >= count) return;
     const uint first = i * slots;
-    float3 y = (float3)(0.0f), f = (float3)(0.0f);
+    /* one read per slot; the continuations are the first HT_PILOT_SPLITS slots, any after them
+     * (more first-hit light samples than continuations) hold light samples only */
+    float3 y = (float3)(0.0f), f = (float3)(0.0f), c_mean = (float3)(0.0f);
+    float3 c[HT_PILOT_SPLITS];
     for (uint j = 0u; j < slots; ++j) {
         const HtPathState s = paths[first + j];
-        y += (float3)(s.radiance[0], s.radiance[1], s.radiance[2]);
-        f += first_vertex[first + j].xyz;
-    }
-    /* the continuations are the first HT_PILOT_SPLITS slots; any after them (more first-hit light
-     * samples than continuations) hold light samples only */
-    float3 c[HT_PILOT_SPLITS];
-    float3 c_mean = (float3)(0.0f);
-    for (uint j = 0u; j < HT_PILOT_SPLITS; ++j) {
-        const HtPathState s = paths[first + j];
-        c[j] = (float3)(s.radiance[0], s.radiance[1], s.radiance[2]) - first_vertex[first + j].xyz;
-        c_mean += c[j];
+        const float3 r = (float3)(s.radiance[0], s.radiance[1], s.radiance[2]);
+        const float3 fj = first_vertex[first + j].xyz;
+        y += r;
+        f += fj;
+        if (j < HT_PILOT_SPLITS) {
+            c[j] = r - fj;
+            c_mean += c[j];
+        }
     }
     c_mean /= (float)HT_PILOT_SPLITS;
     float spread = 0.0f;
