@@ -42,12 +42,12 @@ std::vector<std::string> split(const std::string& s, char sep) {
 // "model=zinke,depth=5;model=marschner,depth=1": each key means what its render option means
 // (model = --model, depth = --max-depth, indirect = --indirect, field = --fiber-field, sampler =
 // --sampler, splits = --first-hit-splits, light_samples = --first-hit-light-samples,
-// light_threshold = --light-threshold, a value or off, light_pick = --light-pick), on top of the
-// options given on the command line.
+// light_threshold = --light-threshold, a value or off, light_pick = --light-pick, empty_pixels =
+// --empty-pixels), on top of the options given on the command line.
 std::vector<ConvergeConfig> parse_configs(const std::string& text, const ImageRequest& base) {
     static const std::vector<std::string> known = {"model",   "depth",  "indirect",     "field",
                                                    "sampler", "splits", "light_samples", "light_threshold",
-                                                   "light_pick"};
+                                                   "light_pick", "empty_pixels"};
     std::vector<ConvergeConfig> out;
     for (auto& c : split(text, ';')) {
         ConvergeConfig cfg{c, base};
@@ -70,6 +70,8 @@ std::vector<ConvergeConfig> parse_configs(const std::string& text, const ImageRe
             if (k == "light_samples") r.light_samples = parse_int("--configs light_samples", v, 1, kMaxFirstHitSplits);
             if (k == "light_threshold")
                 r.settings.light_threshold = v == "off" ? 0.0f : float(parse_double("--configs light_threshold", v, kMinLightThreshold, kMaxLightThreshold));
+            if (k == "empty_pixels")
+                r.settings.skip_empty_pixels = require_choice("--configs empty_pixels", v, {"skip", "trace"}) == "skip";
             if (k == "light_pick")
                 r.settings.light_pick = require_choice("--configs light_pick", v, {"importance", "uniform"}) == "importance"
                                             ? RenderSettings::LightPick::Importance
@@ -189,7 +191,7 @@ int cmd_converge(const std::vector<std::string>& args) {
                             "a CSV of the measurements and a log-log plot.");
     p.group("convergence")
         .path("--reference", "REF", "linear reference image (EXR) of the same size", PathKind::Input)
-        .option("--configs", "LIST", "configurations separated by ';', each key=value pairs separated by ','; keys as the render options: model (--model), depth (--max-depth), indirect (--indirect), field (--fiber-field), sampler (--sampler), splits (--first-hit-splits), light_samples (--first-hit-light-samples), light_threshold (--light-threshold, a value or off), light_pick (--light-pick)", "depth=1")
+        .option("--configs", "LIST", "configurations separated by ';', each key=value pairs separated by ','; keys as the render options: model (--model), depth (--max-depth), indirect (--indirect), field (--fiber-field), sampler (--sampler), splits (--first-hit-splits), light_samples (--first-hit-light-samples), light_threshold (--light-threshold, a value or off), light_pick (--light-pick), empty_pixels (--empty-pixels)", "depth=1")
         .option("--spp", "LIST", "increasing sample counts at which the error is measured", "1,2,4,8,16,32")
         .path("--csv", "FILE", "write config,spp,seconds,rmse,relmse,max_error,nonfinite,sparkle_share,cpu_seconds rows (sparkle_share: pixels whose error exceeds 10x the reference's 3x3 local standard deviation, as render --reference prints; cpu_seconds: the process's CPU time, all threads)", PathKind::Csv, "converge.csv")
         .path("--png", "FILE", "log-log plot of RMSE against render time", PathKind::Image, "converge.png")

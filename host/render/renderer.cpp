@@ -19,6 +19,7 @@
 #include "render/features.h"
 #include "render/memory_plan.h"
 #include "render/path_buffers.h"
+#include "render/pixel_footprint.h"
 #include "render/ray_dump.h"
 #include "render/split_choice.h"
 #include "render/stage_args.h"
@@ -117,7 +118,7 @@ struct Renderer::Impl {
     std::string options;
     KernelFeatures features;
     cl::Program trace_program, shade_program;
-    cl::Kernel k_generate, k_closest, k_shade, k_shadow, k_resolve, k_accumulate;
+    cl::Kernel k_generate, k_closest, k_shade, k_shadow, k_resolve, k_accumulate, k_accumulate_background;
     cl::Kernel k_compact_count, k_compact_scan, k_compact_scatter;
     cl::Kernel k_shadow_afs, k_resolve_afs, k_shadow_dual;
     cl::Kernel k_pilot_record, k_pilot_accumulate;  // --first-hit-splits auto's pilot
@@ -126,6 +127,12 @@ struct Renderer::Impl {
     cl::Buffer film_even;           // --target-error: the even samples' half film (core/film.h)
     cl::Buffer pixel_list;          // set_pixels; a one-element dummy while every pixel renders
     size_t listed_pixels = 0;       // 0: every pixel
+    // Pixels that see no geometry (render/pixel_footprint.h), when they are skipped: a sample over
+    // every pixel traces seen_list only and adds `background` (what a camera ray that misses
+    // brings back, sample count 1 in w) to the empty ones.  empty_count 0: nothing skipped.
+    cl::Buffer seen_list, empty_list;
+    size_t seen_count = 0, empty_count = 0;
+    cl_float4 background{{0.0f, 0.0f, 0.0f, 1.0f}};
     RayDump* dump = nullptr;        // --dump-rays
 
     // per-pass buffers (render/path_buffers.h), sized for max paths per pass
@@ -203,6 +210,7 @@ struct Renderer::Impl {
         k_shadow = cl::Kernel(trace_program, "intersect_shadow");
         k_resolve = cl::Kernel(trace_program, "resolve_shadows");
         k_accumulate = cl::Kernel(trace_program, "accumulate");
+        k_accumulate_background = cl::Kernel(trace_program, "accumulate_background");
         k_compact_count = cl::Kernel(trace_program, "compact_count");
         k_compact_scan = cl::Kernel(trace_program, "compact_scan");
         k_compact_scatter = cl::Kernel(trace_program, "compact_scatter");
@@ -225,6 +233,30 @@ struct Renderer::Impl {
         upload_textures();
         use_plan(plan);
         pixel_list = device_array(cl.context(), std::vector<cl_uint>{});
+        find_empty_pixels();
+    }
+
+    // The pixels that see no geometry are skipped where their value is the same in every sample:
+    // not with an environment map (a pixel's rays see different texels), nor with --aovs (their
+    // miss values are not filled in).  A camera ray that misses brings back the environment's
+    // radiance with throughput 1 and no clamp (kernels/stages/shade.cl), which accumulate adds to
+    // the pixel's sums with count 1: background is that float4, so the skipped pixels' sums are the
+    // traced ones' bit for bit (tested).
+    void find_empty_pixels() {
+        const HtEnvironment& env = prepared.environment.header;
+        if (!settings.skip_empty_pixels || settings.aovs || (env.enabled && env.has_map)) return;
+        const auto t0 = std::chrono::steady_clock::now();
+        const PixelFootprint footprint = pixel_footprint(prepared.camera, prepared.geometry);
+        stats.footprint_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        if (footprint.empty.empty()) return;
+        seen_list = device_array(cl.context(), footprint.seen);
+        empty_list = device_array(cl.context(), footprint.empty);
+        seen_count = footprint.seen.size();
+        empty_count = footprint.empty.size();
+        stats.empty_pixels = empty_count;
+        if (env.enabled) background = cl_float4{{env.scale[0], env.scale[1], env.scale[2], 1.0f}};
+        for (int c = 0; c < 3; ++c)
+            if (!std::isfinite(background.s[c])) background.s[c] = 0.0f;  // shade drops it the same way
     }
 
     MemoryPlan plan_memory() const {
@@ -501,6 +533,19 @@ struct Renderer::Impl {
         launch(k_accumulate, count);
     }
 
+    // The empty pixels' share of one sample (find_empty_pixels).
+    void accumulate_background(uint32_t sample) {
+        const bool even = settings.target_error > 0 && sample % 2 == 0;
+        k_accumulate_background.setArg(0, empty_list);
+        k_accumulate_background.setArg(1, cl_uint(empty_count));
+        k_accumulate_background.setArg(2, background);
+        k_accumulate_background.setArg(3, film_buf);
+        k_accumulate_background.setArg(4, cl_uint(even));
+        k_accumulate_background.setArg(5, even ? film_even : empty_list);  // unread when odd: any buffer
+        launch(k_accumulate_background, empty_count);
+        stats.background_samples += empty_count;
+    }
+
     void pilot_record_first_vertex(uint32_t cameras) {
         const uint32_t slots = cameras * paths_per_pixel;
         k_pilot_record.setArg(0, buffer(PathBuffer::Paths));
@@ -637,7 +682,25 @@ void Renderer::render_sample(uint32_t sample) {
     if (r.splits_pending) choose_first_hit_splits();
     auto t0 = std::chrono::steady_clock::now();
     try {
-        r.trace_sample(sample);
+        // a sample over every pixel traces those that may see geometry; not while rays are dumped
+        // (a dump holds every camera ray of the render)
+        if (r.empty_count > 0 && r.listed_pixels == 0 && !r.dump) {
+            const cl::Buffer every_pixel = r.pixel_list;
+            r.pixel_list = r.seen_list;
+            r.listed_pixels = r.seen_count;
+            try {
+                r.trace_sample(sample);
+            } catch (...) {
+                r.pixel_list = every_pixel;
+                r.listed_pixels = 0;
+                throw;
+            }
+            r.pixel_list = every_pixel;
+            r.listed_pixels = 0;
+            r.accumulate_background(sample);
+        } else {
+            r.trace_sample(sample);
+        }
     } catch (const cl::Error& e) {
         throw DeviceError(std::string("OpenCL failure in ") + e.what() + ": " + cl_error_name(e.err()));
     }
@@ -713,6 +776,9 @@ SplitChoice Renderer::choose_first_hit_splits() {
 
 void RenderStats::add(const RenderStats& o) {
     camera_rays += o.camera_rays;
+    background_samples += o.background_samples;
+    empty_pixels = std::max(empty_pixels, o.empty_pixels);
+    footprint_ms = std::max(footprint_ms, o.footprint_ms);
     paths += o.paths;
     extension_rays += o.extension_rays;
     shadow_rays += o.shadow_rays;

@@ -29,6 +29,11 @@ struct RenderStats {
     double seconds = 0, build_ms = 0;
     bool build_cached = false;
     uint64_t camera_rays = 0, extension_rays = 0, shadow_rays = 0;
+    // pixel samples given the background's value without a camera ray: the pixels that see no
+    // geometry (RenderSettings::skip_empty_pixels), once per sample
+    uint64_t background_samples = 0;
+    size_t empty_pixels = 0;  // how many pixels see no geometry (0: none, or not skipped)
+    double footprint_ms = 0;  // the time taken to find them (render/pixel_footprint.h)
     // camera rays x --first-hit-splits: the paths of the estimate, each continuation one of them
     uint64_t paths = 0;
     uint64_t nonfinite_caught = 0;  // NaN/Inf values zeroed by the kernels

@@ -72,6 +72,10 @@ struct RenderSettings {
     FeatureMode features = FeatureMode::Scene;  // --features: what is compiled in
     // --aovs: record the output values of kernels/aovs.h (the beauty is the same bits either way).
     bool aovs = false;
+    // --empty-pixels skip: pixels whose camera rays provably miss every primitive
+    // (render/pixel_footprint.h) get the background's value without being traced -- the same
+    // bits as tracing them.  Off: every pixel is traced (for A/B measurements).
+    bool skip_empty_pixels = true;
     // --target-error: after adaptive_min_spp samples everywhere, further chunks only for the
     // tiles whose relative error estimate exceeds it (render/adaptive.h); 0: every pixel gets
     // every sample.  The films then carry their even halves (core/film.h).

@@ -32,3 +32,19 @@ __kernel void accumulate(__global const HtPathState* paths, uint count, uint spl
             film_aov[(size_t)pixel * HT_AOV_OUT + c] += aovs[(size_t)(first + j) * HT_AOV_STRIDE + c];
 #endif
 }
+
+/* The pixels that see no geometry (host/render/pixel_footprint.h), skipped by a sample over every
+ * pixel: each gets what accumulate would have added for its camera ray, which misses --
+ * `background` = (the environment's radiance, 1), the sum of a camera path whose only radiance is
+ * that of its miss (the other slots add zeros) -- in the same float operations, so the film holds
+ * the same bits as if it had been traced. */
+__kernel void accumulate_background(__global const uint* pixels, uint count, float4 background,
+                                    __global float4* film, uint even, __global float4* film_even) {
+    uint i = get_global_id(0);
+    if (i >= count) return;
+    const uint pixel = pixels[i];
+    float4 f = film[pixel];
+    f += background;
+    film[pixel] = f;
+    if (even) film_even[pixel] += background;
+}

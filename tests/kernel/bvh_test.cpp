@@ -5,6 +5,7 @@
 #include "bvh/bvh.h"
 #include "bvh/device_geometry.h"
 #include "kernels/geometry/bvh_traverse.h"
+#include "random_strands.h"
 
 #include <algorithm>
 #include <cmath>
@@ -19,29 +20,7 @@ namespace {
 using ht::SceneGeometry;
 using ht::Strands;
 
-// Random wavy strands inside [-1,1]^3 scaled by `scale`: `ns` strands of `nseg` segments,
-// segment length ~ seg_len, radius r (absolute).
-Strands random_strands(uint32_t seed, int ns, int nseg, double seg_len, double r,
-                       double bend = 0.3, double scale = 1.0) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<double> u(-1, 1);
-    Strands s;
-    s.first_point.push_back(0);
-    for (int i = 0; i < ns; ++i) {
-        double p[3] = {u(rng) * scale, u(rng) * scale, u(rng) * scale};
-        double d[3] = {u(rng), u(rng), u(rng)};
-        for (int j = 0; j <= nseg; ++j) {
-            s.points.push_back({(float)p[0], (float)p[1], (float)p[2]});
-            s.radius.push_back((float)r);
-            const double n = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-            for (int k = 0; k < 3; ++k) p[k] += d[k] / n * seg_len;
-            for (int k = 0; k < 3; ++k) d[k] = d[k] / n + bend * u(rng);
-        }
-        s.first_point.push_back((uint32_t)s.points.size());
-        s.material.push_back(0);
-    }
-    return s;
-}
+using httest::random_strands;
 
 std::vector<HtRay> random_rays(uint32_t seed, size_t n, double scale, double spread = 1.5) {
     std::mt19937 rng(seed);

@@ -5,6 +5,7 @@
 #include "bvh/bvh.h"
 #include "bvh/device_geometry.h"
 #include "kernels/geometry/bvh_traverse.h"
+#include "random_strands.h"
 
 #include <algorithm>
 #include <cmath>
@@ -19,26 +20,7 @@ using ht::Mesh;
 using ht::SceneGeometry;
 using ht::Strands;
 
-Strands random_strands(uint32_t seed, int ns, int nseg, double seg_len, double r) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<double> u(-1, 1);
-    Strands s;
-    s.first_point.push_back(0);
-    for (int i = 0; i < ns; ++i) {
-        double p[3] = {u(rng), u(rng), u(rng)};
-        double d[3] = {u(rng), u(rng), u(rng)};
-        for (int j = 0; j <= nseg; ++j) {
-            s.points.push_back({(float)p[0], (float)p[1], (float)p[2]});
-            s.radius.push_back((float)r);
-            const double n = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-            for (int k = 0; k < 3; ++k) p[k] += d[k] / n * seg_len;
-            for (int k = 0; k < 3; ++k) d[k] = d[k] / n + 0.3 * u(rng);
-        }
-        s.first_point.push_back((uint32_t)s.points.size());
-        s.material.push_back(0);
-    }
-    return s;
-}
+using httest::random_strands;
 
 // A floor grid (shared vertices, indexed) plus a cloud of random small triangles.
 std::vector<Mesh> random_meshes(uint32_t seed, int ntri) {
