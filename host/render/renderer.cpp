@@ -229,11 +229,11 @@ struct Renderer::Impl {
             k_shadow_dual = cl::Kernel(build(kAfsShadowProgram), "shadow_dual");
         }
 
+        find_empty_pixels();  // before the plan, which counts its lists
         const MemoryPlan plan = plan_memory();
         upload_textures();
         use_plan(plan);
         pixel_list = device_array(cl.context(), std::vector<cl_uint>{});
-        find_empty_pixels();
     }
 
     // The pixels that see no geometry are skipped where their value is the same in every sample:
@@ -261,7 +261,9 @@ struct Renderer::Impl {
 
     MemoryPlan plan_memory() const {
         const RenderSettings& s = settings;
-        const uint64_t scene_bytes = device_geometry.bytes + prepared.extra_scene_bytes();
+        // the lists of the pixels that see geometry and of those that do not: 4 bytes per pixel
+        const uint64_t pixel_lists = empty_count > 0 ? 4 * uint64_t(s.width) * uint64_t(s.height) : 0;
+        const uint64_t scene_bytes = device_geometry.bytes + prepared.extra_scene_bytes() + pixel_lists;
         return plan_device_memory(uint64_t(s.width) * uint64_t(s.height), scene_bytes, cl.info().max_alloc,
                                   cl.info().global_mem, s.max_device_bytes, std::max<size_t>(s.max_paths_per_pass, 1),
                                   buffer_set, device_geometry.paging);
@@ -682,21 +684,24 @@ void Renderer::render_sample(uint32_t sample) {
     if (r.splits_pending) choose_first_hit_splits();
     auto t0 = std::chrono::steady_clock::now();
     try {
-        // a sample over every pixel traces those that may see geometry; not while rays are dumped
-        // (a dump holds every camera ray of the render)
+        // a sample over every pixel traces those that may see geometry (none: nothing to trace, an
+        // empty list would mean every pixel); not while rays are dumped (a dump holds every camera
+        // ray of the render)
         if (r.empty_count > 0 && r.listed_pixels == 0 && !r.dump) {
-            const cl::Buffer every_pixel = r.pixel_list;
-            r.pixel_list = r.seen_list;
-            r.listed_pixels = r.seen_count;
-            try {
-                r.trace_sample(sample);
-            } catch (...) {
+            if (r.seen_count > 0) {
+                const cl::Buffer every_pixel = r.pixel_list;
+                r.pixel_list = r.seen_list;
+                r.listed_pixels = r.seen_count;
+                try {
+                    r.trace_sample(sample);
+                } catch (...) {
+                    r.pixel_list = every_pixel;
+                    r.listed_pixels = 0;
+                    throw;
+                }
                 r.pixel_list = every_pixel;
                 r.listed_pixels = 0;
-                throw;
             }
-            r.pixel_list = every_pixel;
-            r.listed_pixels = 0;
             r.accumulate_background(sample);
         } else {
             r.trace_sample(sample);

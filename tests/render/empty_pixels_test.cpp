@@ -53,6 +53,21 @@ TEST(EmptyPixels, SkippedPixelsHoldTheTracedBitsAndAreNotTraced) {
     EXPECT_GE(background_pixels, skipped.empty_pixels);
 }
 
+// The camera turned away from the hair: every pixel empty, none traced, the same film.
+TEST(EmptyPixels, NoPixelSeesGeometry) {
+    ht::Scene s = sparse_strand();
+    for (int i = 0; i < 3; ++i) s.camera.target[i] = 2 * s.camera.eye[i] - s.camera.target[i];
+    ht::RenderSettings rs = small_settings(3, 5, 2);
+    ht::RenderStats skipped, traced;
+    const ht::Film a = render(s, rs, &skipped);
+    rs.skip_empty_pixels = false;
+    const ht::Film b = render(s, rs, &traced);
+    EXPECT_EQ(skipped.empty_pixels, size_t(rs.width) * rs.height);
+    EXPECT_EQ(skipped.camera_rays, 0u);
+    EXPECT_EQ(traced.camera_rays, uint64_t(rs.width) * rs.height * rs.spp);
+    EXPECT_EQ(a.rgba, b.rgba);
+}
+
 TEST(EmptyPixels, NotSkippedWhereTheyWouldDiffer) {
     ht::Scene s = sparse_strand();
     ht::RenderSettings rs = small_settings(1, 1, 1);
