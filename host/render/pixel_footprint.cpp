@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <glm/glm.hpp>
+
 namespace ht {
 
 namespace {
@@ -11,34 +13,23 @@ namespace {
 // (sx, sy) runs along forward + right sx + up sy (kernels/camera.h), so a point on it at
 // parameter t solves [forward right up] x = p - eye with x = t (1, sx, sy).
 struct CameraFrame {
-    double eye[3] = {}, inv[3][3] = {};
+    glm::dvec3 eye;
+    glm::dmat3 inv{0.0};
     bool ok = false;
 
-    explicit CameraFrame(const HtCamera& c) {
-        const double m[3][3] = {{c.forward[0], c.right[0], c.up[0]},
-                                {c.forward[1], c.right[1], c.up[1]},
-                                {c.forward[2], c.right[2], c.up[2]}};
-        for (int i = 0; i < 3; ++i) eye[i] = c.eye[i];
-        const double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
-                           m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
-                           m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+    explicit CameraFrame(const HtCamera& c) : eye(c.eye[0], c.eye[1], c.eye[2]) {
+        const glm::dmat3 m(glm::dvec3(c.forward[0], c.forward[1], c.forward[2]),
+                           glm::dvec3(c.right[0], c.right[1], c.right[2]), glm::dvec3(c.up[0], c.up[1], c.up[2]));
         double scale = 0;
-        for (const auto& row : m)
-            for (double v : row) scale = std::max(scale, std::fabs(v));
-        if (!std::isfinite(det) || !(std::fabs(det) > 1e-12 * scale * scale * scale)) return;
         for (int i = 0; i < 3; ++i)
-            for (int j = 0; j < 3; ++j) {
-                // cofactor (j, i) over the determinant
-                const int r0 = (j + 1) % 3, r1 = (j + 2) % 3, c0 = (i + 1) % 3, c1 = (i + 2) % 3;
-                inv[i][j] = (m[r0][c0] * m[r1][c1] - m[r0][c1] * m[r1][c0]) / det;
-            }
+            for (int j = 0; j < 3; ++j) scale = std::max(scale, std::fabs(m[i][j]));
+        const double det = glm::determinant(m);
+        if (!std::isfinite(det) || !(std::fabs(det) > 1e-12 * scale * scale * scale)) return;
+        inv = glm::inverse(m);
         ok = true;
     }
 
-    void map(const double p[3], double x[3]) const {
-        const double q[3] = {p[0] - eye[0], p[1] - eye[1], p[2] - eye[2]};
-        for (int i = 0; i < 3; ++i) x[i] = inv[i][0] * q[0] + inv[i][1] * q[1] + inv[i][2] * q[2];
-    }
+    glm::dvec3 map(double x, double y, double z) const { return inv * (glm::dvec3(x, y, z) - eye); }
 };
 
 }  // namespace
@@ -56,10 +47,8 @@ PixelFootprint pixel_footprint(const HtCamera& camera, const SceneGeometry& g) {
     if (!frame.ok) return every_pixel();
     // A ball of radius r maps to an ellipsoid whose extent along frame coordinate i is
     // r |row i of the inverse|.
-    double row_norm[3] = {};
-    for (int i = 0; i < 3; ++i)
-        row_norm[i] = std::sqrt(frame.inv[i][0] * frame.inv[i][0] + frame.inv[i][1] * frame.inv[i][1] +
-                                frame.inv[i][2] * frame.inv[i][2]);
+    const glm::dmat3 rows = glm::transpose(frame.inv);  // glm's matrices are column-major
+    const double row_norm[3] = {glm::length(rows[0]), glm::length(rows[1]), glm::length(rows[2])};
 
     // Per point, the image of a ball around it whose radius is the largest of its own and its
     // two neighbours' (a capsule's hit radius is the mean of its two: this covers it at both
@@ -77,9 +66,7 @@ PixelFootprint pixel_footprint(const HtCamera& camera, const SceneGeometry& g) {
         double r = p.r;
         if (i > 0) r = std::max(r, double(g.points[i - 1].r));
         if (i + 1 < np) r = std::max(r, double(g.points[i + 1].r));
-        const double c[3] = {p.x, p.y, p.z};
-        double x[3];
-        frame.map(c, x);
+        const glm::dvec3 x = frame.map(p.x, p.y, p.z);
         if (!(std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]) && std::isfinite(r))) {
             side[i] = kNotFinite;
             continue;

@@ -6,6 +6,7 @@
 #include "kernels/fiber/afs.h"
 #include "render/scene_upload.h"
 
+#include <chrono>
 #include <cmath>
 
 namespace ht {
@@ -42,6 +43,12 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& s, const R
     p.texture_headers = make_kernel_textures(scene.textures);
     p.textures = &scene.textures;
     p.texel_bytes = texel_buffer_size(scene.textures) * sizeof(uint32_t);
+    const HtEnvironment& env = p.environment.header;
+    if (s.skip_empty_pixels && !s.aovs && !(env.enabled && env.has_map)) {
+        const auto t0 = std::chrono::steady_clock::now();
+        p.footprint = pixel_footprint(p.camera, p.geometry);
+        p.footprint_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    }
 
     if (afs) {
         for (const HtMaterial& m : p.materials) {

@@ -8,6 +8,7 @@
 #include "bvh/bvh.h"
 #include "render/environment.h"
 #include "render/features.h"
+#include "render/pixel_footprint.h"
 #include "render/settings.h"
 #include "scene/scene.h"
 
@@ -33,6 +34,11 @@ struct PreparedScene {
     std::vector<float> afs_table;            // --indirect afs: AFS_TT^avg(theta) per material
     std::vector<float> dual_table;           // --indirect dual: kernels/fiber/dual.h's rows per material
     KernelFeatures features;                 // what the scene needs (geometry unpaged)
+    // The pixels that see no geometry and those that may (render/pixel_footprint.h), found when
+    // the render skips the former (RenderSettings::skip_empty_pixels, and neither --aovs nor an
+    // environment map); both empty otherwise.  footprint_ms: the time it took.
+    PixelFootprint footprint;
+    double footprint_ms = 0;
     std::string estimator_options;           // the estimator's -D values (clamp, sampler, ...)
 
     // Device bytes of everything but the geometry (textures, environment tables).

@@ -127,6 +127,11 @@ struct Renderer::Impl {
     cl::Buffer film_even;           // --target-error: the even samples' half film (core/film.h)
     cl::Buffer pixel_list;          // set_pixels; a one-element dummy while every pixel renders
     size_t listed_pixels = 0;       // 0: every pixel
+    // The pixels one sample renders: `count` of them from `list`; no list: every pixel.
+    struct PixelSelection {
+        const cl::Buffer* list = nullptr;
+        size_t count = 0;
+    };
     // Pixels that see no geometry (render/pixel_footprint.h), when they are skipped: a sample over
     // every pixel traces seen_list only and adds `background` (what a camera ray that misses
     // brings back, sample count 1 in w) to the empty ones.  empty_count 0: nothing skipped.
@@ -229,25 +234,23 @@ struct Renderer::Impl {
             k_shadow_dual = cl::Kernel(build(kAfsShadowProgram), "shadow_dual");
         }
 
-        find_empty_pixels();  // before the plan, which counts its lists
+        upload_pixel_lists();  // before the plan, which counts them
         const MemoryPlan plan = plan_memory();
         upload_textures();
         use_plan(plan);
         pixel_list = device_array(cl.context(), std::vector<cl_uint>{});
     }
 
-    // The pixels that see no geometry are skipped where their value is the same in every sample:
-    // not with an environment map (a pixel's rays see different texels), nor with --aovs (their
-    // miss values are not filled in).  A camera ray that misses brings back the environment's
-    // radiance with throughput 1 and no clamp (kernels/stages/shade.cl), which accumulate adds to
-    // the pixel's sums with count 1: background is that float4, so the skipped pixels' sums are the
-    // traced ones' bit for bit (tested).
-    void find_empty_pixels() {
+    // The pixels that see no geometry (prepare_scene finds them where their value is the same in
+    // every sample: not with an environment map, whose texels a pixel's rays see differently, nor
+    // with --aovs, whose miss values are not filled in).  A camera ray that misses brings back the
+    // environment's radiance with throughput 1 and no clamp (kernels/stages/shade.cl), which
+    // accumulate adds to the pixel's sums with count 1: background is that float4, so the skipped
+    // pixels' sums are the traced ones' bit for bit (tested).
+    void upload_pixel_lists() {
+        const PixelFootprint& footprint = prepared.footprint;
         const HtEnvironment& env = prepared.environment.header;
-        if (!settings.skip_empty_pixels || settings.aovs || (env.enabled && env.has_map)) return;
-        const auto t0 = std::chrono::steady_clock::now();
-        const PixelFootprint footprint = pixel_footprint(prepared.camera, prepared.geometry);
-        stats.footprint_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        stats.footprint_ms = prepared.footprint_ms;
         if (footprint.empty.empty()) return;
         seen_list = device_array(cl.context(), footprint.seen);
         empty_list = device_array(cl.context(), footprint.empty);
@@ -315,13 +318,13 @@ struct Renderer::Impl {
         counters = cl::Buffer(cl.context(), CL_MEM_READ_WRITE, HT_COUNTER_COUNT * sizeof(uint32_t));
     }
 
-    // One sample over every pixel (or the listed ones), pass by pass; the pilot's when `pilot`.
-    void trace_sample(uint32_t sample) {
+    // One sample over the selected pixels, pass by pass; the pilot's when `pilot`.
+    void trace_sample(uint32_t sample, const PixelSelection& selected) {
         const RenderSettings& s = settings;
-        const size_t pixels = listed_pixels ? listed_pixels : size_t(s.width) * size_t(s.height);
+        const size_t pixels = selected.list ? selected.count : size_t(s.width) * size_t(s.height);
         for (size_t offset = 0; offset < pixels; offset += pixels_per_pass) {
             const uint32_t count = uint32_t(std::min(pixels_per_pass, pixels - offset));
-            generate_camera_rays(uint32_t(offset), count, sample);
+            generate_camera_rays(uint32_t(offset), count, sample, selected);
             stats.camera_rays += count;
             stats.paths += uint64_t(count) * splits;
             int q = 0;
@@ -382,15 +385,15 @@ struct Renderer::Impl {
         return set_paged_args(k, a, device_geometry.points);
     }
 
-    void generate_camera_rays(uint32_t offset, uint32_t count, uint32_t sample) {
+    void generate_camera_rays(uint32_t offset, uint32_t count, uint32_t sample, const PixelSelection& selected) {
         k_generate.setArg(0, prepared.camera);
         k_generate.setArg(1, offset);
         k_generate.setArg(2, count);
         k_generate.setArg(3, seed);
         k_generate.setArg(4, sample);
         k_generate.setArg(5, cl_uint(paths_per_pixel));
-        k_generate.setArg(6, pixel_list);
-        k_generate.setArg(7, cl_uint(listed_pixels > 0));
+        k_generate.setArg(6, selected.list ? *selected.list : pixel_list);  // unread without a list: any buffer
+        k_generate.setArg(7, cl_uint(selected.list != nullptr));
         k_generate.setArg(8, queue_rays(0));
         k_generate.setArg(9, queue_paths(0));
         k_generate.setArg(10, buffer(PathBuffer::Paths));
@@ -535,7 +538,7 @@ struct Renderer::Impl {
         launch(k_accumulate, count);
     }
 
-    // The empty pixels' share of one sample (find_empty_pixels).
+    // The empty pixels' share of one sample (upload_pixel_lists).
     void accumulate_background(uint32_t sample) {
         const bool even = settings.target_error > 0 && sample % 2 == 0;
         k_accumulate_background.setArg(0, empty_list);
@@ -684,27 +687,15 @@ void Renderer::render_sample(uint32_t sample) {
     if (r.splits_pending) choose_first_hit_splits();
     auto t0 = std::chrono::steady_clock::now();
     try {
-        // a sample over every pixel traces those that may see geometry (none: nothing to trace, an
-        // empty list would mean every pixel); not while rays are dumped (a dump holds every camera
-        // ray of the render)
-        if (r.empty_count > 0 && r.listed_pixels == 0 && !r.dump) {
-            if (r.seen_count > 0) {
-                const cl::Buffer every_pixel = r.pixel_list;
-                r.pixel_list = r.seen_list;
-                r.listed_pixels = r.seen_count;
-                try {
-                    r.trace_sample(sample);
-                } catch (...) {
-                    r.pixel_list = every_pixel;
-                    r.listed_pixels = 0;
-                    throw;
-                }
-                r.pixel_list = every_pixel;
-                r.listed_pixels = 0;
-            }
+        // a sample over every pixel traces those that may see geometry (perhaps none); not while
+        // rays are dumped (a dump holds every camera ray of the render)
+        if (r.listed_pixels > 0) {
+            r.trace_sample(sample, {&r.pixel_list, r.listed_pixels});
+        } else if (r.empty_count > 0 && !r.dump) {
+            r.trace_sample(sample, {&r.seen_list, r.seen_count});
             r.accumulate_background(sample);
         } else {
-            r.trace_sample(sample);
+            r.trace_sample(sample, {});
         }
     } catch (const cl::Error& e) {
         throw DeviceError(std::string("OpenCL failure in ") + e.what() + ": " + cl_error_name(e.err()));
@@ -737,15 +728,12 @@ SplitChoice Renderer::choose_first_hit_splits() {
     // the pilot runs with N = kPilotSplits, its own seed and pixels, and statistics of its own
     RenderStats render_stats = std::move(r.stats);
     r.stats = RenderStats{};
-    const cl::Buffer render_pixels = r.pixel_list;
-    const size_t render_listed = r.listed_pixels;
     RayDump* const render_dump = r.dump;
     std::vector<float> moments;
     try {
         if (!r.splits_pending) r.set_splits(uint32_t(kPilotSplits));  // chosen before: again
         const std::vector<uint32_t> pixels = pilot_pixels(r.settings.width, r.settings.height);
-        r.pixel_list = device_array(r.cl.context(), pixels);
-        r.listed_pixels = pixels.size();
+        const cl::Buffer pilot_list = device_array(r.cl.context(), pixels);
         r.dump = nullptr;
         moments.assign(16 * pixels.size(), 0.0f);
         Impl::Pilot pilot;
@@ -757,7 +745,7 @@ SplitChoice Renderer::choose_first_hit_splits() {
         r.pilot = &pilot;
         for (pilot.half = 0; pilot.half < 2; ++pilot.half) {
             r.seed = pilot_seed(r.settings.seed, int(pilot.half));
-            for (int i = 0; i < kPilotSamples; ++i) r.trace_sample(uint32_t(i));
+            for (int i = 0; i < kPilotSamples; ++i) r.trace_sample(uint32_t(i), {&pilot_list, pixels.size()});
         }
         r.cl.queue().enqueueReadBuffer(pilot.moments, CL_TRUE, 0, moments.size() * sizeof(float), moments.data());
     } catch (const cl::Error& e) {
@@ -770,8 +758,6 @@ SplitChoice Renderer::choose_first_hit_splits() {
     choice.cost = split_cost(r.stats, kPilotSplits);
     choice.splits = best_splits(choice.variance, choice.cost);
     r.seed = r.settings.seed;
-    r.pixel_list = render_pixels;
-    r.listed_pixels = render_listed;
     r.dump = render_dump;
     r.stats = std::move(render_stats);
     set_first_hit_splits(choice.splits);
