@@ -311,6 +311,9 @@ void report(const PreparedRender& job, const RenderRequest& request, const RunOu
         std::fprintf(stderr, "%zu of %d pixels see no geometry (found in %.0f ms): %llu of their samples are the background's, not traced\n",
                      st.empty_pixels, job.settings.width * job.settings.height, st.footprint_ms,
                      (unsigned long long)st.background_samples);
+    if (st.candidate_entries)
+        std::fprintf(stderr, "camera rays from per-pixel lists: %zu entries (made in %.0f ms), %zu pixels with more traverse the tree\n",
+                     st.candidate_entries, st.candidates_ms, st.candidate_tree_pixels);
     if (st.paths)
         std::fprintf(stderr, "max depth %d cut %llu of %llu paths (%.3g %%)\n", job.settings.max_depth,
                      (unsigned long long)st.cut_paths, (unsigned long long)st.paths,

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <limits>
+#include <thread>
 
 #include <glm/glm.hpp>
 
@@ -32,23 +35,57 @@ struct CameraFrame {
     glm::dvec3 map(double x, double y, double z) const { return inv * (glm::dvec3(x, y, z) - eye); }
 };
 
+// double -> float, rounded down / up (one float step past the nearest float when that is on the
+// wrong side; by bits, as std::nextafter was a quarter of the projection's time)
+float step(float f, bool towards_positive) {
+    if (!std::isfinite(f)) return f;
+    if (f == 0.0f) return towards_positive ? std::numeric_limits<float>::denorm_min() : -std::numeric_limits<float>::denorm_min();
+    uint32_t bits;
+    std::memcpy(&bits, &f, sizeof bits);
+    bits = (f > 0.0f) == towards_positive ? bits + 1 : bits - 1;
+    std::memcpy(&f, &bits, sizeof bits);
+    return f;
+}
+float down(double x) {
+    const float f = float(x);
+    return double(f) > x ? step(f, false) : f;
+}
+float up(double x) {
+    const float f = float(x);
+    return double(f) < x ? step(f, true) : f;
+}
+
+// The host's threads (at most 8) for the loops below.
+int host_threads() { return int(std::max(1u, std::min(std::thread::hardware_concurrency(), 8u))); }
+
+// body(t, begin, end) for the threads' contiguous shares of [0, n), in parallel.
+template <typename Body>
+void in_parallel(size_t n, const Body& body) {
+    const int threads = host_threads();
+    std::vector<std::thread> pool;
+    for (int t = 0; t < threads; ++t)
+        pool.emplace_back([&, t] { body(t, n * size_t(t) / size_t(threads), n * size_t(t + 1) / size_t(threads)); });
+    for (std::thread& th : pool) th.join();
+}
+
 }  // namespace
 
-PixelFootprint pixel_footprint(const HtCamera& camera, const SceneGeometry& g) {
+void PrimitiveImage::box(double* r) const {
+    r[0] = std::min(a[0], b[0]), r[1] = std::max(a[1], b[1]);
+    r[2] = std::min(a[2], b[2]), r[3] = std::max(a[3], b[3]);
+}
+
+ProjectedPrimitives project_primitives(const HtCamera& camera, const SceneGeometry& g) {
     const int w = int(camera.width), h = int(camera.height);
-    std::vector<uint8_t> seen(size_t(w) * size_t(h), 0);
     const CameraFrame frame(camera);
-    PixelFootprint f;
-    const auto every_pixel = [&] {
-        f.seen.resize(seen.size());
-        for (size_t i = 0; i < seen.size(); ++i) f.seen[i] = uint32_t(i);
-        return f;
-    };
-    if (!frame.ok) return every_pixel();
+    ProjectedPrimitives out, unbounded;
+    out.width = unbounded.width = w, out.height = unbounded.height = h;
+    if (!frame.ok) return out;
     // A ball of radius r maps to an ellipsoid whose extent along frame coordinate i is
     // r |row i of the inverse|.
     const glm::dmat3 rows = glm::transpose(frame.inv);  // glm's matrices are column-major
     const double row_norm[3] = {glm::length(rows[0]), glm::length(rows[1]), glm::length(rows[2])};
+    for (int i = 0; i < 3; ++i) out.depth_row[i] = rows[0][i];
 
     // Per point, the image of a ball around it whose radius is the largest of its own and its
     // two neighbours' (a capsule's hit radius is the mean of its two: this covers it at both
@@ -56,12 +93,14 @@ PixelFootprint pixel_footprint(const HtCamera& camera, const SceneGeometry& g) {
     // from the intervals of depth z and lateral coordinates a, b (a / z is monotone in each for
     // z > 0).  A primitive lies inside the convex hull of its vertices' balls, and each bound is a
     // linear-fractional function along it, with its extremes at the vertices: the hull of the
-    // vertices' bounds bounds the primitive's image.
+    // vertices' bounds bounds the primitive's image.  Depth is linear, so the nearest of the
+    // balls' is the primitive's nearest.
     enum Side : uint8_t { kBehind, kStraddles, kInFront, kNotFinite };
     const size_t np = g.points.size();
     std::vector<uint8_t> side(np);
-    std::vector<double> bounds(4 * np);  // NDC x0, x1, y0, y1
-    for (size_t i = 0; i < np; ++i) {
+    std::vector<double> bounds(5 * np);  // NDC x0, x1, y0, y1, nearest depth
+    in_parallel(np, [&](int, size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i) {
         const HtPoint& p = g.points[i];
         double r = p.r;
         if (i > 0) r = std::max(r, double(g.points[i - 1].r));
@@ -76,43 +115,264 @@ PixelFootprint pixel_footprint(const HtCamera& camera, const SceneGeometry& g) {
         if (side[i] != kInFront) continue;
         const double a0 = x[1] - r * row_norm[1], a1 = x[1] + r * row_norm[1];
         const double b0 = x[2] - r * row_norm[2], b1 = x[2] + r * row_norm[2];
-        double* o = &bounds[4 * i];
+        double* o = &bounds[5 * i];
         o[0] = std::min(a0 / z0, a0 / z1);
         o[1] = std::max(a1 / z0, a1 / z1);
         o[2] = std::min(b0 / z0, b0 / z1);
         o[3] = std::max(b1 / z0, b1 / z1);
+        o[4] = z0;
     }
+    });
     // the primitives by their first point, visited in point order: the leaves' order is the BVH's,
     // and reading the points' bounds in it missed the cache on most primitives
+    constexpr uint32_t kNone = 0xFFFFFFFFu;
+    std::vector<uint32_t> primitive_at(np, kNone);
     std::vector<uint8_t> vertices(np, 0);
-    for (const HtSegment& s : g.segments) vertices[s.point] = s.flags & HT_SEG_TRIANGLE ? 3 : 2;
-    for (size_t first = 0; first < np; ++first) {
+    in_parallel(g.segments.size(), [&](int, size_t begin, size_t end) {
+        for (size_t k = begin; k < end; ++k) {  // a point begins at most one primitive
+            const HtSegment& seg = g.segments[k];
+            primitive_at[seg.point] = uint32_t(k);
+            vertices[seg.point] = seg.flags & HT_SEG_TRIANGLE ? 3 : 2;
+        }
+    });
+    // each thread's share of the points, its images in point order; the shares back to back
+    std::vector<std::vector<PrimitiveImage>> share(static_cast<size_t>(host_threads()));
+    std::vector<uint8_t> share_unbounded(share.size(), 0);
+    in_parallel(np, [&](int t, size_t begin, size_t end) {
+    std::vector<PrimitiveImage>& images = share[size_t(t)];
+    images.reserve(g.segments.size() / share.size() + 16);
+    for (size_t first = begin; first < end; ++first) {
+        const uint32_t k = primitive_at[first];
+        if (k == kNone) continue;
         const uint32_t n = vertices[first];
-        if (n == 0) continue;
         int behind = 0, in_front = 0;
         for (uint32_t v = 0; v < n; ++v) {
             const uint8_t sd = side[first + v];
-            if (sd == kNotFinite || sd == kStraddles) return every_pixel();  // nothing can be proved
+            if (sd == kNotFinite || sd == kStraddles) {  // nothing can be proved
+                share_unbounded[size_t(t)] = 1;
+                return;
+            }
             behind += sd == kBehind, in_front += sd == kInFront;
         }
-        if (in_front == 0) continue;            // wholly behind the eye's plane
-        if (behind > 0) return every_pixel();   // crosses it: its projection is unbounded
-        double sx0 = HUGE_VAL, sx1 = -HUGE_VAL, sy0 = HUGE_VAL, sy1 = -HUGE_VAL;
+        if (in_front == 0) continue;  // wholly behind the eye's plane
+        if (behind > 0) {             // crosses it: its projection is unbounded
+            share_unbounded[size_t(t)] = 1;
+            return;
+        }
+        double sx0 = HUGE_VAL, sx1 = -HUGE_VAL, sy0 = HUGE_VAL, sy1 = -HUGE_VAL, z = HUGE_VAL;
         for (uint32_t v = 0; v < n; ++v) {
-            const double* o = &bounds[4 * (first + v)];
+            const double* o = &bounds[5 * (first + v)];
             sx0 = std::min(sx0, o[0]), sx1 = std::max(sx1, o[1]);
             sy0 = std::min(sy0, o[2]), sy1 = std::max(sy1, o[3]);
+            z = std::min(z, o[4]);
         }
-        // NDC -> pixel coordinates, as kernels/camera.h maps them the other way (y downwards)
-        const double px0 = (sx0 + 1) * 0.5 * w - kFootprintMarginPixels, px1 = (sx1 + 1) * 0.5 * w + kFootprintMarginPixels;
-        const double py0 = (1 - sy1) * 0.5 * h - kFootprintMarginPixels, py1 = (1 - sy0) * 0.5 * h + kFootprintMarginPixels;
-        if (px1 < 0 || py1 < 0 || px0 >= w || py0 >= h) continue;
-        const int ax = std::max(0, int(std::floor(px0))), bx = std::min(w - 1, int(std::floor(px1)));
-        const int ay = std::max(0, int(std::floor(py0))), by = std::min(h - 1, int(std::floor(py1)));
-        for (int y = ay; y <= by; ++y) std::fill(seen.begin() + size_t(y) * w + ax, seen.begin() + size_t(y) * w + bx + 1, 1);
+        // NDC -> pixel coordinates, as kernels/camera.h maps them the other way (y downwards),
+        // rounded outwards to float.  A capsule keeps its two ends' bounds: the hull of the two
+        // is tighter than their box for a diagonal segment (PrimitiveImage::row_span); a
+        // triangle's ends are both its box.
+        PrimitiveImage im;
+        im.primitive = k;
+        im.depth = down(z);
+        for (uint32_t v = 0; v < 2; ++v) {
+            double e[4] = {sx0, sx1, sy0, sy1};
+            if (n == 2) std::copy_n(&bounds[5 * (first + v)], 4, e);
+            float* out_end = v == 0 ? im.a : im.b;
+            out_end[0] = down((e[0] + 1) * 0.5 * w), out_end[1] = up((e[1] + 1) * 0.5 * w);
+            out_end[2] = down((1 - e[3]) * 0.5 * h), out_end[3] = up((1 - e[2]) * 0.5 * h);
+        }
+        double box[4];
+        im.box(box);
+        if (box[1] + kFootprintMarginPixels < 0 || box[3] + kFootprintMarginPixels < 0 ||
+            box[0] - kFootprintMarginPixels >= w || box[2] - kFootprintMarginPixels >= h)
+            continue;  // off the image even with the widest margin
+        images.push_back(im);
     }
+    });
+    size_t total = 0;
+    for (size_t t = 0; t < share.size(); ++t) total += share[t].size();
+    out.images.reserve(total);
+    for (size_t t = 0; t < share.size(); ++t) {
+        if (share_unbounded[t]) return unbounded;
+        out.images.insert(out.images.end(), share[t].begin(), share[t].end());
+    }
+    out.bounded = true;
+    return out;
+}
+
+bool PrimitiveImage::row_span(int y, double margin, int w, int* x_first, int* x_last) const {
+    // The hull of boxes a and b is the union over s in [0, 1] of the box (1 - s) a + s b, whose
+    // bounds are linear in s: the row's slab [y - margin, y + 1 + margin] meets it for s with
+    // y0(s) <= y + 1 + margin and y1(s) >= y - margin, an interval, at whose ends x0(s) and x1(s)
+    // take their extremes.
+    double s0 = 0, s1 = 1;
+    const double top = y + 1 + margin, bottom = y - margin;
+    const auto keep = [&](double v0, double dv, double limit, bool below) {
+        // v0 + s dv <= limit (below) or >= limit
+        if (dv == 0) {
+            if (below ? !(v0 <= limit) : !(v0 >= limit)) s1 = -1;
+            return;
+        }
+        const double s = (limit - v0) / dv;
+        if ((dv > 0) == below) s1 = std::min(s1, s);
+        else s0 = std::max(s0, s);
+    };
+    keep(a[2], double(b[2]) - a[2], top, true);
+    keep(a[3], double(b[3]) - a[3], bottom, false);
+    if (!(s0 <= s1)) return false;
+    const double dx0 = double(b[0]) - a[0], dx1 = double(b[1]) - a[1];
+    const double x0 = std::min(a[0] + s0 * dx0, a[0] + s1 * dx0) - margin;
+    const double x1 = std::max(a[1] + s0 * dx1, a[1] + s1 * dx1) + margin;
+    if (x1 < 0 || x0 >= w) return false;
+    *x_first = std::max(0, int(std::floor(x0)));
+    *x_last = std::min(w - 1, int(std::floor(x1)));
+    return *x_first <= *x_last;
+}
+
+// The pixels [x0, x1] x [y0, y1] (inclusive) of image `im` widened by `margin` pixels; false if
+// none is in the image.
+static bool pixel_rect(const PrimitiveImage& im, double margin, int w, int h, int* r) {
+    double box[4];
+    im.box(box);
+    const double x0 = box[0] - margin, x1 = box[1] + margin, y0 = box[2] - margin, y1 = box[3] + margin;
+    if (x1 < 0 || y1 < 0 || x0 >= w || y0 >= h) return false;
+    r[0] = std::max(0, int(std::floor(x0))), r[1] = std::min(w - 1, int(std::floor(x1)));
+    r[2] = std::max(0, int(std::floor(y0))), r[3] = std::min(h - 1, int(std::floor(y1)));
+    return true;
+}
+
+PixelFootprint pixel_footprint(const ProjectedPrimitives& projected) {
+    const size_t w = size_t(projected.width), h = size_t(projected.height);
+    PixelFootprint f;
+    if (!projected.bounded) {
+        f.seen.resize(w * h);
+        for (size_t i = 0; i < w * h; ++i) f.seen[i] = uint32_t(i);
+        return f;
+    }
+    std::vector<uint8_t> seen(w * h, 0);
+    int r[4];
+    for (const PrimitiveImage& im : projected.images)
+        if (pixel_rect(im, kFootprintMarginPixels, int(w), int(h), r))
+            for (int y = r[2]; y <= r[3]; ++y)
+                std::fill(seen.begin() + size_t(y) * w + size_t(r[0]), seen.begin() + size_t(y) * w + size_t(r[1]) + 1, 1);
     for (size_t i = 0; i < seen.size(); ++i) (seen[i] ? f.seen : f.empty).push_back(uint32_t(i));
     return f;
+}
+
+PixelFootprint pixel_footprint(const HtCamera& camera, const SceneGeometry& geometry) {
+    return pixel_footprint(project_primitives(camera, geometry));
+}
+
+PixelCandidates pixel_candidates(const ProjectedPrimitives& projected, uint32_t max_per_pixel, uint64_t max_entries) {
+    PixelCandidates c;
+    if (!projected.bounded) return c;
+    const int w = projected.width, h = projected.height;
+    const size_t pixels = size_t(w) * size_t(h), n = projected.images.size();
+    const std::vector<PrimitiveImage>& images = projected.images;
+    std::vector<int> rows(2 * n);
+    for (size_t i = 0; i < n; ++i) {
+        int r[4];
+        if (!pixel_rect(images[i], kCandidateMarginPixels, w, h, r)) r[2] = 0, r[3] = -1;  // no pixel
+        rows[2 * i] = r[2], rows[2 * i + 1] = r[3];
+    }
+    // Rows in bands of kBand, each band's images listed in point order and then sorted nearest
+    // first, so that every pixel's list, filled in that order, comes out sorted; the bands are
+    // shared out among threads.  One thread fills a band's lists, so they do not depend on the
+    // thread count.  No global depth order: sorting all the images and reading them back in it
+    // missed the cache on most of them (twice the time).
+    constexpr int kBand = 8;
+    const int bands = (h + kBand - 1) / kBand;
+    std::vector<uint32_t> band_start(size_t(bands) + 1, 0);
+    for (size_t i = 0; i < n; ++i)
+        if (rows[2 * i] <= rows[2 * i + 1])
+            for (int b = rows[2 * i] / kBand; b <= rows[2 * i + 1] / kBand; ++b) ++band_start[size_t(b) + 1];
+    for (int b = 0; b < bands; ++b) band_start[size_t(b) + 1] += band_start[size_t(b)];
+    std::vector<uint32_t> band_images(band_start[size_t(bands)]);
+    {
+        std::vector<uint32_t> at(band_start.begin(), band_start.end() - 1);
+        for (size_t i = 0; i < n; ++i)
+            if (rows[2 * i] <= rows[2 * i + 1])
+                for (int b = rows[2 * i] / kBand; b <= rows[2 * i + 1] / kBand; ++b) band_images[at[size_t(b)]++] = uint32_t(i);
+    }
+    const int threads = host_threads();
+    const auto each_band = [&](const auto& body) {
+        std::vector<std::thread> pool;
+        for (int t = 0; t < threads; ++t)
+            pool.emplace_back([&, t] {
+                for (int band = t; band < bands; band += threads) body(band);
+            });
+        for (std::thread& th : pool) th.join();
+    };
+    // each band's images copied out in its order, so that the passes below read them in sequence
+    std::vector<PrimitiveImage> band_data(band_images.size());
+    std::vector<int> band_rows(2 * band_images.size());
+    each_band([&](int band) {
+        std::vector<std::pair<float, uint32_t>> keyed;
+        for (uint32_t j = band_start[size_t(band)]; j < band_start[size_t(band) + 1]; ++j)
+            keyed.push_back({images[band_images[j]].depth, band_images[j]});
+        std::sort(keyed.begin(), keyed.end());
+        for (size_t j = 0; j < keyed.size(); ++j) {
+            const size_t at = band_start[size_t(band)] + j, i = keyed[j].second;
+            band_data[at] = images[i];
+            band_rows[2 * at] = rows[2 * i], band_rows[2 * at + 1] = rows[2 * i + 1];
+        }
+    });
+    const auto in_bands = [&](const auto& body) {
+        each_band([&](int band) {
+            const int y0 = band * kBand, y1 = std::min(h, y0 + kBand);
+            for (uint32_t j = band_start[size_t(band)]; j < band_start[size_t(band) + 1]; ++j) {
+                const int a = std::max(band_rows[2 * j], y0), b = std::min(band_rows[2 * j + 1], y1 - 1);
+                const PrimitiveImage& im = band_data[j];
+                int x0, x1;
+                for (int y = a; y <= b; ++y)
+                    if (im.row_span(y, kCandidateMarginPixels, w, &x0, &x1)) body(im, y, x0, x1);
+            }
+        });
+    };
+    std::vector<uint32_t> count(pixels, 0);
+    in_bands([&](const PrimitiveImage&, int y, int x0, int x1) {
+        uint32_t* row = &count[size_t(y) * size_t(w)];
+        for (int x = x0; x <= x1; ++x) row[x] = row[x] < kCandidatesUseTree - 1 ? row[x] + 1 : row[x];
+    });
+    // A pixel with more than the cap keeps the tree (its list would cost more than a traversal);
+    // lists beyond the memory budget halve the cap until they fit.
+    std::vector<uint32_t> sorted_counts(count);
+    std::sort(sorted_counts.begin(), sorted_counts.end());
+    uint64_t total = 0;
+    for (;; max_per_pixel /= 2) {
+        if (max_per_pixel < 8) return PixelCandidates{};  // too dense for lists at this budget: the tree for all
+        total = 0;
+        for (uint32_t k : sorted_counts) total += k <= max_per_pixel ? k : 0;
+        if (total <= max_entries && total < kCandidatesUseTree) break;
+    }
+    c.max_per_pixel = max_per_pixel;
+    c.start.resize(pixels);
+    c.count.resize(pixels);
+    total = 0;
+    for (size_t p = 0; p < pixels; ++p) {
+        c.start[p] = uint32_t(total);
+        if (count[p] > max_per_pixel) {
+            ++c.tree_pixels;
+            c.count[p] = kCandidatesUseTree;
+            continue;
+        }
+        c.count[p] = count[p];
+        total += count[p];
+    }
+    c.primitive.resize(total);
+    c.depth.resize(total);
+    std::fill(count.begin(), count.end(), 0u);  // now the fill level
+    in_bands([&](const PrimitiveImage& im, int y, int x0, int x1) {
+        for (int x = x0; x <= x1; ++x) {
+            const size_t p = size_t(y) * size_t(w) + size_t(x);
+            if (c.count[p] == kCandidatesUseTree) continue;
+            const size_t e = size_t(c.start[p]) + count[p]++;
+            c.primitive[e] = im.primitive;
+            c.depth[e] = im.depth;
+        }
+    });
+    for (int i = 0; i < 3; ++i) c.depth_row[i] = float(projected.depth_row[i]);
+    c.enabled = true;
+    return c;
 }
 
 }  // namespace ht

@@ -14,7 +14,9 @@ namespace ht {
 uint64_t PreparedScene::extra_scene_bytes() const {
     return environment.texels.size() * sizeof(float) +
            (environment.marginal.size() + environment.conditional.size()) * sizeof(float) + texel_bytes +
-           texture_headers.size() * sizeof(HtTexture) + (afs_table.size() + dual_table.size()) * sizeof(float);
+           texture_headers.size() * sizeof(HtTexture) + (afs_table.size() + dual_table.size()) * sizeof(float) +
+           (candidates.start.size() + candidates.count.size() + candidates.primitive.size()) * sizeof(uint32_t) +
+           candidates.depth.size() * sizeof(float);
 }
 
 PreparedScene prepare_scene(const Scene& scene, const RenderSettings& s, const RecipeReady& recipe_ready) {
@@ -44,10 +46,19 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& s, const R
     p.textures = &scene.textures;
     p.texel_bytes = texel_buffer_size(scene.textures) * sizeof(uint32_t);
     const HtEnvironment& env = p.environment.header;
-    if (s.skip_empty_pixels && !s.aovs && !(env.enabled && env.has_map)) {
+    const bool skip_empty = s.skip_empty_pixels && !s.aovs && !(env.enabled && env.has_map);
+    if (skip_empty || s.camera_lists) {
         const auto t0 = std::chrono::steady_clock::now();
-        p.footprint = pixel_footprint(p.camera, p.geometry);
-        p.footprint_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        const ProjectedPrimitives projected = project_primitives(p.camera, p.geometry);
+        const auto t1 = std::chrono::steady_clock::now();
+        if (skip_empty) p.footprint = pixel_footprint(projected);
+        const auto t2 = std::chrono::steady_clock::now();
+        if (s.camera_lists)
+            p.candidates = pixel_candidates(projected, s.camera_list_cap ? s.camera_list_cap : kMaxCandidatesPerPixel);
+        const auto t3 = std::chrono::steady_clock::now();
+        const auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
+        p.footprint_ms = ms(t0, t2);
+        p.candidates_ms = ms(t2, t3) + (skip_empty ? 0.0 : ms(t0, t1));
     }
 
     if (afs) {

@@ -39,9 +39,13 @@ struct PreparedScene {
     // environment map); both empty otherwise.  footprint_ms: the time it took.
     PixelFootprint footprint;
     double footprint_ms = 0;
+    // Each pixel's candidates for its camera rays (RenderSettings::camera_lists; disabled
+    // otherwise, or when the projection is unbounded), and the time they took.
+    PixelCandidates candidates;
+    double candidates_ms = 0;
     std::string estimator_options;           // the estimator's -D values (clamp, sampler, ...)
 
-    // Device bytes of everything but the geometry (textures, environment tables).
+    // Device bytes of everything but the geometry (textures, environment tables, candidate lists).
     uint64_t extra_scene_bytes() const;
 };
 

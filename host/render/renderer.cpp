@@ -118,7 +118,13 @@ struct Renderer::Impl {
     std::string options;
     KernelFeatures features;
     cl::Program trace_program, shade_program;
-    cl::Kernel k_generate, k_closest, k_shade, k_shadow, k_resolve, k_accumulate, k_accumulate_background;
+    cl::Kernel k_generate, k_closest, k_camera, k_shade, k_shadow, k_resolve, k_accumulate, k_accumulate_background;
+    // The camera rays' candidate lists (render/pixel_footprint.h), when the scene has them
+    struct CandidateLists {
+        cl::Buffer start, count, primitive, depth;
+        cl_float4 depth_row{};
+    } candidate_lists;
+    bool use_candidate_lists = false;
     cl::Kernel k_compact_count, k_compact_scan, k_compact_scatter;
     cl::Kernel k_shadow_afs, k_resolve_afs, k_shadow_dual;
     cl::Kernel k_pilot_record, k_pilot_accumulate;  // --first-hit-splits auto's pilot
@@ -211,6 +217,7 @@ struct Renderer::Impl {
         stats.kernel_options = build_options;
         k_generate = cl::Kernel(trace_program, "generate_camera_rays");
         k_closest = cl::Kernel(trace_program, "intersect_closest");
+        k_camera = cl::Kernel(trace_program, "intersect_camera");
         k_shade = cl::Kernel(shade_program, "shade");
         k_shadow = cl::Kernel(trace_program, "intersect_shadow");
         k_resolve = cl::Kernel(trace_program, "resolve_shadows");
@@ -235,6 +242,7 @@ struct Renderer::Impl {
         }
 
         upload_pixel_lists();  // before the plan, which counts them
+        upload_candidate_lists();
         const MemoryPlan plan = plan_memory();
         upload_textures();
         use_plan(plan);
@@ -260,6 +268,20 @@ struct Renderer::Impl {
         if (env.enabled) background = cl_float4{{env.scale[0], env.scale[1], env.scale[2], 1.0f}};
         for (int c = 0; c < 3; ++c)
             if (!std::isfinite(background.s[c])) background.s[c] = 0.0f;  // shade drops it the same way
+    }
+
+    void upload_candidate_lists() {
+        const PixelCandidates& c = prepared.candidates;
+        if (!c.enabled) return;
+        candidate_lists.start = device_array(cl.context(), c.start);
+        candidate_lists.count = device_array(cl.context(), c.count);
+        candidate_lists.primitive = device_array(cl.context(), c.primitive);
+        candidate_lists.depth = device_array(cl.context(), c.depth);
+        candidate_lists.depth_row = cl_float4{{c.depth_row[0], c.depth_row[1], c.depth_row[2], 0.0f}};
+        use_candidate_lists = true;
+        stats.candidate_tree_pixels = c.tree_pixels;
+        stats.candidate_entries = c.primitive.size();
+        stats.candidates_ms = prepared.candidates_ms;
     }
 
     MemoryPlan plan_memory() const {
@@ -335,7 +357,10 @@ struct Renderer::Impl {
             const uint32_t traced = vertices + (scene.environment.enabled ? 1u : 0u);
             for (uint32_t bounce = 0; n > 0 && bounce < traced; ++bounce) {
                 const auto t_bounce = std::chrono::steady_clock::now();
-                intersect_closest(q, n);
+                if (bounce == 0 && use_candidate_lists)
+                    intersect_camera(q, n);
+                else
+                    intersect_closest(q, n);
                 if (dump) dump->closest(cl.queue(), queue_rays(q), buffer(PathBuffer::Hits), n, bounce);
                 shade(q, n, sample, bounce);
                 // the first shade leaves `light_samples` shadow slots and `splits` stage slots
@@ -406,6 +431,22 @@ struct Renderer::Impl {
         k_closest.setArg(a++, buffer(PathBuffer::Hits));
         k_closest.setArg(a++, count);
         launch(k_closest, count);
+    }
+
+    // The camera rays of queue q, through their pixels' candidate lists.
+    void intersect_camera(int q, uint32_t count) {
+        cl_uint a = set_geometry_args(k_camera);
+        k_camera.setArg(a++, queue_rays(q));
+        k_camera.setArg(a++, buffer(PathBuffer::Hits));
+        k_camera.setArg(a++, count);
+        k_camera.setArg(a++, queue_paths(q));
+        k_camera.setArg(a++, buffer(PathBuffer::Paths));
+        k_camera.setArg(a++, candidate_lists.start);
+        k_camera.setArg(a++, candidate_lists.count);
+        k_camera.setArg(a++, candidate_lists.primitive);
+        k_camera.setArg(a++, candidate_lists.depth);
+        k_camera.setArg(a++, candidate_lists.depth_row);
+        launch(k_camera, count);
     }
 
     void shade(int q, uint32_t count, uint32_t sample, uint32_t bounce) {
@@ -770,6 +811,9 @@ void RenderStats::add(const RenderStats& o) {
     background_samples += o.background_samples;
     empty_pixels = std::max(empty_pixels, o.empty_pixels);
     footprint_ms = std::max(footprint_ms, o.footprint_ms);
+    candidate_tree_pixels = std::max(candidate_tree_pixels, o.candidate_tree_pixels);
+    candidate_entries = std::max(candidate_entries, o.candidate_entries);
+    candidates_ms = std::max(candidates_ms, o.candidates_ms);
     paths += o.paths;
     extension_rays += o.extension_rays;
     shadow_rays += o.shadow_rays;

@@ -34,6 +34,10 @@ struct RenderStats {
     uint64_t background_samples = 0;
     size_t empty_pixels = 0;  // how many pixels see no geometry (0: none, or not skipped)
     double footprint_ms = 0;  // the time taken to find them (render/pixel_footprint.h)
+    // Camera rays from per-pixel candidate lists (RenderSettings::camera_lists): the lists'
+    // entries (0: no lists), the pixels that traverse the tree instead, the lists' build time.
+    size_t candidate_entries = 0, candidate_tree_pixels = 0;
+    double candidates_ms = 0;
     // camera rays x --first-hit-splits: the paths of the estimate, each continuation one of them
     uint64_t paths = 0;
     uint64_t nonfinite_caught = 0;  // NaN/Inf values zeroed by the kernels

@@ -76,6 +76,12 @@ struct RenderSettings {
     // (render/pixel_footprint.h) get the background's value without being traced -- the same
     // bits as tracing them.  Off: every pixel is traced (for A/B measurements).
     bool skip_empty_pixels = true;
+    // --camera-rays lists: a camera ray tests its pixel's candidate list, nearest first, instead
+    // of traversing the tree (render/pixel_footprint.h pixel_candidates) -- the same hits.  Off
+    // (tree): every camera ray traverses the tree (for A/B measurements).
+    bool camera_lists = true;
+    uint32_t camera_list_cap = 0;  // a pixel's longest list (0: kMaxCandidatesPerPixel); tests set less
+
     // --target-error: after adaptive_min_spp samples everywhere, further chunks only for the
     // tiles whose relative error estimate exceeds it (render/adaptive.h); 0: every pixel gets
     // every sample.  The films then carry their even halves (core/film.h).

@@ -153,80 +153,93 @@ HT_FN int ht_leaf_entry(HT_SEGS_PARAM, HT_POINTS_PARAM, uint k, real3 o, real3 d
     return 1;
 }
 
-/* Intersects the leaf [first, first + count) against the ray; updates *tbest / *best.
- * Returns 1 if something was hit (any-hit callers stop then).
+/* n (1 <= n <= 8) entries of the leaf segment array against the ray: g .. g + n - 1, or with a list
+ * the entries list[g .. g + n - 1]; updates *tbest / *best and returns 1 if one of them precedes
+ * the closest hit so far.  The tree's leaves pass no list (a null pointer, known when the call is
+ * inlined: an index array in its place made the tree's traversal 5-7 % slower).
  *
- * OpenCL takes the leaf eight segments at a time, one capsule per float8 lane (ht_capsule_lane8,
- * capsule.h), so a leaf of up to max_leaf = 8 is one branch-free test: the group's loads are issued
- * together and its arithmetic is shared, which is what lets the builder fill leaves (host/bvh/bvh.h
+ * OpenCL takes the eight at once, one capsule per float8 lane (ht_capsule_lane8, capsule.h), so a
+ * leaf of up to max_leaf = 8 is one branch-free test: the group's loads are issued together and
+ * its arithmetic is shared, which is what lets the builder fill leaves (host/bvh/bvh.h
  * BvhOptions::leaf_lanes; host/bvh/NOTES.md "Leaves tested four at a time" and "Leaves tested
  * eight at a time").  A lane's answer is the scalar test's (same operations), and every lane's
  * hit up to the group's starting *tbest is offered to ht_hit_precedes, so a group finds what the
  * scalar loop finds: the first candidate in the order of (t, global id).  A group holding a
- * triangle, and the host build, take the scalar loop. */
+ * triangle, and the host build, take the scalar loop.  The tree's leaves and a pixel's candidate
+ * list (candidate_list.h) both come here, so either finds the same t for the same capsule. */
+HT_FN int ht_intersect_entries(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_CONST_GLOBAL uint* list, uint g, uint n, real3 o,
+                               real3 d, real tmin, real* tbest, uint* best) {
+    int found = 0;
+/* entry j, and j's lane (lanes past n repeat the first entry and are not read back) */
+#define HT_ENTRY(j) (list ? list[g + (j)] : g + (j))
+#define HT_LANE(j) HT_SEG(HT_ENTRY(n > (j) ? (j) : 0u))
+#ifdef HT_OPENCL
+    const HtSegment s0 = HT_LANE(0u), s1 = HT_LANE(1u), s2 = HT_LANE(2u), s3 = HT_LANE(3u);
+    const HtSegment s4 = HT_LANE(4u), s5 = HT_LANE(5u), s6 = HT_LANE(6u), s7 = HT_LANE(7u);
+#if HT_FEATURE_MESHES
+    if (!((s0.flags | s1.flags | s2.flags | s3.flags | s4.flags | s5.flags | s6.flags | s7.flags) & HT_SEG_TRIANGLE))
+#endif
+    {
+        /* Each point as one float4 load (x, y, z, r), transposed into the lanes by shuffles:
+         * assembling the float8s from 16 scalar HtPoint fields per coordinate instead (one insert
+         * each) made the eight-lane leaf test 0.86x of the four-lane one (host/bvh/NOTES.md
+         * "Leaves tested eight at a time"). */
+#define HT_POINT4(i) vload4(0, (HT_CONST_GLOBAL float*)&HT_POINT(i))
+        const float4 a0 = HT_POINT4(s0.point), b0 = HT_POINT4(s0.point + 1u);
+        const float4 a1 = HT_POINT4(s1.point), b1 = HT_POINT4(s1.point + 1u);
+        const float4 a2 = HT_POINT4(s2.point), b2 = HT_POINT4(s2.point + 1u);
+        const float4 a3 = HT_POINT4(s3.point), b3 = HT_POINT4(s3.point + 1u);
+        const float4 a4 = HT_POINT4(s4.point), b4 = HT_POINT4(s4.point + 1u);
+        const float4 a5 = HT_POINT4(s5.point), b5 = HT_POINT4(s5.point + 1u);
+        const float4 a6 = HT_POINT4(s6.point), b6 = HT_POINT4(s6.point + 1u);
+        const float4 a7 = HT_POINT4(s7.point), b7 = HT_POINT4(s7.point + 1u);
+#undef HT_POINT4
+/* component F of the eight float4s P0..P7 */
+#define HT_LANES8(P, F) (float8)(P##0 .F, P##1 .F, P##2 .F, P##3 .F, P##4 .F, P##5 .F, P##6 .F, P##7 .F)
+        const uint8 flags = (uint8)(s0.flags, s1.flags, s2.flags, s3.flags, s4.flags, s5.flags, s6.flags, s7.flags);
+        const float bound = ht_tie_bound(*tbest);
+        const float8 t = ht_capsule_lane8(o, d, HT_LANES8(a, x), HT_LANES8(a, y), HT_LANES8(a, z), HT_LANES8(b, x),
+                                          HT_LANES8(b, y), HT_LANES8(b, z), 0.5f * (HT_LANES8(a, w) + HT_LANES8(b, w)),
+                                          (flags & (uint8)(HT_SEG_FIRST)) != (uint8)(0u), tmin, bound);
+#undef HT_LANES8
+        float tl[8];
+        vstore8(t, 0, tl);
+        /* Lanes with a root up to *tbest as a mask, visited in lane order; an earlier lane's hit
+         * may shorten *tbest, hence the test inside the loop too. */
+        uint lanes = ht_mask8(t < (float8)(bound)) & ((1u << n) - 1u); /* padding lanes dropped */
+        for (; lanes != 0u; lanes &= lanes - 1u) {
+            const uint j = ht_lowest_bit(lanes);
+            const uint k = HT_ENTRY(j);
+            if (!ht_hit_precedes(HT_SEGS_ARG, tl[j], k, *tbest, *best)) continue;
+            const HtSegment sj = HT_SEG(k);
+            /* A root on an interior surface of its strand: that capsule's later roots, one at a
+             * time, as the scalar loop takes them. */
+            if (ht_strand_interior(HT_POINTS_ARG, sj, HT_POINT(sj.point), HT_POINT(sj.point + 1u), o, d, tl[j])) {
+                found |= ht_leaf_entry(HT_SEGS_ARG, HT_POINTS_ARG, k, o, d, tl[j], tbest, best);
+                continue;
+            }
+            *tbest = tl[j];
+            *best = k;
+            found = 1;
+        }
+        return found;
+    }
+#endif
+    for (uint j = 0; j < n; ++j) found |= ht_leaf_entry(HT_SEGS_ARG, HT_POINTS_ARG, HT_ENTRY(j), o, d, tmin, tbest, best);
+#undef HT_LANE
+#undef HT_ENTRY
+    return found;
+}
+
+/* Intersects the leaf [first, first + count) against the ray, eight at a time; updates *tbest /
+ * *best.  Returns 1 if something was hit (any-hit callers stop then). */
 HT_FN int ht_intersect_leaf(HT_SEGS_PARAM, HT_POINTS_PARAM, uint first, uint count, real3 o, real3 d, real tmin, real* tbest,
                             uint* best) {
     int found = 0;
     const uint end = first + count;
     for (uint g = first; g < end; g += 8u) {
         const uint n = end - g < 8u ? end - g : 8u;
-#ifdef HT_OPENCL
-        /* Lanes past the leaf repeat its first segment and are not read back. */
-        const HtSegment s0 = HT_SEG(g), s1 = HT_SEG(n > 1u ? g + 1u : g);
-        const HtSegment s2 = HT_SEG(n > 2u ? g + 2u : g), s3 = HT_SEG(n > 3u ? g + 3u : g);
-        const HtSegment s4 = HT_SEG(n > 4u ? g + 4u : g), s5 = HT_SEG(n > 5u ? g + 5u : g);
-        const HtSegment s6 = HT_SEG(n > 6u ? g + 6u : g), s7 = HT_SEG(n > 7u ? g + 7u : g);
-#if HT_FEATURE_MESHES
-        if (!((s0.flags | s1.flags | s2.flags | s3.flags | s4.flags | s5.flags | s6.flags | s7.flags) &
-              HT_SEG_TRIANGLE))
-#endif
-        {
-            /* Each point as one float4 load (x, y, z, r), transposed into the lanes by shuffles:
-             * assembling the float8s from 16 scalar HtPoint fields per coordinate instead (one
-             * insert each) made the eight-lane leaf test 0.86x of the four-lane one (host/bvh/NOTES.md
-             * "Leaves tested eight at a time"). */
-#define HT_POINT4(i) vload4(0, (HT_CONST_GLOBAL float*)&HT_POINT(i))
-            const float4 a0 = HT_POINT4(s0.point), b0 = HT_POINT4(s0.point + 1u);
-            const float4 a1 = HT_POINT4(s1.point), b1 = HT_POINT4(s1.point + 1u);
-            const float4 a2 = HT_POINT4(s2.point), b2 = HT_POINT4(s2.point + 1u);
-            const float4 a3 = HT_POINT4(s3.point), b3 = HT_POINT4(s3.point + 1u);
-            const float4 a4 = HT_POINT4(s4.point), b4 = HT_POINT4(s4.point + 1u);
-            const float4 a5 = HT_POINT4(s5.point), b5 = HT_POINT4(s5.point + 1u);
-            const float4 a6 = HT_POINT4(s6.point), b6 = HT_POINT4(s6.point + 1u);
-            const float4 a7 = HT_POINT4(s7.point), b7 = HT_POINT4(s7.point + 1u);
-#undef HT_POINT4
-/* component F of the eight float4s P0..P7 */
-#define HT_LANES8(P, F) (float8)(P##0 .F, P##1 .F, P##2 .F, P##3 .F, P##4 .F, P##5 .F, P##6 .F, P##7 .F)
-            const uint8 flags = (uint8)(s0.flags, s1.flags, s2.flags, s3.flags, s4.flags, s5.flags, s6.flags, s7.flags);
-            const float bound = ht_tie_bound(*tbest);
-            const float8 t = ht_capsule_lane8(o, d, HT_LANES8(a, x), HT_LANES8(a, y), HT_LANES8(a, z), HT_LANES8(b, x),
-                                              HT_LANES8(b, y), HT_LANES8(b, z),
-                                              0.5f * (HT_LANES8(a, w) + HT_LANES8(b, w)),
-                                              (flags & (uint8)(HT_SEG_FIRST)) != (uint8)(0u), tmin, bound);
-#undef HT_LANES8
-            float tl[8];
-            vstore8(t, 0, tl);
-            /* Lanes with a root up to *tbest as a mask, visited in lane order; an earlier lane's hit
-             * may shorten *tbest, hence the test inside the loop too. */
-            uint lanes = ht_mask8(t < (float8)(bound)) & ((1u << n) - 1u); /* padding lanes dropped */
-            for (; lanes != 0u; lanes &= lanes - 1u) {
-                const uint j = ht_lowest_bit(lanes);
-                if (!ht_hit_precedes(HT_SEGS_ARG, tl[j], g + j, *tbest, *best)) continue;
-                const HtSegment sj = HT_SEG(g + j);
-                /* A root on an interior surface of its strand: that capsule's later roots, one at a
-                 * time, as the scalar loop takes them. */
-                if (ht_strand_interior(HT_POINTS_ARG, sj, HT_POINT(sj.point), HT_POINT(sj.point + 1u), o, d, tl[j])) {
-                    found |= ht_leaf_entry(HT_SEGS_ARG, HT_POINTS_ARG, g + j, o, d, tl[j], tbest, best);
-                    continue;
-                }
-                *tbest = tl[j];
-                *best = g + j;
-                found = 1;
-            }
-            continue;
-        }
-#endif
-        for (uint k = g; k < g + n; ++k) found |= ht_leaf_entry(HT_SEGS_ARG, HT_POINTS_ARG, k, o, d, tmin, tbest, best);
+        found |= ht_intersect_entries(HT_SEGS_ARG, HT_POINTS_ARG, 0, g, n, o, d, tmin, tbest, best);
     }
     return found;
 }
@@ -365,15 +378,21 @@ HT_FN uint ht_node_test(HT_NODES_PARAM, uint ref, HT_CONST_GLOBAL HtBvhNode* n, 
 /* The node record of reference ref. */
 HT_FN HT_CONST_GLOBAL HtBvhNode* ht_node_of(HT_NODES_PARAM, uint ref) { return HT_NODE_PTR(ref & ~HT_NODE_ORIENTED); }
 
+/* A ray's origin, direction and the far end of its search: tmax, but x < C ? x : C keeps a +inf
+ * tmax out of every later comparison. */
+HT_FN real ht_ray_start(HtRay ray, real3* o, real3* d) {
+    *o = make_real3(ray.ox, ray.oy, ray.oz);
+    *d = make_real3(ray.dx, ray.dy, ray.dz);
+    return (real)ray.tmax < HT_T_FAR ? (real)ray.tmax : HT_T_FAR;
+}
+
 /* Core traversal.  any_hit: stop at the first intersection in (tmin, tmax).  Returns the leaf
  * segment index of the hit (HT_NO_HIT for none) and its distance in *t_out; for closest hits, the
  * first in the order of ht_hit_precedes, whatever the tree's layout. */
 HT_FN uint ht_traverse(HT_GEOMETRY_PARAMS, HtRay ray, int any_hit, real* t_out) {
-    const real3 o = make_real3(ray.ox, ray.oy, ray.oz);
-    const real3 d = make_real3(ray.dx, ray.dy, ray.dz);
+    real3 o, d;
+    real tbest = ht_ray_start(ray, &o, &d);
     const real tmin = ray.tmin;
-    /* x < C ? x : C keeps a +inf tmax out of every later comparison. */
-    real tbest = (real)ray.tmax < HT_T_FAR ? (real)ray.tmax : HT_T_FAR;
     uint best = HT_NO_HIT;
 
     const HtSlabRay slab = ht_slab_ray(o, d);
@@ -444,10 +463,9 @@ HT_FN uint ht_traverse(HT_GEOMETRY_PARAMS, HtRay ray, int any_hit, real* t_out) 
     return best;
 }
 
-/* Closest hit with the fibre quantities the shading stages need (see HtHit). */
-HT_FN void ht_trace_closest(HT_GEOMETRY_PARAMS, HtRay ray, HtHit* hit) {
-    real t;
-    const uint best = ht_traverse(HT_GEOMETRY_ARGS, ray, 0, &t);
+/* The closest hit `best` at t (HT_NO_HIT: none) with the fibre quantities the shading stages need
+ * (see HtHit). */
+HT_FN void ht_closest_hit_record(HT_SEGS_PARAM, HT_POINTS_PARAM, HtRay ray, uint best, real t, HtHit* hit) {
     hit->segment = best;
     if (best == HT_NO_HIT) {
         hit->t = (float)HT_REAL_MAX;
@@ -496,6 +514,12 @@ HT_FN void ht_trace_closest(HT_GEOMETRY_PARAMS, HtRay ray, HtHit* hit) {
     hit->ty = (float)tangent.y;
     hit->tz = (float)tangent.z;
     hit->radius = (float)r;
+}
+
+HT_FN void ht_trace_closest(HT_GEOMETRY_PARAMS, HtRay ray, HtHit* hit) {
+    real t;
+    const uint best = ht_traverse(HT_GEOMETRY_ARGS, ray, 0, &t);
+    ht_closest_hit_record(HT_SEGS_ARG, HT_POINTS_ARG, ray, best, t, hit);
 }
 
 /* Shadow rays: 1 if anything lies in (tmin, tmax). */

@@ -6,6 +6,7 @@
  * own (stages/intersect_shadow_afs.cl). */
 #include "generate_camera_rays.cl"
 #include "intersect_closest.cl"
+#include "intersect_camera.cl"
 #include "intersect_shadow.cl"
 #include "resolve_shadows.cl"
 #include "compact.cl"

@@ -50,6 +50,16 @@ inline std::vector<float> image(const std::string& p) {
     return ht::read_rgb_image(p, w, h);
 }
 
+// An A/B option of `render` that must not change the image: `render` + a_option and + b_option
+// (each may be empty: the default) write the same pixels into d, and each of `bad` exits 2.
+inline void expect_same_image_and_usage_errors(const TempDir& d, const std::string& render, const std::string& a_option,
+                                               const std::string& b_option, const std::vector<std::string>& bad) {
+    ASSERT_EQ(run(render + a_option + " -o " + (d / "a.exr")), 0) << a_option;
+    ASSERT_EQ(run(render + b_option + " -o " + (d / "b.exr")), 0) << b_option;
+    EXPECT_EQ(image(d / "a.exr"), image(d / "b.exr")) << a_option << " against" << b_option;
+    for (const std::string& option : bad) EXPECT_EQ(run(render + option + " -o " + (d / "x.exr") + " 2>/dev/null"), 2) << option;
+}
+
 // An integer attribute of an image's metadata (0 when it has none).
 inline int int_attribute(const std::string& p, const std::string& name) {
     auto in = OIIO::ImageInput::open(p);

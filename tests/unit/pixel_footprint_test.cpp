@@ -8,9 +8,11 @@
 #include "bvh/bvh.h"
 #include "kernels/camera.h"
 #include "kernels/geometry/bvh_traverse.h"
+#include "kernels/geometry/candidate_list.h"
 #include "render/pixel_footprint.h"
 #include "render/scene_upload.h"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -115,4 +117,132 @@ TEST(PixelFootprint, DegenerateCameraAndNonFiniteGeometrySeeEverything) {
     SceneGeometry bad = g;
     bad.points[0].x = NAN;
     EXPECT_EQ(pixel_footprint(camera(0, 0, 5, 30, 16, 16), bad).empty.size(), 0u);
+}
+
+// ---- the camera rays' candidate lists (pixel_candidates) ------------------------------------
+
+namespace {
+
+// Every pixel with a list: at jitters over the whole pixel (a 4 x 4 grid from 0 to 0.99999 and 4
+// random ones), every primitive the camera ray meets (brute force) is in the list, and the list's
+// closest hit (kernels/geometry/candidate_list.h) is the tree's, the same primitive at the same t.
+// Lists run nearest first.  *hits_out: how many rays met something.
+void expect_lists_hold_the_hits(const HtCamera& cam, const SceneGeometry& g, const PixelCandidates& c, const char* what,
+                                size_t* hits_out = nullptr) {
+    const size_t pixels = size_t(cam.width) * cam.height;
+    ASSERT_TRUE(c.enabled) << what;
+    EXPECT_EQ(c.start.size(), pixels);
+    EXPECT_EQ(c.count.size(), pixels);
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> u(0, 1);
+    const real3 depth_row = make_real3(c.depth_row[0], c.depth_row[1], c.depth_row[2]);
+    size_t hits = 0;
+    for (uint32_t pixel = 0; pixel < pixels; ++pixel) {
+        if (c.count[pixel] == kCandidatesUseTree) continue;
+        const uint32_t* list = c.primitive.data() + c.start[pixel];
+        const float* depth = c.depth.data() + c.start[pixel];
+        const uint32_t n = c.count[pixel];
+        for (uint32_t i = 1; i < n; ++i) EXPECT_LE(depth[i - 1], depth[i]) << what << ": pixel " << pixel << " nearest first";
+        std::vector<std::pair<double, double>> jitters;
+        for (int a = 0; a < 4; ++a)
+            for (int b = 0; b < 4; ++b) jitters.push_back({a * 0.99999 / 3, b * 0.99999 / 3});
+        for (int k = 0; k < 4; ++k) jitters.push_back({u(rng), u(rng)});
+        for (const auto& [jx, jy] : jitters) {
+            const HtRay ray = ht_camera_ray(&cam, pixel % cam.width, pixel / cam.width, jx, jy);
+            const real3 o = make_real3(ray.ox, ray.oy, ray.oz), d = make_real3(ray.dx, ray.dy, ray.dz);
+            for (uint32_t k = 0; k < g.segments.size(); ++k) {
+                const HtSegment& s = g.segments[k];
+                const HtPoint& a = g.points[s.point];
+                const HtPoint& b = g.points[s.point + 1];
+                double t;
+                if (s.flags & HT_SEG_TRIANGLE) {
+                    real b1, b2;
+                    t = ht_triangle_intersect(o, d, ht_point_pos(a), ht_point_pos(b), ht_point_pos(g.points[s.point + 2]),
+                                              0.0, 1e30, &b1, &b2);
+                } else {
+                    t = ht_capsule_intersect(o, d, ht_point_pos(a), ht_point_pos(b), ht_hit_radius(a, b), 1u, 0.0, 1e30);
+                }
+                if (t < 1e30) {
+                    ASSERT_NE(std::find(list, list + n, k), list + n)
+                        << what << ": pixel " << pixel << " misses primitive " << k << " that its ray meets";
+                }
+            }
+            real t_tree, t_list;
+            const uint32_t tree = ht_traverse(g.nodes.data(), g.segments.data(), g.points.data(), ray, 0, &t_tree);
+            const uint32_t from_list = ht_candidates_closest(g.segments.data(), g.points.data(), list, depth, n, ray,
+                                                             depth_row, &t_list);
+            ASSERT_EQ(from_list, tree) << what << ": pixel " << pixel;
+            ASSERT_EQ(t_list, t_tree) << what << ": pixel " << pixel;
+            hits += tree != HT_NO_HIT;
+        }
+    }
+    if (hits_out) *hits_out = hits;
+}
+
+// 600 strands in a box 0.4 wide, fibres 0.03 thick: dozens of them under each pixel of the
+// cameras below
+Strands dense_tuft() { return httest::random_strands(4, 600, 8, 0.05, 0.015, 0.4, 0.2, 0.5); }
+
+}  // namespace
+
+TEST(PixelCandidates, ListsHoldEveryHitAndGiveTheTreesAnswer) {
+    const SceneGeometry g = build_geometry(random_strands(3, 30, 6, 0.15, 0.01));
+    for (const auto& [cam, what] : {std::pair{camera(0, 0, 4, 40, 48, 32), "framing"},
+                                    std::pair{camera(0.3, 2.5, 1.5, 70, 40, 40), "close and wide"},
+                                    std::pair{camera(30, 5, 40, 20, 40, 30), "far: fibres below a pixel wide"}}) {
+        const PixelCandidates c = pixel_candidates(project_primitives(cam, g));
+        EXPECT_EQ(c.tree_pixels, 0u) << what;
+        size_t hits = 0;
+        expect_lists_hold_the_hits(cam, g, c, what, &hits);
+        EXPECT_GT(hits, 20u) << what << ": rays meet the strands";
+    }
+    // a dense tuft, fibres crossing in depth: long lists, close depths
+    const SceneGeometry dense = build_geometry(dense_tuft());
+    const HtCamera along = camera(0, 0, 3, 8, 24, 24);
+    size_t hits = 0;
+    expect_lists_hold_the_hits(along, dense, pixel_candidates(project_primitives(along, dense)), "dense", &hits);
+    EXPECT_GT(hits, 500u);
+}
+
+TEST(PixelCandidates, TrianglesAndStrandsBehindTheEye) {
+    Strands s = random_strands(5, 12, 4, 0.2, 0.02);
+    for (size_t i = 0; i < s.points.size(); i += 2) s.points[i][2] += 20.0f;  // some behind the eye: no lists
+    Mesh floor;
+    floor.positions = {{-1, -1, -1}, {1, -1, -1}, {1, -1, 1}, {-1, -1, 1}};
+    floor.indices = {0, 1, 2, 0, 2, 3};
+    const HtCamera cam = camera(0, 0.5, 10, 30, 32, 32);
+    EXPECT_FALSE(pixel_candidates(project_primitives(cam, build_geometry(s, {floor}, {SurfaceMaterialDesc{}}))).enabled)
+        << "segments that cross the eye's plane: nothing can be proved";
+    const SceneGeometry g = build_geometry(random_strands(5, 12, 4, 0.2, 0.02), {floor}, {SurfaceMaterialDesc{}});
+    size_t hits = 0;
+    expect_lists_hold_the_hits(cam, g, pixel_candidates(project_primitives(cam, g)), "strands on a floor", &hits);
+    EXPECT_GT(hits, 500u);
+}
+
+// Past the cap a pixel keeps the tree; past the budget the cap halves, and below 8 there are no
+// lists at all.
+TEST(PixelCandidates, CapAndBudget) {
+    const SceneGeometry g = build_geometry(dense_tuft());
+    const HtCamera cam = camera(0, 0, 3, 8, 24, 24);
+    const ProjectedPrimitives projected = project_primitives(cam, g);
+    const PixelCandidates full = pixel_candidates(projected);
+    ASSERT_TRUE(full.enabled);
+    uint32_t longest = 0;
+    for (uint32_t n : full.count) longest = std::max(longest, n);
+    ASSERT_GT(longest, 16u);
+    const PixelCandidates capped = pixel_candidates(projected, 16);
+    EXPECT_GT(capped.tree_pixels, 0u);
+    EXPECT_LT(capped.primitive.size(), full.primitive.size());
+    for (size_t p = 0; p < capped.count.size(); ++p)
+        EXPECT_TRUE(capped.count[p] == kCandidatesUseTree ? full.count[p] > 16 : capped.count[p] == full.count[p]);
+    expect_lists_hold_the_hits(cam, g, capped, "capped");
+    const PixelCandidates budget = pixel_candidates(projected, kMaxCandidatesPerPixel, full.primitive.size() / 2);
+    EXPECT_TRUE(budget.enabled);
+    EXPECT_LE(budget.primitive.size(), full.primitive.size() / 2);
+    EXPECT_LT(budget.max_per_pixel, kMaxCandidatesPerPixel);
+    const PixelCandidates tiny = pixel_candidates(projected, kMaxCandidatesPerPixel, 4);
+    EXPECT_TRUE(!tiny.enabled || (tiny.primitive.size() <= 4 && tiny.max_per_pixel >= 8)) << "within the budget or none";
+    EXPECT_FALSE(pixel_candidates(projected, 4).enabled) << "a cap below 8: no lists";
+    // the eye among the strands: no lists
+    EXPECT_FALSE(pixel_candidates(project_primitives(camera(0.01, 0.0, 0.02, 60, 16, 16), g)).enabled);
 }

@@ -1,0 +1,36 @@
+/* Closest hit of a camera ray among its pixel's candidates (host/render/pixel_footprint.h
+ * pixel_candidates): the primitives whose projected bounds cover the pixel, nearest depth first.
+ * No primitive outside the list can meet a ray through the pixel, and the candidates go through
+ * the tree's own leaf test (ht_intersect_entries) in the same total order of (t, global id), so
+ * the answer is the tree's, bit for bit.  A dense lock puts a few dozen primitives under a pixel,
+ * and a ray that meets the front ones stops after a group or two: much less than the descent
+ * through the tree (docs/PERFORMANCE.md "Camera rays from per-pixel lists"). */
+#ifndef HT_GEOMETRY_CANDIDATE_LIST_H
+#define HT_GEOMETRY_CANDIDATE_LIST_H
+
+#include "bvh_traverse.h"
+
+/* The list prim[0 .. n), depths depth[0 ..) (nondecreasing, each at most its primitive's nearest
+ * depth), against the ray; depth_row . d is the ray's depth per unit of t.  Returns the closest
+ * hit's leaf index (HT_NO_HIT for none) and its distance in *t_out, as ht_traverse does. */
+HT_FN uint ht_candidates_closest(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_CONST_GLOBAL uint* prim,
+                                 HT_CONST_GLOBAL float* depth, uint n, HtRay ray, real3 depth_row, real* t_out) {
+    real3 o, d;
+    real tbest = ht_ray_start(ray, &o, &d);
+    const real tmin = ray.tmin;
+    uint best = HT_NO_HIT;
+    /* A point at depth z lies at t = z / (depth_row . d) on the ray; the bound is lowered by a
+     * relative 1e-3, far beyond the rounding of that division and of the capsule test's roots,
+     * so a candidate is never passed over while it could still win.  A ray that does not advance
+     * in depth (not a camera ray through the image) gets no bound and tests the whole list. */
+    const real per_t = dot(depth_row, d);
+    const real scale = per_t > HT_R(0) ? HT_R(0.999) / per_t : HT_R(0);
+    for (uint g = 0u; g < n; g += 8u) {
+        if ((real)depth[g] * scale > tbest) break;
+        ht_intersect_entries(HT_SEGS_ARG, HT_POINTS_ARG, prim, g, n - g < 8u ? n - g : 8u, o, d, tmin, &tbest, &best);
+    }
+    *t_out = tbest;
+    return best;
+}
+
+#endif /* HT_GEOMETRY_CANDIDATE_LIST_H */

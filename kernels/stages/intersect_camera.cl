@@ -1,0 +1,32 @@
+/* Stage: closest hits of the camera rays (bounce 0).  Like intersect_closest.cl, except that a
+ * ray whose pixel has a candidate list (host/render/pixel_footprint.h) tests that list instead of
+ * traversing the tree, with the same answer (geometry/candidate_list.h); pixels whose list was
+ * too long (count = HT_CANDIDATES_USE_TREE) traverse the tree.  Camera ray i belongs to path
+ * ray_path[i], whose state names its pixel. */
+#include "../geometry/candidate_list.h"
+
+#define HT_CANDIDATES_USE_TREE 0xFFFFFFFFu
+
+__kernel void intersect_camera(HT_GEOMETRY_PARAMS, __global const HtRay* rays, __global HtHit* hits, uint count,
+                               __global const uint* ray_path, __global const HtPathState* paths,
+                               __global const uint* candidate_start, __global const uint* candidate_count,
+                               __global const uint* candidate_prim, __global const float* candidate_depth,
+                               float4 depth_row) {
+    const uint i = (uint)get_global_id(0);
+    if (i >= count) return;
+    const HtRay ray = rays[i];
+    const uint pixel = paths[ray_path[i]].pixel;
+    const uint n = candidate_count[pixel];
+    real t;
+    uint best;
+    if (n == HT_CANDIDATES_USE_TREE) {
+        best = ht_traverse(HT_GEOMETRY_ARGS, ray, 0, &t);
+    } else {
+        const uint b = candidate_start[pixel];
+        best = ht_candidates_closest(HT_SEGS_ARG, HT_POINTS_ARG, candidate_prim + b, candidate_depth + b, n, ray,
+                                     depth_row.xyz, &t);
+    }
+    HtHit hit;
+    ht_closest_hit_record(HT_SEGS_ARG, HT_POINTS_ARG, ray, best, t, &hit);
+    hits[i] = hit;
+}
