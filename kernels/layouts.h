@@ -38,6 +38,9 @@
         F(HtBounce, splits, 24) F(HtBounce, light_samples, 28)                                     \
     S(HtCamera, 80) F(HtCamera, eye, 0) F(HtCamera, right, 16) F(HtCamera, up, 32)                \
         F(HtCamera, forward, 48) F(HtCamera, width, 64) F(HtCamera, height, 68)                    \
+    S(HtShadowGrid, 64) F(HtShadowGrid, dir, 0) F(HtShadowGrid, u, 16) F(HtShadowGrid, v, 32)     \
+        F(HtShadowGrid, inv_cell, 48) F(HtShadowGrid, nx, 52) F(HtShadowGrid, ny, 56)              \
+        F(HtShadowGrid, cell_offset, 60)                                                           \
     S(HtLight, 80) F(HtLight, type, 0) F(HtLight, position, 16) F(HtLight, direction, 32)         \
         F(HtLight, radiance, 48) F(HtLight, cos_outer, 64) F(HtLight, cos_inner, 68)               \
     S(HtEnvironment, 32) F(HtEnvironment, width, 0) F(HtEnvironment, height, 4)                   \

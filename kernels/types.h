@@ -177,6 +177,19 @@ typedef struct {
     uint width, height, pad0, pad1;
 } HtCamera;
 
+/* A directional light's shadow lists (host/render/shadow_lists.h): every shadow ray toward it
+ * runs along `dir` (its -direction, bit for bit), so it stays in one cell of a grid across that
+ * direction, and only the primitives listed for the cell can block it.  A point p lies in cell
+ * (floor((p.u - u[3]) cells), floor((p.v - v[3]) cells)), cells = inv_cell; the grid's
+ * nx x ny cells are cells cell_offset .. of the shared start / count arrays, row by row. */
+typedef struct {
+    float dir[4];  /* xyz; w unused */
+    float u[4];    /* xyz: the grid's first axis; w: its origin's coordinate on it */
+    float v[4];    /* the same for the second axis */
+    float inv_cell;
+    uint nx, ny, cell_offset;
+} HtShadowGrid;
+
 #define HT_LIGHT_POINT 0u
 #define HT_LIGHT_SPOT 1u
 #define HT_LIGHT_DIRECTIONAL 2u

@@ -43,11 +43,11 @@ std::vector<std::string> split(const std::string& s, char sep) {
 // (model = --model, depth = --max-depth, indirect = --indirect, field = --fiber-field, sampler =
 // --sampler, splits = --first-hit-splits, light_samples = --first-hit-light-samples,
 // light_threshold = --light-threshold, a value or off, light_pick = --light-pick, empty_pixels =
-// --empty-pixels, camera_rays = --camera-rays), on top of the options given on the command line.
+// --empty-pixels, camera_rays = --camera-rays, shadow_rays = --shadow-rays), on top of the options given on the command line.
 std::vector<ConvergeConfig> parse_configs(const std::string& text, const ImageRequest& base) {
     static const std::vector<std::string> known = {"model",   "depth",  "indirect",     "field",
                                                    "sampler", "splits", "light_samples", "light_threshold",
-                                                   "light_pick", "empty_pixels", "camera_rays"};
+                                                   "light_pick", "empty_pixels", "camera_rays", "shadow_rays"};
     std::vector<ConvergeConfig> out;
     for (auto& c : split(text, ';')) {
         ConvergeConfig cfg{c, base};
@@ -72,6 +72,8 @@ std::vector<ConvergeConfig> parse_configs(const std::string& text, const ImageRe
                 r.settings.light_threshold = v == "off" ? 0.0f : float(parse_double("--configs light_threshold", v, kMinLightThreshold, kMaxLightThreshold));
             if (k == "camera_rays")
                 r.settings.camera_lists = require_choice("--configs camera_rays", v, {"lists", "tree"}) == "lists";
+            if (k == "shadow_rays")
+                r.settings.shadow_lists = shadow_lists_mode(require_choice("--configs shadow_rays", v, {"auto", "lists", "tree"}));
             if (k == "empty_pixels")
                 r.settings.skip_empty_pixels = require_choice("--configs empty_pixels", v, {"skip", "trace"}) == "skip";
             if (k == "light_pick")
@@ -193,7 +195,7 @@ int cmd_converge(const std::vector<std::string>& args) {
                             "a CSV of the measurements and a log-log plot.");
     p.group("convergence")
         .path("--reference", "REF", "linear reference image (EXR) of the same size", PathKind::Input)
-        .option("--configs", "LIST", "configurations separated by ';', each key=value pairs separated by ','; keys as the render options: model (--model), depth (--max-depth), indirect (--indirect), field (--fiber-field), sampler (--sampler), splits (--first-hit-splits), light_samples (--first-hit-light-samples), light_threshold (--light-threshold, a value or off), light_pick (--light-pick), empty_pixels (--empty-pixels), camera_rays (--camera-rays)", "depth=1")
+        .option("--configs", "LIST", "configurations separated by ';', each key=value pairs separated by ','; keys as the render options: model (--model), depth (--max-depth), indirect (--indirect), field (--fiber-field), sampler (--sampler), splits (--first-hit-splits), light_samples (--first-hit-light-samples), light_threshold (--light-threshold, a value or off), light_pick (--light-pick), empty_pixels (--empty-pixels), camera_rays (--camera-rays), shadow_rays (--shadow-rays)", "depth=1")
         .option("--spp", "LIST", "increasing sample counts at which the error is measured", "1,2,4,8,16,32")
         .path("--csv", "FILE", "write config,spp,seconds,rmse,relmse,max_error,nonfinite,sparkle_share,cpu_seconds rows (sparkle_share: pixels whose error exceeds 10x the reference's 3x3 local standard deviation, as render --reference prints; cpu_seconds: the process's CPU time, all threads)", PathKind::Csv, "converge.csv")
         .path("--png", "FILE", "log-log plot of RMSE against render time", PathKind::Image, "converge.png")
@@ -249,9 +251,9 @@ int cmd_converge(const std::vector<std::string>& args) {
                              std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
         }
         // The per-render work on the host that depends on the camera (the empty pixels, the camera
-        // rays' candidate lists) counts: it is paid once per image like the samples, and an A/B
+        // rays' candidate lists, the shadow lists) counts: it is paid once per image like the samples, and an A/B
         // of those options must see it.  The scene's load and BVH build are not counted.
-        double seconds = (r.stats().footprint_ms + r.stats().candidates_ms) / 1000.0, cpu_seconds = 0;
+        double seconds = (r.stats().footprint_ms + r.stats().candidates_ms + r.stats().shadow_lists_ms) / 1000.0, cpu_seconds = 0;
         // --first-hit-splits auto: the warm-up sample ran the pilot untimed; it runs again here,
         // warm and timed, and makes the same choice (render/split_choice.h)
         if (rs.first_hit_splits == kAutoFirstHitSplits) {

@@ -314,6 +314,9 @@ void report(const PreparedRender& job, const RenderRequest& request, const RunOu
     if (st.candidate_entries)
         std::fprintf(stderr, "camera rays from per-pixel lists: %zu entries (made in %.0f ms), %zu pixels with more traverse the tree\n",
                      st.candidate_entries, st.candidates_ms, st.candidate_tree_pixels);
+    if (st.shadow_list_entries)
+        std::fprintf(stderr, "shadow rays toward directional lights from per-cell lists: %zu entries (made in %.0f ms)\n",
+                     st.shadow_list_entries, st.shadow_lists_ms);
     if (st.paths)
         std::fprintf(stderr, "max depth %d cut %llu of %llu paths (%.3g %%)\n", job.settings.max_depth,
                      (unsigned long long)st.cut_paths, (unsigned long long)st.paths,

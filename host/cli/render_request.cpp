@@ -58,6 +58,7 @@ const OptionRow kOptions[] = {
     {"sampling", "--light-threshold", "T|off", "from the second vertex of a path on, next-event estimates whose weight without the light (throughput x fibre scattering value, largest channel, for the whole camera sample) is below T trace their shadow ray only with probability weight / T and then count T / weight times: unbiased, fewer shadow rays for faint deep estimates at a little more noise (relative to the light, so the same T suits any light intensity; the default paid on every scene measured, docs/PERFORMANCE.md section 8)", "0.1", Kind::Value, kBoth},
     {"sampling", "--light-pick", "importance|uniform", "how a next-event estimate that picks one light chooses it (every estimate after the first vertex; the first vertex's with --first-hit-light-samples 1): importance = half in proportion to what each light delivers to the shading point unshadowed (radiance over distance squared, a spot's falloff, a sphere's cone) times how squarely it faces the fibre or surface there, half evenly over the lights that reach the point, so no estimate is spent on a light that cannot reach it (unbiased); uniform = each light alike (A/B: the images of before). Scenes with one light or more than 16 always pick uniformly; an environment map keeps its uniform share (measured in docs/PERFORMANCE.md section 8)", "importance", Kind::Value, kBoth},
     {"sampling", "--camera-rays", "lists|tree", "how camera rays find their closest hit: lists = each pixel's candidates (the primitives whose projected bounds, widened by a pixel, overlap it), nearest first, stopping at the first group beyond the closest hit; a pixel with more than 256 candidates, and every pixel when the projection is unbounded (geometry reaching the eye's plane), traverses the tree; the same hits as the tree, bit for bit; tree = every camera ray traverses the BVH (A/B; measured in docs/PERFORMANCE.md section 8)", "lists", Kind::Value, kBoth},
+    {"sampling", "--shadow-rays", "auto|lists|tree", "how shadow rays toward a directional light find a blocker: auto = lists when spp times the pixels that see geometry reaches 4 per segment and directional light (below that they cost more to build than they save); lists = a grid across each directional light's direction (cells of 4 mean fibre radii, at most 4096 a side; the first 4 such lights), each cell listing the primitives whose shadow covers it by how far towards the light they reach, and a shadow ray tests its cell's list from its origin on, stopping at the first blocker, instead of traversing the tree; the same answers as the tree; tree = every shadow ray traverses the BVH (A/B; measured in docs/PERFORMANCE.md section 8)", "auto", Kind::Value, kBoth},
     {"sampling", "--empty-pixels", "skip|trace", "pixels whose every camera ray provably misses all geometry (the projection of no primitive's bounds, widened by a pixel, overlaps them): skip = not traced, given the background's value in every sample, the same bits as tracing them (not with an environment map or --aovs, nor while --dump-rays records the camera rays); trace = every pixel traced (A/B; measured in docs/PERFORMANCE.md section 8)", "skip", Kind::Value, kBoth},
     {"sampling", "--sampler", "sobol|independent", "random numbers: Owen-scrambled Sobol' points (each jointly used pair stratified, kernels/rng.h) or independent counter-based hashing (A/B); measured in docs/PERFORMANCE.md", "sobol", Kind::Value, kBoth},
     {"light transport", "--spawn-offset", "capsule|pbrt", "where rays leaving a fibre start: just outside its capsule, or 1-1.73 fibre diameters off it along the normal as pbrt-v4 offsets its curves' rays (a diagnostic for comparing with pbrt renders: rays then skip the nearest neighbours; docs/ESTIMATOR.md)", "capsule", Kind::Value, kBoth},
@@ -126,6 +127,12 @@ FeatureMode feature_mode(const std::string& word) {
 
 }  // namespace
 
+RenderSettings::ShadowLists shadow_lists_mode(const std::string& word) {
+    if (word == "lists") return RenderSettings::ShadowLists::Lists;
+    if (word == "tree") return RenderSettings::ShadowLists::Tree;
+    return RenderSettings::ShadowLists::Auto;
+}
+
 const std::vector<std::string>& fiber_model_names() {
     static const std::vector<std::string> names = {"kajiya", "marschner", "zinke", "chiang"};
     return names;
@@ -174,6 +181,7 @@ ImageRequest parse_image_request(const ArgParser& p) {
     if (p.get_choice("--sampler", {"sobol", "independent"}) == "independent") s.sampler = RenderSettings::Sampler::Independent;
     s.skip_empty_pixels = p.get_choice("--empty-pixels", {"skip", "trace"}) == "skip";
     s.camera_lists = p.get_choice("--camera-rays", {"lists", "tree"}) == "lists";
+    s.shadow_lists = shadow_lists_mode(p.get_choice("--shadow-rays", {"auto", "lists", "tree"}));
     if (p.get_choice("--light-pick", {"importance", "uniform"}) == "importance")
         s.light_pick = RenderSettings::LightPick::Importance;
     s.first_hit_splits = p.get_int_or("--first-hit-splits", "auto", 1, kMaxFirstHitSplits).value_or(kAutoFirstHitSplits);

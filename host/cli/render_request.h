@@ -62,6 +62,9 @@ struct RenderRequest {
     std::vector<std::string> command_line;  // every word, for the images' metadata (set by the command)
 };
 
+// --shadow-rays auto|lists|tree (also converge's shadow_rays key)
+RenderSettings::ShadowLists shadow_lists_mode(const std::string& word);
+
 // The words --model and --indirect accept (converge's --configs keys take the same).
 const std::vector<std::string>& fiber_model_names();
 const std::vector<std::string>& indirect_mode_names();

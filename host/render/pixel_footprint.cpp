@@ -35,9 +35,11 @@ struct CameraFrame {
     glm::dvec3 map(double x, double y, double z) const { return inv * (glm::dvec3(x, y, z) - eye); }
 };
 
+}  // namespace
+
 // double -> float, rounded down / up (one float step past the nearest float when that is on the
 // wrong side; by bits, as std::nextafter was a quarter of the projection's time)
-float step(float f, bool towards_positive) {
+static float step(float f, bool towards_positive) {
     if (!std::isfinite(f)) return f;
     if (f == 0.0f) return towards_positive ? std::numeric_limits<float>::denorm_min() : -std::numeric_limits<float>::denorm_min();
     uint32_t bits;
@@ -46,29 +48,37 @@ float step(float f, bool towards_positive) {
     std::memcpy(&f, &bits, sizeof bits);
     return f;
 }
-float down(double x) {
+float round_down(double x) {
     const float f = float(x);
     return double(f) > x ? step(f, false) : f;
 }
-float up(double x) {
+float round_up(double x) {
     const float f = float(x);
     return double(f) < x ? step(f, true) : f;
 }
 
-// The host's threads (at most 8) for the loops below.
 int host_threads() { return int(std::max(1u, std::min(std::thread::hardware_concurrency(), 8u))); }
 
-// body(t, begin, end) for the threads' contiguous shares of [0, n), in parallel.
-template <typename Body>
-void in_parallel(size_t n, const Body& body) {
-    const int threads = host_threads();
-    std::vector<std::thread> pool;
-    for (int t = 0; t < threads; ++t)
-        pool.emplace_back([&, t] { body(t, n * size_t(t) / size_t(threads), n * size_t(t + 1) / size_t(threads)); });
-    for (std::thread& th : pool) th.join();
+PrimitiveStarts primitive_starts(const SceneGeometry& g) {
+    PrimitiveStarts s;
+    s.primitive.assign(g.points.size(), kNoPrimitive);
+    s.vertices.assign(g.points.size(), 0);
+    in_parallel(g.segments.size(), [&](int, size_t begin, size_t end) {
+        for (size_t k = begin; k < end; ++k) {  // a point begins at most one primitive
+            const HtSegment& seg = g.segments[k];
+            s.primitive[seg.point] = uint32_t(k);
+            s.vertices[seg.point] = seg.flags & HT_SEG_TRIANGLE ? 3 : 2;
+        }
+    });
+    return s;
 }
 
-}  // namespace
+double ball_radius(const SceneGeometry& g, size_t i) {
+    double r = g.points[i].r;
+    if (i > 0) r = std::max(r, double(g.points[i - 1].r));
+    if (i + 1 < g.points.size()) r = std::max(r, double(g.points[i + 1].r));
+    return r;
+}
 
 void PrimitiveImage::box(double* r) const {
     r[0] = std::min(a[0], b[0]), r[1] = std::max(a[1], b[1]);
@@ -102,9 +112,7 @@ ProjectedPrimitives project_primitives(const HtCamera& camera, const SceneGeomet
     in_parallel(np, [&](int, size_t begin, size_t end) {
     for (size_t i = begin; i < end; ++i) {
         const HtPoint& p = g.points[i];
-        double r = p.r;
-        if (i > 0) r = std::max(r, double(g.points[i - 1].r));
-        if (i + 1 < np) r = std::max(r, double(g.points[i + 1].r));
+        const double r = ball_radius(g, i);
         const glm::dvec3 x = frame.map(p.x, p.y, p.z);
         if (!(std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]) && std::isfinite(r))) {
             side[i] = kNotFinite;
@@ -125,16 +133,9 @@ ProjectedPrimitives project_primitives(const HtCamera& camera, const SceneGeomet
     });
     // the primitives by their first point, visited in point order: the leaves' order is the BVH's,
     // and reading the points' bounds in it missed the cache on most primitives
-    constexpr uint32_t kNone = 0xFFFFFFFFu;
-    std::vector<uint32_t> primitive_at(np, kNone);
-    std::vector<uint8_t> vertices(np, 0);
-    in_parallel(g.segments.size(), [&](int, size_t begin, size_t end) {
-        for (size_t k = begin; k < end; ++k) {  // a point begins at most one primitive
-            const HtSegment& seg = g.segments[k];
-            primitive_at[seg.point] = uint32_t(k);
-            vertices[seg.point] = seg.flags & HT_SEG_TRIANGLE ? 3 : 2;
-        }
-    });
+    const PrimitiveStarts starts = primitive_starts(g);
+    const std::vector<uint32_t>& primitive_at = starts.primitive;
+    const std::vector<uint8_t>& vertices = starts.vertices;
     // each thread's share of the points, its images in point order; the shares back to back
     std::vector<std::vector<PrimitiveImage>> share(static_cast<size_t>(host_threads()));
     std::vector<uint8_t> share_unbounded(share.size(), 0);
@@ -143,7 +144,7 @@ ProjectedPrimitives project_primitives(const HtCamera& camera, const SceneGeomet
     images.reserve(g.segments.size() / share.size() + 16);
     for (size_t first = begin; first < end; ++first) {
         const uint32_t k = primitive_at[first];
-        if (k == kNone) continue;
+        if (k == kNoPrimitive) continue;
         const uint32_t n = vertices[first];
         int behind = 0, in_front = 0;
         for (uint32_t v = 0; v < n; ++v) {
@@ -172,13 +173,13 @@ ProjectedPrimitives project_primitives(const HtCamera& camera, const SceneGeomet
         // triangle's ends are both its box.
         PrimitiveImage im;
         im.primitive = k;
-        im.depth = down(z);
+        im.depth = round_down(z);
         for (uint32_t v = 0; v < 2; ++v) {
             double e[4] = {sx0, sx1, sy0, sy1};
             if (n == 2) std::copy_n(&bounds[5 * (first + v)], 4, e);
             float* out_end = v == 0 ? im.a : im.b;
-            out_end[0] = down((e[0] + 1) * 0.5 * w), out_end[1] = up((e[1] + 1) * 0.5 * w);
-            out_end[2] = down((1 - e[3]) * 0.5 * h), out_end[3] = up((1 - e[2]) * 0.5 * h);
+            out_end[0] = round_down((e[0] + 1) * 0.5 * w), out_end[1] = round_up((e[1] + 1) * 0.5 * w);
+            out_end[2] = round_down((1 - e[3]) * 0.5 * h), out_end[3] = round_up((1 - e[2]) * 0.5 * h);
         }
         double box[4];
         im.box(box);
@@ -305,13 +306,14 @@ PixelCandidates pixel_candidates(const ProjectedPrimitives& projected, uint32_t 
     // each band's images copied out in its order, so that the passes below read them in sequence
     std::vector<PrimitiveImage> band_data(band_images.size());
     std::vector<int> band_rows(2 * band_images.size());
+    std::vector<float> keys(n);
+    for (size_t i = 0; i < n; ++i) keys[i] = images[i].depth;
     each_band([&](int band) {
-        std::vector<std::pair<float, uint32_t>> keyed;
-        for (uint32_t j = band_start[size_t(band)]; j < band_start[size_t(band) + 1]; ++j)
-            keyed.push_back({images[band_images[j]].depth, band_images[j]});
-        std::sort(keyed.begin(), keyed.end());
-        for (size_t j = 0; j < keyed.size(); ++j) {
-            const size_t at = band_start[size_t(band)] + j, i = keyed[j].second;
+        uint32_t* first = band_images.data() + band_start[size_t(band)];
+        uint32_t* last = band_images.data() + band_start[size_t(band) + 1];
+        std::sort(first, last, [&](uint32_t a, uint32_t b) { return keys[a] < keys[b] || (keys[a] == keys[b] && a < b); });
+        for (uint32_t* p = first; p != last; ++p) {
+            const size_t at = size_t(p - band_images.data()), i = *p;
             band_data[at] = images[i];
             band_rows[2 * at] = rows[2 * i], band_rows[2 * at + 1] = rows[2 * i + 1];
         }

@@ -7,6 +7,7 @@
 #include "kernels/types.h"
 
 #include <cstdint>
+#include <thread>
 #include <vector>
 
 namespace ht {
@@ -51,6 +52,33 @@ struct ProjectedPrimitives {
     double depth_row[3] = {0, 0, 0};
 };
 ProjectedPrimitives project_primitives(const HtCamera& camera, const SceneGeometry& geometry);
+
+// Shared with the light's grids (render/shadow_lists.h):
+// the primitive beginning at each point (kNoPrimitive: none) and its vertex count (2 or 3),
+// gathered once from the leaf order so the passes over primitives can run in point order;
+constexpr uint32_t kNoPrimitive = 0xFFFFFFFFu;
+struct PrimitiveStarts {
+    std::vector<uint32_t> primitive;
+    std::vector<uint8_t> vertices;
+};
+PrimitiveStarts primitive_starts(const SceneGeometry& geometry);
+// the radius of the ball around point i that covers every primitive's surface there: the largest
+// of its own and its neighbours' (a capsule's hit radius is the mean of its two ends');
+double ball_radius(const SceneGeometry& geometry, size_t i);
+// double -> float rounded down / up;
+float round_down(double x);
+float round_up(double x);
+// the host's threads for these loops (at most 8), and body(thread, begin, end) over their
+// contiguous shares of [0, n) in parallel.
+int host_threads();
+template <typename Body>
+void in_parallel(size_t n, const Body& body) {
+    const int threads = host_threads();
+    std::vector<std::thread> pool;
+    for (int t = 0; t < threads; ++t)
+        pool.emplace_back([&, t] { body(t, n * size_t(t) / size_t(threads), n * size_t(t + 1) / size_t(threads)); });
+    for (std::thread& th : pool) th.join();
+}
 
 PixelFootprint pixel_footprint(const ProjectedPrimitives& projected);
 PixelFootprint pixel_footprint(const HtCamera& camera, const SceneGeometry& geometry);

@@ -6,6 +6,7 @@
 #include "kernels/fiber/afs.h"
 #include "render/scene_upload.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -16,8 +17,27 @@ uint64_t PreparedScene::extra_scene_bytes() const {
            (environment.marginal.size() + environment.conditional.size()) * sizeof(float) + texel_bytes +
            texture_headers.size() * sizeof(HtTexture) + (afs_table.size() + dual_table.size()) * sizeof(float) +
            (candidates.start.size() + candidates.count.size() + candidates.primitive.size()) * sizeof(uint32_t) +
-           candidates.depth.size() * sizeof(float);
+           candidates.depth.size() * sizeof(float) + shadow_lists.bytes();
 }
+
+namespace {
+
+// RenderSettings::shadow_lists: whether the lists will save more than they cost.  On pbrt's lock
+// (docs/PERFORMANCE.md section 8) they took 65-77 ms for 250 k segments and saved 0.06-0.1 s per
+// million shadow rays: even at about 4 first-vertex shadow rays per primitive and grid.
+bool wants_shadow_lists(const RenderSettings& s, const PreparedScene& p) {
+    using Mode = RenderSettings::ShadowLists;
+    if (s.shadow_lists != Mode::Auto) return s.shadow_lists == Mode::Lists;
+    size_t grids = 0;
+    for (const HtLight& l : p.lights) grids += l.type == HT_LIGHT_DIRECTIONAL;
+    grids = std::min(grids, kMaxShadowGrids);
+    const double pixels = p.footprint.seen.empty() && p.footprint.empty.empty() ? double(s.width) * s.height
+                                                                                  : double(p.footprint.seen.size());
+    return grids > 0 &&
+           double(s.spp) * pixels >= kShadowListRaysPerPrimitive * double(p.geometry.segments.size()) * double(grids);
+}
+
+}  // namespace
 
 PreparedScene prepare_scene(const Scene& scene, const RenderSettings& s, const RecipeReady& recipe_ready) {
     PreparedScene p;
@@ -59,6 +79,11 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& s, const R
         const auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
         p.footprint_ms = ms(t0, t2);
         p.candidates_ms = ms(t2, t3) + (skip_empty ? 0.0 : ms(t0, t1));
+    }
+    if (wants_shadow_lists(s, p)) {
+        const auto t0 = std::chrono::steady_clock::now();
+        p.shadow_lists = build_shadow_lists(p.geometry, p.lights);
+        p.shadow_lists_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     }
 
     if (afs) {

@@ -10,6 +10,7 @@
 #include "render/features.h"
 #include "render/pixel_footprint.h"
 #include "render/settings.h"
+#include "render/shadow_lists.h"
 #include "scene/scene.h"
 
 #include <cstdint>
@@ -43,6 +44,9 @@ struct PreparedScene {
     // otherwise, or when the projection is unbounded), and the time they took.
     PixelCandidates candidates;
     double candidates_ms = 0;
+    // The directional lights' shadow lists (RenderSettings::shadow_lists) and their time.
+    ShadowLists shadow_lists;
+    double shadow_lists_ms = 0;
     std::string estimator_options;           // the estimator's -D values (clamp, sampler, ...)
 
     // Device bytes of everything but the geometry (textures, environment tables, candidate lists).

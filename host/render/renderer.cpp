@@ -125,6 +125,12 @@ struct Renderer::Impl {
         cl_float4 depth_row{};
     } candidate_lists;
     bool use_candidate_lists = false;
+    // The directional lights' shadow lists (render/shadow_lists.h), when the scene has them
+    struct ShadowListBuffers {
+        cl::Buffer grids, start, count, primitive, key;
+        cl_uint grid_count = 0;
+    } shadow_lists;
+    cl::Kernel k_shadow_lists;
     cl::Kernel k_compact_count, k_compact_scan, k_compact_scatter;
     cl::Kernel k_shadow_afs, k_resolve_afs, k_shadow_dual;
     cl::Kernel k_pilot_record, k_pilot_accumulate;  // --first-hit-splits auto's pilot
@@ -218,6 +224,7 @@ struct Renderer::Impl {
         k_generate = cl::Kernel(trace_program, "generate_camera_rays");
         k_closest = cl::Kernel(trace_program, "intersect_closest");
         k_camera = cl::Kernel(trace_program, "intersect_camera");
+        k_shadow_lists = cl::Kernel(trace_program, "intersect_shadow_lists");
         k_shade = cl::Kernel(shade_program, "shade");
         k_shadow = cl::Kernel(trace_program, "intersect_shadow");
         k_resolve = cl::Kernel(trace_program, "resolve_shadows");
@@ -243,6 +250,7 @@ struct Renderer::Impl {
 
         upload_pixel_lists();  // before the plan, which counts them
         upload_candidate_lists();
+        upload_shadow_lists();
         const MemoryPlan plan = plan_memory();
         upload_textures();
         use_plan(plan);
@@ -282,6 +290,19 @@ struct Renderer::Impl {
         stats.candidate_tree_pixels = c.tree_pixels;
         stats.candidate_entries = c.primitive.size();
         stats.candidates_ms = prepared.candidates_ms;
+    }
+
+    void upload_shadow_lists() {
+        const ShadowLists& l = prepared.shadow_lists;
+        if (!l.enabled()) return;
+        shadow_lists.grids = device_array(cl.context(), l.grids);
+        shadow_lists.start = device_array(cl.context(), l.start);
+        shadow_lists.count = device_array(cl.context(), l.count);
+        shadow_lists.primitive = device_array(cl.context(), l.primitive);
+        shadow_lists.key = device_array(cl.context(), l.key);
+        shadow_lists.grid_count = cl_uint(l.grids.size());
+        stats.shadow_list_entries = l.primitive.size();
+        stats.shadow_lists_ms = prepared.shadow_lists_ms;
     }
 
     MemoryPlan plan_memory() const {
@@ -504,6 +525,20 @@ struct Renderer::Impl {
     }
 
     void intersect_shadow(uint32_t count) {
+        if (shadow_lists.grid_count > 0) {
+            cl_uint a = set_geometry_args(k_shadow_lists);
+            k_shadow_lists.setArg(a++, buffer(PathBuffer::ShadowRays));
+            k_shadow_lists.setArg(a++, buffer(PathBuffer::Occluded));
+            k_shadow_lists.setArg(a++, count);
+            k_shadow_lists.setArg(a++, shadow_lists.grid_count);
+            k_shadow_lists.setArg(a++, shadow_lists.grids);
+            k_shadow_lists.setArg(a++, shadow_lists.start);
+            k_shadow_lists.setArg(a++, shadow_lists.count);
+            k_shadow_lists.setArg(a++, shadow_lists.primitive);
+            k_shadow_lists.setArg(a++, shadow_lists.key);
+            launch(k_shadow_lists, count);
+            return;
+        }
         cl_uint a = set_geometry_args(k_shadow);
         k_shadow.setArg(a++, buffer(PathBuffer::ShadowRays));
         k_shadow.setArg(a++, buffer(PathBuffer::Occluded));
@@ -814,6 +849,8 @@ void RenderStats::add(const RenderStats& o) {
     candidate_tree_pixels = std::max(candidate_tree_pixels, o.candidate_tree_pixels);
     candidate_entries = std::max(candidate_entries, o.candidate_entries);
     candidates_ms = std::max(candidates_ms, o.candidates_ms);
+    shadow_list_entries = std::max(shadow_list_entries, o.shadow_list_entries);
+    shadow_lists_ms = std::max(shadow_lists_ms, o.shadow_lists_ms);
     paths += o.paths;
     extension_rays += o.extension_rays;
     shadow_rays += o.shadow_rays;

@@ -81,6 +81,12 @@ struct RenderSettings {
     // (tree): every camera ray traverses the tree (for A/B measurements).
     bool camera_lists = true;
     uint32_t camera_list_cap = 0;  // a pixel's longest list (0: kMaxCandidatesPerPixel); tests set less
+    // --shadow-rays lists: shadow rays toward a directional light test the list of their cell in a
+    // grid across the light's direction (render/shadow_lists.h) -- the same answers.  Tree: every
+    // shadow ray traverses the tree.  Auto: lists when the render's first-vertex shadow rays, spp
+    // times the pixels that see geometry, reach kShadowListRaysPerPrimitive per primitive and grid
+    // (below that, building them costs more than they save).
+    enum class ShadowLists { Auto, Lists, Tree } shadow_lists = ShadowLists::Auto;
 
     // --target-error: after adaptive_min_spp samples everywhere, further chunks only for the
     // tiles whose relative error estimate exceeds it (render/adaptive.h); 0: every pixel gets

@@ -10,6 +10,10 @@
 
 #include "bvh_traverse.h"
 
+/* A pixel's or cell's list count that means "traverse the tree" (host/render/pixel_footprint.h
+ * kCandidatesUseTree) */
+#define HT_CANDIDATES_USE_TREE 0xFFFFFFFFu
+
 /* The list prim[0 .. n), depths depth[0 ..) (nondecreasing, each at most its primitive's nearest
  * depth), against the ray; depth_row . d is the ray's depth per unit of t.  Returns the closest
  * hit's leaf index (HT_NO_HIT for none) and its distance in *t_out, as ht_traverse does. */
@@ -31,6 +35,42 @@ HT_FN uint ht_candidates_closest(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_CONST_GLOBAL
     }
     *t_out = tbest;
     return best;
+}
+
+/* Whether a shadow ray along a directional light's `dir` is blocked, from the list of its cell
+ * (host/render/shadow_lists.h): prim[0 .. n) with key[i] how far along dir primitive i reaches
+ * (nondecreasing, rounded up).  A primitive reaching no further than the ray's origin cannot
+ * block it: those are skipped by a binary search (with an allowance of a relative 1e-4 for the
+ * float arithmetic), the rest tested nearest first by the tree's leaf test, stopping at the
+ * first hit -- so the answer is the tree's any-hit answer. */
+HT_FN uint ht_candidates_any(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_CONST_GLOBAL uint* prim, HT_CONST_GLOBAL float* key,
+                             uint n, HtRay ray) {
+    real3 o, d;
+    real tbest = ht_ray_start(ray, &o, &d);
+    const real tmin = ray.tmin;
+    uint best = HT_NO_HIT;
+    const real w = dot(o, d);
+    const real reach = w - HT_R(1e-4) * (HT_R(1) + fabs(w));
+    uint lo = 0u, hi = n;
+    while (lo < hi) {
+        const uint mid = (lo + hi) / 2u;
+        if ((real)key[mid] > reach) hi = mid;
+        else lo = mid + 1u;
+    }
+    for (uint g = lo; g < n; g += 8u)
+        if (ht_intersect_entries(HT_SEGS_ARG, HT_POINTS_ARG, prim, g, n - g < 8u ? n - g : 8u, o, d, tmin, &tbest, &best))
+            return 1u;
+    return 0u;
+}
+
+/* The cell of grid `grid` that a point o lies in (its index among all grids' cells), or
+ * HT_NO_CELL when o lies outside the grid, where no primitive's shadow reaches. */
+#define HT_NO_CELL 0xFFFFFFFFu
+HT_FN uint ht_shadow_cell(HT_CONST_GLOBAL HtShadowGrid* grid, real3 o) {
+    const real cu = (dot(o, make_real3(grid->u[0], grid->u[1], grid->u[2])) - (real)grid->u[3]) * (real)grid->inv_cell;
+    const real cv = (dot(o, make_real3(grid->v[0], grid->v[1], grid->v[2])) - (real)grid->v[3]) * (real)grid->inv_cell;
+    if (!(cu >= HT_R(0) && cu < (real)grid->nx && cv >= HT_R(0) && cv < (real)grid->ny)) return HT_NO_CELL;
+    return grid->cell_offset + (uint)cv * grid->nx + (uint)cu;
 }
 
 #endif /* HT_GEOMETRY_CANDIDATE_LIST_H */

@@ -5,8 +5,6 @@
  * ray_path[i], whose state names its pixel. */
 #include "../geometry/candidate_list.h"
 
-#define HT_CANDIDATES_USE_TREE 0xFFFFFFFFu
-
 __kernel void intersect_camera(HT_GEOMETRY_PARAMS, __global const HtRay* rays, __global HtHit* hits, uint count,
                                __global const uint* ray_path, __global const HtPathState* paths,
                                __global const uint* candidate_start, __global const uint* candidate_count,

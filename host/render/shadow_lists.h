@@ -1,0 +1,44 @@
+// Shadow rays toward a directional light all run along one direction, so each stays in one cell
+// of a grid laid across it: only the primitives whose shadow covers the cell can block it.  The
+// lists per cell (render/pixel_footprint.h's builder, the cells in place of pixels, sorted by how
+// far towards the light each primitive reaches) let kernels/stages/intersect_shadow.cl answer
+// such a ray without the tree, with the tree's answer (docs/PERFORMANCE.md section 8 "Shadow
+// rays from per-cell lists").
+#pragma once
+
+#include "bvh/bvh.h"
+#include "kernels/types.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace ht {
+
+// A cell's side in mean fibre radii (measured on pbrt's lock, docs/PERFORMANCE.md section 8),
+// the grids' largest side in cells, the lights that get a grid, and the most cells per primitive
+// (the cell grows where its radii would make more).
+constexpr double kShadowCellRadii = 4.0;
+constexpr uint32_t kMaxShadowGridSide = 4096;
+constexpr size_t kMaxShadowGrids = 4;
+constexpr double kShadowCellsPerPrimitive = 4.0;
+// RenderSettings::ShadowLists::Auto's threshold: first-vertex shadow rays per primitive and grid
+constexpr double kShadowListRaysPerPrimitive = 4.0;
+
+struct ShadowLists {
+    std::vector<HtShadowGrid> grids;  // one per directional light with lists, at most kMaxShadowGrids
+    // every grid's cells back to back (HtShadowGrid::cell_offset), as PixelCandidates holds them:
+    // cell c's list is entries start[c] .. start[c] + count[c] (count kCandidatesUseTree: the
+    // tree), nearest the light last; key = how far along dir the primitive reaches, rounded up
+    std::vector<uint32_t> start, count, primitive;
+    std::vector<float> key;
+    size_t tree_cells = 0;
+    bool enabled() const { return !grids.empty(); }
+    uint64_t bytes() const;
+};
+
+// Lists for the first kMaxShadowGrids directional lights among `lights`; a light gets none when
+// the geometry holds a non-finite point or the lists would not fit kMaxCandidateEntries.
+ShadowLists build_shadow_lists(const SceneGeometry& geometry, const std::vector<HtLight>& lights,
+                               double cell_radii = kShadowCellRadii);
+
+}  // namespace ht

@@ -1,0 +1,104 @@
+// RenderSettings::camera_lists and shadow_lists: camera rays test their pixel's candidate list
+// (render/pixel_footprint.h, kernels/stages/intersect_camera.cl), shadow rays toward a
+// directional light their cell's (render/shadow_lists.h, kernels/stages/intersect_shadow.cl),
+// instead of traversing the tree, and must find the very answers the tree finds -- so the film is
+// the same bits, on sparse and dense hair, with triangles, with pixels that keep the tree beside
+// pixels with lists, with splits and several bounces.  Where nothing can be proved there are no
+// lists.
+#include <gtest/gtest.h>
+
+#include "render_test_util.h"
+
+#include "cli_test_util.h"
+
+#include <cmath>
+
+namespace {
+
+using namespace rendertest;
+
+// lists against the tree: the same film; returns the lists' statistics
+ht::RenderStats expect_same_film(const ht::Scene& s, ht::RenderSettings rs, const char* what) {
+    ht::RenderStats lists, tree;
+    rs.camera_lists = true;
+    rs.shadow_lists = ht::RenderSettings::ShadowLists::Lists;
+    const ht::Film a = render(s, rs, &lists);
+    rs.camera_lists = false;
+    rs.shadow_lists = ht::RenderSettings::ShadowLists::Tree;
+    const ht::Film b = render(s, rs, &tree);
+    EXPECT_EQ(a.rgba, b.rgba) << what;
+    EXPECT_EQ(tree.candidate_entries, 0u) << what;
+    EXPECT_EQ(tree.shadow_list_entries, 0u) << what;
+    EXPECT_EQ(lists.camera_rays, tree.camera_rays) << what;
+    EXPECT_EQ(lists.shadow_rays, tree.shadow_rays) << what;
+    EXPECT_EQ(lists.extension_rays, tree.extension_rays) << what;
+    return lists;
+}
+
+ht::Scene scene(const std::string& name) {
+    ht::Scene s = ht::load_scene(name);
+    ht::ensure_camera_and_light(s);
+    return s;
+}
+
+// The scene lit by two directional lights besides its own: shadow rays along two grids and
+// one without.
+ht::Scene with_sun(ht::Scene s) {
+    for (const ht::Vec3f d : {ht::Vec3f{0.3f, -1.0f, -0.4f}, ht::Vec3f{-0.8f, -0.5f, 0.2f}}) {
+        ht::Light l;
+        l.type = ht::LightType::Directional;
+        const float n = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        l.direction = {d[0] / n, d[1] / n, d[2] / n};
+        l.intensity = 2.0f;
+        s.lights.push_back(l);
+    }
+    return s;
+}
+
+}  // namespace
+
+TEST(CandidateLists, SameFilmAsTheTree) {
+    ht::Scene sparse = scene("builtin:strand?hairs=40&segments=12");
+    sparse.environment.color = {0.3f, 0.45f, 0.7f};
+    ht::RenderSettings rs = small_settings(4, 17, 3);
+    rs.first_hit_splits = 2;
+    EXPECT_GT(expect_same_film(sparse, rs, "sparse strand, splits, depth 3").candidate_entries, 0u);
+    const ht::RenderStats sun = expect_same_film(with_sun(sparse), rs, "sparse strand in the sun");
+    EXPECT_GT(sun.shadow_list_entries, 0u);
+    const ht::RenderStats dense = expect_same_film(with_sun(scene("builtin:ball?hairs=1000&segments=16")), small_settings(3, 5, 2), "dense ball");
+    EXPECT_GT(dense.candidate_entries, 48u * 48u) << "a dense ball puts several fibres under a pixel";
+    const ht::RenderStats floor = expect_same_film(with_sun(scene(std::string(HT_SOURCE_DIR) + "/scenes/strand_on_floor.gltf")),
+                                                   small_settings(3, 9, 3), "strand on a floor (triangles), in the sun");
+    EXPECT_GT(floor.candidate_entries, 0u);
+    EXPECT_GT(floor.shadow_list_entries, 0u);
+}
+
+// A small cap: the ball's dense pixels traverse the tree beside pixels with lists, in one launch.
+TEST(CandidateLists, PixelsThatKeepTheTree) {
+    ht::RenderSettings rs = small_settings(3, 23, 2);
+    rs.camera_list_cap = 8;
+    const ht::RenderStats st = expect_same_film(scene("builtin:ball?hairs=2000&segments=16"), rs, "cap 8");
+    EXPECT_GT(st.candidate_tree_pixels, 0u);
+    EXPECT_GT(st.candidate_entries, 0u);
+}
+
+// The eye among the strands: no projection bounds them, so there are no lists, and the film is
+// the tree's.
+TEST(CandidateLists, NoListsWhenNothingCanBeProved) {
+    ht::Scene s = scene("builtin:ball?hairs=300&segments=8");
+    s.camera.eye = {0.0f, 0.0f, 0.0f};
+    s.camera.target = {0.0f, 0.0f, -1.0f};
+    const ht::RenderStats st = expect_same_film(s, small_settings(2, 3, 2), "eye inside");
+    EXPECT_EQ(st.candidate_entries, 0u);
+}
+
+// On the command line: lists (the default) and tree write the same image; bad values exit 2.
+TEST(CandidateListsCli, ListsAndTreeWriteTheSameImage) {
+    clitest::TempDir d("ht_candidate_lists_");
+    clitest::expect_same_image_and_usage_errors(d, clitest::kSmallStrandRender + " --spp 3", " --camera-rays tree", "",
+                                                {" --camera-rays", " --camera-rays bvh", " --camera-rays 1"});
+    // a scene without lights gets the default view's three directional lights
+    clitest::expect_same_image_and_usage_errors(
+        d, std::string(HT_BINARY) + " render " + HT_SOURCE_DIR + "/tests/data/interleaved_lines.gltf --width 32 --height 24 --spp 3 --max-depth 3 --quiet",
+        " --shadow-rays tree --camera-rays tree", " --shadow-rays lists", {" --shadow-rays", " --shadow-rays bvh"});
+}
