@@ -8,6 +8,7 @@
 #include "bvh/bvh.h"
 #include "render/environment.h"
 #include "render/features.h"
+#include "render/candidate_lists.h"
 #include "render/pixel_footprint.h"
 #include "render/settings.h"
 #include "render/shadow_lists.h"

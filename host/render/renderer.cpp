@@ -119,7 +119,7 @@ struct Renderer::Impl {
     KernelFeatures features;
     cl::Program trace_program, shade_program;
     cl::Kernel k_generate, k_closest, k_camera, k_shade, k_shadow, k_resolve, k_accumulate, k_accumulate_background;
-    // The camera rays' candidate lists (render/pixel_footprint.h), when the scene has them
+    // The camera rays' candidate lists (render/candidate_lists.h), when the scene has them
     struct CandidateLists {
         cl::Buffer start, count, primitive, depth;
         cl_float4 depth_row{};

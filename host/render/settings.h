@@ -77,7 +77,7 @@ struct RenderSettings {
     // bits as tracing them.  Off: every pixel is traced (for A/B measurements).
     bool skip_empty_pixels = true;
     // --camera-rays lists: a camera ray tests its pixel's candidate list, nearest first, instead
-    // of traversing the tree (render/pixel_footprint.h pixel_candidates) -- the same hits.  Off
+    // of traversing the tree (render/candidate_lists.h pixel_candidates) -- the same hits.  Off
     // (tree): every camera ray traverses the tree (for A/B measurements).
     bool camera_lists = true;
     uint32_t camera_list_cap = 0;  // a pixel's longest list (0: kMaxCandidatesPerPixel); tests set less

@@ -1,6 +1,7 @@
 #include "render/shadow_lists.h"
 
-#include "render/pixel_footprint.h"
+#include "render/candidate_lists.h"
+#include "render/primitive_images.h"
 
 #include <algorithm>
 #include <cmath>
@@ -18,7 +19,7 @@ namespace {
 
 // The primitives' shadows across direction `dir` as images on a grid (cell units), keyed by how
 // far along dir each reaches, rounded up; false when a point is not finite.  The same bounds as
-// the camera's (render/pixel_footprint.h): a primitive lies in the hull of its vertices' balls,
+// the camera's (render/primitive_images.h): a primitive lies in the hull of its vertices' balls,
 // and the hull's shadow in the hull of the balls' shadows, a capsule's as the hull of its two end
 // boxes.  The boxes are widened by `margin` (world units) for the kernel's float arithmetic.
 bool project_along(const SceneGeometry& g, const glm::dvec3& w, const glm::dvec3& u, const glm::dvec3& v, double margin,

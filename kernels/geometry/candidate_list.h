@@ -1,4 +1,4 @@
-/* Closest hit of a camera ray among its pixel's candidates (host/render/pixel_footprint.h
+/* Closest hit of a camera ray among its pixel's candidates (host/render/candidate_lists.h
  * pixel_candidates): the primitives whose projected bounds cover the pixel, nearest depth first.
  * No primitive outside the list can meet a ray through the pixel, and the candidates go through
  * the tree's own leaf test (ht_intersect_entries) in the same total order of (t, global id), so
@@ -10,7 +10,7 @@
 
 #include "bvh_traverse.h"
 
-/* A pixel's or cell's list count that means "traverse the tree" (host/render/pixel_footprint.h
+/* A pixel's or cell's list count that means "traverse the tree" (host/render/candidate_lists.h
  * kCandidatesUseTree) */
 #define HT_CANDIDATES_USE_TREE 0xFFFFFFFFu
 

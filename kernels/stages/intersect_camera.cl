@@ -1,5 +1,5 @@
 /* Stage: closest hits of the camera rays (bounce 0).  Like intersect_closest.cl, except that a
- * ray whose pixel has a candidate list (host/render/pixel_footprint.h) tests that list instead of
+ * ray whose pixel has a candidate list (host/render/candidate_lists.h) tests that list instead of
  * traversing the tree, with the same answer (geometry/candidate_list.h); pixels whose list was
  * too long (count = HT_CANDIDATES_USE_TREE) traverse the tree.  Camera ray i belongs to path
  * ray_path[i], whose state names its pixel. */

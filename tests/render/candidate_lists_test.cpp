@@ -1,5 +1,5 @@
 // RenderSettings::camera_lists and shadow_lists: camera rays test their pixel's candidate list
-// (render/pixel_footprint.h, kernels/stages/intersect_camera.cl), shadow rays toward a
+// (render/candidate_lists.h, kernels/stages/intersect_camera.cl), shadow rays toward a
 // directional light their cell's (render/shadow_lists.h, kernels/stages/intersect_shadow.cl),
 // instead of traversing the tree, and must find the very answers the tree finds -- so the film is
 // the same bits, on sparse and dense hair, with triangles, with pixels that keep the tree beside

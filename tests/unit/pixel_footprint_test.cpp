@@ -1,7 +1,9 @@
-// render/pixel_footprint.h: a pixel called empty must be one that no camera ray meets geometry
-// in.  Checked against brute force -- every capsule and triangle intersected by the camera's own
-// rays (kernels/camera.h) at jitters over the whole pixel, its corners and edges included -- on
-// random strands seen from random cameras: close, far (sub-pixel fibres), partly behind the eye.
+// The camera's images of the primitives (render/primitive_images.h) and their two uses: a pixel
+// called empty (render/pixel_footprint.h) must be one that no camera ray meets geometry in, and a
+// pixel's candidate list (render/candidate_lists.h) must hold every primitive its rays meet.
+// Checked against brute force -- every capsule and triangle intersected by the camera's own rays
+// (kernels/camera.h) at jitters over the whole pixel, its corners and edges included -- on random
+// strands seen from random cameras: close, far (sub-pixel fibres), partly behind the eye.
 #include <gtest/gtest.h>
 
 #include "../kernel/random_strands.h"
@@ -9,6 +11,7 @@
 #include "kernels/camera.h"
 #include "kernels/geometry/bvh_traverse.h"
 #include "kernels/geometry/candidate_list.h"
+#include "render/candidate_lists.h"
 #include "render/pixel_footprint.h"
 #include "render/scene_upload.h"
 

@@ -9,7 +9,7 @@
 #include "../kernel/random_strands.h"
 #include "bvh/bvh.h"
 #include "kernels/geometry/candidate_list.h"
-#include "render/pixel_footprint.h"
+#include "render/candidate_lists.h"
 #include "render/scene_upload.h"
 #include "render/shadow_lists.h"
 

@@ -1,0 +1,77 @@
+// The images of a scene's primitives on a grid: on the camera's pixels (project_primitives) or,
+// projected along a directional light, on its shadow grid's cells (render/shadow_lists.h).  A
+// capsule or a triangle lies in the convex hull of balls around its vertices, and its image in
+// the hull of theirs; the images bound where rays can meet each primitive.  Used for the pixels
+// that see no geometry (render/pixel_footprint.h) and the per-pixel or per-cell candidate lists
+// (render/candidate_lists.h).
+#pragma once
+
+#include "bvh/bvh.h"
+#include "kernels/types.h"
+
+#include <cstdint>
+#include <thread>
+#include <vector>
+
+namespace ht {
+
+// The widest margin any use of the images applies, the empty pixels' (render/pixel_footprint.h):
+// project_primitives drops only images that lie off the image even widened by it.
+constexpr double kFootprintMarginPixels = 1.0;
+
+// One primitive's image: bounds of where camera rays may meet it, in pixel coordinates (pixel
+// (px, py) spans [px, px + 1) x [py, py + 1)), and its nearest depth (the frame coordinate along
+// the camera's forward axis, kernels/camera.h).
+struct PrimitiveImage {
+    uint32_t primitive;  // index into SceneGeometry::segments (the leaf order)
+    float depth;         // rounded down
+    // A capsule's ends' bounds (x0, x1, y0, y1) in pixel units (x right, y down), not widened,
+    // rounded outwards; a triangle's: both its box.
+    float a[4], b[4];
+    void box(double* x0_x1_y0_y1) const;  // the union of a and b
+    // The pixels x_first .. x_last of row y that the hull of a and b, widened by `margin`, meets;
+    // false for none.
+    bool row_span(int y, double margin, int w, int* x_first, int* x_last) const;
+    // The pixels [r0, r1] x [r2, r3] (inclusive) of the box widened by `margin` in a w x h image;
+    // false for none.
+    bool pixel_rect(double margin, int w, int h, int* r) const;
+};
+
+// Every primitive's image, in point order, or bounded = false when nothing can be proved (the
+// eye among the geometry, a camera frame without an inverse, a non-finite point).  depth_row: a camera ray's depth per unit of t is depth_row . d.
+struct ProjectedPrimitives {
+    int width = 0, height = 0;
+    bool bounded = false;
+    std::vector<PrimitiveImage> images;
+    double depth_row[3] = {0, 0, 0};
+};
+ProjectedPrimitives project_primitives(const HtCamera& camera, const SceneGeometry& geometry);
+
+// Shared with the light's grids (render/shadow_lists.h):
+// the primitive beginning at each point (kNoPrimitive: none) and its vertex count (2 or 3),
+// gathered once from the leaf order so the passes over primitives can run in point order;
+constexpr uint32_t kNoPrimitive = 0xFFFFFFFFu;
+struct PrimitiveStarts {
+    std::vector<uint32_t> primitive;
+    std::vector<uint8_t> vertices;
+};
+PrimitiveStarts primitive_starts(const SceneGeometry& geometry);
+// the radius of the ball around point i that covers every primitive's surface there: the largest
+// of its own and its neighbours' (a capsule's hit radius is the mean of its two ends');
+double ball_radius(const SceneGeometry& geometry, size_t i);
+// double -> float rounded down / up;
+float round_down(double x);
+float round_up(double x);
+// the host's threads for these loops (at most 8), and body(thread, begin, end) over their
+// contiguous shares of [0, n) in parallel.
+int host_threads();
+template <typename Body>
+void in_parallel(size_t n, const Body& body) {
+    const int threads = host_threads();
+    std::vector<std::thread> pool;
+    for (int t = 0; t < threads; ++t)
+        pool.emplace_back([&, t] { body(t, n * size_t(t) / size_t(threads), n * size_t(t + 1) / size_t(threads)); });
+    for (std::thread& th : pool) th.join();
+}
+
+}  // namespace ht
