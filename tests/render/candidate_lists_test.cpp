@@ -102,3 +102,33 @@ TEST(CandidateListsCli, ListsAndTreeWriteTheSameImage) {
         d, std::string(HT_BINARY) + " render " + HT_SOURCE_DIR + "/tests/data/interleaved_lines.gltf --width 32 --height 24 --spp 3 --max-depth 3 --quiet",
         " --shadow-rays tree --camera-rays tree", " --shadow-rays lists", {" --shadow-rays", " --shadow-rays bvh"});
 }
+
+// The lists are what the rays use: emptied, every camera ray misses (the film is the background)
+// and no shadow ray toward the suns is blocked (more light) -- so the tests above compare the
+// lists' answers, not the tree's twice.
+TEST(CandidateLists, TheRaysUseTheLists) {
+    ht::Scene s = with_sun(scene("builtin:strand?hairs=40&segments=12"));
+    s.lights.erase(s.lights.begin(), s.lights.end() - 2);  // the suns alone
+    s.environment.color = {0.25f, 0.5f, 0.75f};
+    ht::RenderSettings rs = small_settings(2, 7, 1);
+    rs.shadow_lists = ht::RenderSettings::ShadowLists::Lists;
+    ht::PreparedScene prepared = ht::prepare_scene(s, rs);
+    ASSERT_TRUE(prepared.candidates.enabled);
+    ASSERT_TRUE(prepared.shadow_lists.enabled());
+    const auto film_of = [&](const ht::PreparedScene& p) {
+        ht::Film f;
+        ht::Renderer r(context(), p);
+        r.render(f);
+        return f;
+    };
+    const ht::Film lit = film_of(prepared);
+    ht::PreparedScene no_blockers = prepared;
+    std::fill(no_blockers.shadow_lists.count.begin(), no_blockers.shadow_lists.count.end(), 0u);
+    EXPECT_GT(image_mean(film_of(no_blockers)), image_mean(lit) * 1.001) << "shadow rays answered from the lists";
+    ht::PreparedScene no_hits = prepared;
+    std::fill(no_hits.candidates.count.begin(), no_hits.candidates.count.end(), 0u);
+    const ht::Film blank = film_of(no_hits);
+    for (size_t i = 0; i < size_t(rs.width) * rs.height; ++i)
+        ASSERT_NEAR(blank.mean(i, 0), 0.25f, 1e-6f) << "camera rays answered from the lists: pixel " << i;
+    EXPECT_NE(lit.rgba, blank.rgba) << "the strand is in view";
+}
