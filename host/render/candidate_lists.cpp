@@ -36,14 +36,11 @@ PixelCandidates pixel_candidates(const ProjectedPrimitives& projected, uint32_t 
             if (rows[2 * i] <= rows[2 * i + 1])
                 for (int b = rows[2 * i] / kBand; b <= rows[2 * i + 1] / kBand; ++b) band_images[at[size_t(b)]++] = uint32_t(i);
     }
-    const int threads = host_threads();
+    // the bands in contiguous shares, one per thread (render/primitive_images.h in_parallel)
     const auto each_band = [&](const auto& body) {
-        std::vector<std::thread> pool;
-        for (int t = 0; t < threads; ++t)
-            pool.emplace_back([&, t] {
-                for (int band = t; band < bands; band += threads) body(band);
-            });
-        for (std::thread& th : pool) th.join();
+        in_parallel(size_t(bands), [&](int, size_t first, size_t end) {
+            for (size_t band = first; band < end; ++band) body(int(band));
+        });
     };
     // each band's images copied out in its order, so that the passes below read them in sequence
     std::vector<PrimitiveImage> band_data(band_images.size());

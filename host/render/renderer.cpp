@@ -524,26 +524,22 @@ struct Renderer::Impl {
         return {out[HT_COUNTER_SHADOW], out[HT_COUNTER_NEXT], out[HT_COUNTER_NAN], out[HT_COUNTER_CUT]};
     }
 
+    // With shadow lists, intersect_shadow_lists: intersect_shadow's arguments, then the lists.
     void intersect_shadow(uint32_t count) {
+        cl::Kernel& k = shadow_lists.grid_count > 0 ? k_shadow_lists : k_shadow;
+        cl_uint a = set_geometry_args(k);
+        k.setArg(a++, buffer(PathBuffer::ShadowRays));
+        k.setArg(a++, buffer(PathBuffer::Occluded));
+        k.setArg(a++, count);
         if (shadow_lists.grid_count > 0) {
-            cl_uint a = set_geometry_args(k_shadow_lists);
-            k_shadow_lists.setArg(a++, buffer(PathBuffer::ShadowRays));
-            k_shadow_lists.setArg(a++, buffer(PathBuffer::Occluded));
-            k_shadow_lists.setArg(a++, count);
-            k_shadow_lists.setArg(a++, shadow_lists.grid_count);
-            k_shadow_lists.setArg(a++, shadow_lists.grids);
-            k_shadow_lists.setArg(a++, shadow_lists.start);
-            k_shadow_lists.setArg(a++, shadow_lists.count);
-            k_shadow_lists.setArg(a++, shadow_lists.primitive);
-            k_shadow_lists.setArg(a++, shadow_lists.key);
-            launch(k_shadow_lists, count);
-            return;
+            k.setArg(a++, shadow_lists.grid_count);
+            k.setArg(a++, shadow_lists.grids);
+            k.setArg(a++, shadow_lists.start);
+            k.setArg(a++, shadow_lists.count);
+            k.setArg(a++, shadow_lists.primitive);
+            k.setArg(a++, shadow_lists.key);
         }
-        cl_uint a = set_geometry_args(k_shadow);
-        k_shadow.setArg(a++, buffer(PathBuffer::ShadowRays));
-        k_shadow.setArg(a++, buffer(PathBuffer::Occluded));
-        k_shadow.setArg(a++, count);
-        launch(k_shadow, count);
+        launch(k, count);
     }
 
     // The arguments the translucent shadow stages share: geometry, the strands' materials, the

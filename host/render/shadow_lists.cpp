@@ -22,7 +22,7 @@ namespace {
 // the camera's (render/primitive_images.h): a primitive lies in the hull of its vertices' balls,
 // and the hull's shadow in the hull of the balls' shadows, a capsule's as the hull of its two end
 // boxes.  The boxes are widened by `margin` (world units) for the kernel's float arithmetic.
-bool project_along(const SceneGeometry& g, const glm::dvec3& w, const glm::dvec3& u, const glm::dvec3& v, double margin,
+bool project_along(const SceneGeometry& g, const PrimitiveStarts& starts, const glm::dvec3& w, const glm::dvec3& u, const glm::dvec3& v, double margin,
                    double cell_radii, HtShadowGrid* grid, ProjectedPrimitives* out) {
     const size_t np = g.points.size();
     if (np == 0 || g.segments.empty()) return false;
@@ -75,7 +75,6 @@ bool project_along(const SceneGeometry& g, const glm::dvec3& w, const glm::dvec3
     // with those), in point order: a capsule's as its two end balls' boxes, a triangle's as the
     // box of its three; keyed by how far along w they reach, rounded up.
     const double u0 = grid->u[3], v0 = grid->v[3], inv = grid->inv_cell;
-    const PrimitiveStarts starts = primitive_starts(g);
     in_parallel(np, [&](int t, size_t begin, size_t end) {
         std::vector<PrimitiveImage>& images = shares[size_t(t)].images;
         images.reserve(g.segments.size() / shares.size() + 16);
@@ -123,6 +122,7 @@ ShadowLists build_shadow_lists(const SceneGeometry& g, const std::vector<HtLight
     double scale = 1;
     for (const HtPoint& p : g.points) scale = std::max({scale, std::fabs(double(p.x)), std::fabs(double(p.y)), std::fabs(double(p.z))});
     const double margin = 1e-5 * scale;
+    PrimitiveStarts starts;
     for (const HtLight& light : lights) {
         if (light.type != HT_LIGHT_DIRECTIONAL || out.grids.size() == kMaxShadowGrids) continue;
         HtShadowGrid grid{};
@@ -133,7 +133,8 @@ ShadowLists build_shadow_lists(const SceneGeometry& g, const std::vector<HtLight
         const glm::dvec3 other = std::fabs(w.x) < 0.6 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
         const glm::dvec3 u = glm::normalize(glm::cross(w, other)), v = glm::cross(w, u);
         ProjectedPrimitives projected;
-        if (!project_along(g, w, u, v, margin, cell_radii, &grid, &projected)) continue;
+        if (starts.primitive.empty()) starts = primitive_starts(g);  // once for every light
+        if (!project_along(g, starts, w, u, v, margin, cell_radii, &grid, &projected)) continue;
         const PixelCandidates c = pixel_candidates(projected);
         if (!c.enabled) continue;
         grid.cell_offset = uint32_t(out.start.size());
