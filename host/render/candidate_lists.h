@@ -3,6 +3,7 @@
 // of the tree (kernels/geometry/candidate_list.h).
 #pragma once
 
+#include "core/bulk_vector.h"
 #include "render/primitive_images.h"
 
 #include <cstdint>
@@ -31,8 +32,8 @@ constexpr double kCandidateMarginPixels = 1.0 / 64;
 struct PixelCandidates {
     bool enabled = false;
     std::vector<uint32_t> start, count;  // per pixel
-    std::vector<uint32_t> primitive;  // leaf index
-    std::vector<float> depth;         // nearest depth, rounded down
+    BulkVector<uint32_t> primitive;  // leaf index
+    BulkVector<float> depth;         // nearest depth, rounded down
     float depth_row[3] = {0, 0, 0};
     size_t tree_pixels = 0;
     uint32_t max_per_pixel = 0;  // the cap that fit the budget

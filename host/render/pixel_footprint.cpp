@@ -22,6 +22,12 @@ PixelFootprint pixel_footprint(const ProjectedPrimitives& projected) {
     return f;
 }
 
+PixelFootprint pixel_footprint(const PixelCandidates& lists) {
+    PixelFootprint f;
+    for (size_t i = 0; i < lists.count.size(); ++i) (lists.count[i] != 0 ? f.seen : f.empty).push_back(uint32_t(i));
+    return f;
+}
+
 PixelFootprint pixel_footprint(const HtCamera& camera, const SceneGeometry& geometry) {
     return pixel_footprint(project_primitives(camera, geometry));
 }

@@ -3,6 +3,7 @@
 // (Renderer, "pixels that see no geometry"; docs/PERFORMANCE.md section 8).
 #pragma once
 
+#include "render/candidate_lists.h"
 #include "render/primitive_images.h"
 
 #include <cstdint>
@@ -26,5 +27,9 @@ struct PixelFootprint {
 // everything.
 PixelFootprint pixel_footprint(const ProjectedPrimitives& projected);
 PixelFootprint pixel_footprint(const HtCamera& camera, const SceneGeometry& geometry);
+// The same from the camera's candidate lists (enabled): a pixel whose list is empty sees nothing,
+// as its list holds every primitive its rays can meet.  Tighter than the projection's 1-pixel
+// margin, and made without a pass over the primitives.
+PixelFootprint pixel_footprint(const PixelCandidates& lists);
 
 }  // namespace ht

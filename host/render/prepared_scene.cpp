@@ -71,14 +71,16 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& s, const R
         const auto t0 = std::chrono::steady_clock::now();
         const ProjectedPrimitives projected = project_primitives(p.camera, p.geometry);
         const auto t1 = std::chrono::steady_clock::now();
-        if (skip_empty) p.footprint = pixel_footprint(projected);
-        const auto t2 = std::chrono::steady_clock::now();
         if (s.camera_lists)
             p.candidates = pixel_candidates(projected, s.camera_list_cap ? s.camera_list_cap : kMaxCandidatesPerPixel);
+        const auto t2 = std::chrono::steady_clock::now();
+        // the lists, when there are some, say which pixels are empty more tightly and at once
+        if (skip_empty) p.footprint = p.candidates.enabled ? pixel_footprint(p.candidates) : pixel_footprint(projected);
         const auto t3 = std::chrono::steady_clock::now();
         const auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
-        p.footprint_ms = ms(t0, t2);
-        p.candidates_ms = ms(t2, t3) + (skip_empty ? 0.0 : ms(t0, t1));
+        // the projection is the footprint's when both are made
+        p.footprint_ms = skip_empty ? ms(t0, t1) + ms(t2, t3) : 0.0;
+        p.candidates_ms = ms(t1, t2) + (skip_empty ? 0.0 : ms(t0, t1));
     }
     if (wants_shadow_lists(s, p)) {
         const auto t0 = std::chrono::steady_clock::now();

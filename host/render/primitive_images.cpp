@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <limits>
 #include <thread>
 
@@ -37,27 +38,14 @@ struct CameraFrame {
 
 }  // namespace
 
-// double -> float, rounded down / up (one float step past the nearest float when that is on the
-// wrong side; by bits, as std::nextafter was a quarter of the projection's time)
-static float step(float f, bool towards_positive) {
-    if (!std::isfinite(f)) return f;
-    if (f == 0.0f) return towards_positive ? std::numeric_limits<float>::denorm_min() : -std::numeric_limits<float>::denorm_min();
-    uint32_t bits;
-    std::memcpy(&bits, &f, sizeof bits);
-    bits = (f > 0.0f) == towards_positive ? bits + 1 : bits - 1;
-    std::memcpy(&f, &bits, sizeof bits);
-    return f;
+namespace {
+std::atomic<int> host_threads_set{0};
 }
-float round_down(double x) {
-    const float f = float(x);
-    return double(f) > x ? step(f, false) : f;
+int host_threads() {
+    const int set = host_threads_set.load(std::memory_order_relaxed);
+    return set > 0 ? set : int(std::max(1u, std::min(std::thread::hardware_concurrency(), 8u)));
 }
-float round_up(double x) {
-    const float f = float(x);
-    return double(f) < x ? step(f, true) : f;
-}
-
-int host_threads() { return int(std::max(1u, std::min(std::thread::hardware_concurrency(), 8u))); }
+void set_host_threads(int threads) { host_threads_set.store(std::max(0, threads), std::memory_order_relaxed); }
 
 PrimitiveStarts primitive_starts(const SceneGeometry& g) {
     PrimitiveStarts s;
@@ -106,63 +94,40 @@ ProjectedPrimitives project_primitives(const HtCamera& camera, const SceneGeomet
     // vertices' bounds bounds the primitive's image.  Depth is linear, so the nearest of the
     // balls' is the primitive's nearest.
     enum Side : uint8_t { kBehind, kStraddles, kInFront, kNotFinite };
-    const size_t np = g.points.size();
-    std::vector<uint8_t> side(np);
-    std::vector<double> bounds(5 * np);  // NDC x0, x1, y0, y1, nearest depth
-    in_parallel(np, [&](int, size_t begin, size_t end) {
-    for (size_t i = begin; i < end; ++i) {
+    // point i's side and, in front, its bounds: NDC x0, x1, y0, y1 and the nearest depth (made
+    // for each primitive at the point, rather than kept per point: the array cost more in fresh
+    // pages than the arithmetic twice)
+    const auto point_image = [&](size_t i, double* o) {
         const HtPoint& p = g.points[i];
         const double r = ball_radius(g, i);
         const glm::dvec3 x = frame.map(p.x, p.y, p.z);
-        if (!(std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]) && std::isfinite(r))) {
-            side[i] = kNotFinite;
-            continue;
-        }
+        if (!(std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]) && std::isfinite(r))) return kNotFinite;
         const double z0 = x[0] - r * row_norm[0], z1 = x[0] + r * row_norm[0];
-        side[i] = !(z1 > 0) ? kBehind : !(z0 > 0) ? kStraddles : kInFront;
-        if (side[i] != kInFront) continue;
+        if (!(z1 > 0)) return kBehind;
+        if (!(z0 > 0)) return kStraddles;
         const double a0 = x[1] - r * row_norm[1], a1 = x[1] + r * row_norm[1];
         const double b0 = x[2] - r * row_norm[2], b1 = x[2] + r * row_norm[2];
-        double* o = &bounds[5 * i];
         o[0] = std::min(a0 / z0, a0 / z1);
         o[1] = std::max(a1 / z0, a1 / z1);
         o[2] = std::min(b0 / z0, b0 / z1);
         o[3] = std::max(b1 / z0, b1 / z1);
         o[4] = z0;
-    }
-    });
-    // the primitives by their first point, visited in point order: the leaves' order is the BVH's,
-    // and reading the points' bounds in it missed the cache on most primitives
+        return kInFront;
+    };
     const PrimitiveStarts starts = primitive_starts(g);
-    const std::vector<uint32_t>& primitive_at = starts.primitive;
-    const std::vector<uint8_t>& vertices = starts.vertices;
-    // each thread's share of the points, its images in point order; the shares back to back
-    std::vector<std::vector<PrimitiveImage>> share(static_cast<size_t>(host_threads()));
-    std::vector<uint8_t> share_unbounded(share.size(), 0);
-    in_parallel(np, [&](int t, size_t begin, size_t end) {
-    std::vector<PrimitiveImage>& images = share[size_t(t)];
-    images.reserve(g.segments.size() / share.size() + 16);
-    for (size_t first = begin; first < end; ++first) {
-        const uint32_t k = primitive_at[first];
-        if (k == kNoPrimitive) continue;
-        const uint32_t n = vertices[first];
+    out.bounded = images_in_point_order(starts, out.images, [&](size_t first, uint32_t k, uint32_t n, PrimitiveImage* im) {
+        double bounds[3][5];
         int behind = 0, in_front = 0;
         for (uint32_t v = 0; v < n; ++v) {
-            const uint8_t sd = side[first + v];
-            if (sd == kNotFinite || sd == kStraddles) {  // nothing can be proved
-                share_unbounded[size_t(t)] = 1;
-                return;
-            }
+            const Side sd = point_image(first + v, bounds[v]);
+            if (sd == kNotFinite || sd == kStraddles) return ImageMade::Unbounded;  // nothing can be proved
             behind += sd == kBehind, in_front += sd == kInFront;
         }
-        if (in_front == 0) continue;  // wholly behind the eye's plane
-        if (behind > 0) {             // crosses it: its projection is unbounded
-            share_unbounded[size_t(t)] = 1;
-            return;
-        }
+        if (in_front == 0) return ImageMade::Drop;       // wholly behind the eye's plane
+        if (behind > 0) return ImageMade::Unbounded;     // crosses it: its projection is unbounded
         double sx0 = HUGE_VAL, sx1 = -HUGE_VAL, sy0 = HUGE_VAL, sy1 = -HUGE_VAL, z = HUGE_VAL;
         for (uint32_t v = 0; v < n; ++v) {
-            const double* o = &bounds[5 * (first + v)];
+            const double* o = bounds[v];
             sx0 = std::min(sx0, o[0]), sx1 = std::max(sx1, o[1]);
             sy0 = std::min(sy0, o[2]), sy1 = std::max(sy1, o[3]);
             z = std::min(z, o[4]);
@@ -171,33 +136,63 @@ ProjectedPrimitives project_primitives(const HtCamera& camera, const SceneGeomet
         // rounded outwards to float.  A capsule keeps its two ends' bounds: the hull of the two
         // is tighter than their box for a diagonal segment (PrimitiveImage::row_span); a
         // triangle's ends are both its box.
-        PrimitiveImage im;
-        im.primitive = k;
-        im.depth = round_down(z);
+        im->primitive = k;
+        im->depth = round_down(z);
         for (uint32_t v = 0; v < 2; ++v) {
             double e[4] = {sx0, sx1, sy0, sy1};
-            if (n == 2) std::copy_n(&bounds[5 * (first + v)], 4, e);
-            float* out_end = v == 0 ? im.a : im.b;
+            if (n == 2) std::copy_n(bounds[v], 4, e);
+            float* out_end = v == 0 ? im->a : im->b;
             out_end[0] = round_down((e[0] + 1) * 0.5 * w), out_end[1] = round_up((e[1] + 1) * 0.5 * w);
             out_end[2] = round_down((1 - e[3]) * 0.5 * h), out_end[3] = round_up((1 - e[2]) * 0.5 * h);
         }
         double box[4];
-        im.box(box);
+        im->box(box);
         if (box[1] + kFootprintMarginPixels < 0 || box[3] + kFootprintMarginPixels < 0 ||
             box[0] - kFootprintMarginPixels >= w || box[2] - kFootprintMarginPixels >= h)
-            continue;  // off the image even with the widest margin
-        images.push_back(im);
-    }
+            return ImageMade::Drop;  // off the image even with the widest margin
+        return ImageMade::Keep;
     });
-    size_t total = 0;
-    for (size_t t = 0; t < share.size(); ++t) total += share[t].size();
-    out.images.reserve(total);
-    for (size_t t = 0; t < share.size(); ++t) {
-        if (share_unbounded[t]) return unbounded;
-        out.images.insert(out.images.end(), share[t].begin(), share[t].end());
-    }
-    out.bounded = true;
+    if (!out.bounded) return unbounded;
     return out;
+}
+
+bool images_in_point_order(const PrimitiveStarts& starts, BulkVector<PrimitiveImage>& out,
+                           const std::function<ImageMade(size_t, uint32_t, uint32_t, PrimitiveImage*)>& make) {
+    const size_t np = starts.primitive.size(), threads = size_t(host_threads());
+    // each thread's share of the points gets a region of out as long as its primitives
+    std::vector<size_t> region(threads + 1, 0), kept(threads, 0);
+    std::vector<uint8_t> unbounded(threads, 0);
+    in_parallel(np, [&](int t, size_t begin, size_t end) {
+        size_t c = 0;
+        for (size_t i = begin; i < end; ++i) c += starts.primitive[i] != kNoPrimitive;
+        region[size_t(t) + 1] = c;
+    });
+    for (size_t t = 0; t < threads; ++t) region[t + 1] += region[t];
+    out.resize(region[threads]);
+    in_parallel(np, [&](int t, size_t begin, size_t end) {
+        PrimitiveImage* o = out.data() + region[size_t(t)];
+        size_t m = 0;
+        for (size_t first = begin; first < end; ++first) {
+            const uint32_t k = starts.primitive[first];
+            if (k == kNoPrimitive) continue;
+            const ImageMade made = make(first, k, starts.vertices[first], o + m);
+            if (made == ImageMade::Unbounded) {
+                unbounded[size_t(t)] = 1;
+                return;
+            }
+            m += made == ImageMade::Keep;
+        }
+        kept[size_t(t)] = m;
+    });
+    for (uint8_t u : unbounded)
+        if (u) return false;
+    size_t at = 0;  // the regions' kept images closed up, in order
+    for (size_t t = 0; t < threads; ++t) {
+        if (at != region[t]) std::memmove(out.data() + at, out.data() + region[t], kept[t] * sizeof(PrimitiveImage));
+        at += kept[t];
+    }
+    out.resize(at);
+    return true;
 }
 
 bool PrimitiveImage::row_span(int y, double margin, int w, int* x_first, int* x_last) const {

@@ -7,9 +7,15 @@
 #pragma once
 
 #include "bvh/bvh.h"
+#include "core/bulk_vector.h"
 #include "kernels/types.h"
 
+#include <atomic>
+#include <cmath>
 #include <cstdint>
+#include <cstring>
+#include <functional>
+#include <limits>
 #include <thread>
 #include <vector>
 
@@ -42,7 +48,7 @@ struct PrimitiveImage {
 struct ProjectedPrimitives {
     int width = 0, height = 0;
     bool bounded = false;
-    std::vector<PrimitiveImage> images;
+    BulkVector<PrimitiveImage> images;
     double depth_row[3] = {0, 0, 0};
 };
 ProjectedPrimitives project_primitives(const HtCamera& camera, const SceneGeometry& geometry);
@@ -56,15 +62,41 @@ struct PrimitiveStarts {
     std::vector<uint8_t> vertices;
 };
 PrimitiveStarts primitive_starts(const SceneGeometry& geometry);
+// every primitive's image in the order of its first point, made by make(first point, primitive,
+// vertex count, &image): Keep, Drop (it has none) or Unbounded (nothing can be proved: returns
+// false).  Each thread writes its share of the points' images in place and the gaps are closed
+// after: no image is copied but those of the later shares, and no array is made per point;
+enum class ImageMade { Keep, Drop, Unbounded };
+bool images_in_point_order(const PrimitiveStarts& starts, BulkVector<PrimitiveImage>& out,
+                           const std::function<ImageMade(size_t, uint32_t, uint32_t, PrimitiveImage*)>& make);
 // the radius of the ball around point i that covers every primitive's surface there: the largest
 // of its own and its neighbours' (a capsule's hit radius is the mean of its two ends');
 double ball_radius(const SceneGeometry& geometry, size_t i);
-// double -> float rounded down / up;
-float round_down(double x);
-float round_up(double x);
-// the host's threads for these loops (at most 8), and body(thread, begin, end) over their
-// contiguous shares of [0, n) in parallel.
+// double -> float rounded down / up (one float step past the nearest float when that is on the
+// wrong side; by bits, as std::nextafter was a quarter of the projection's time; inline, as the
+// calls were a tenth of the shadow lists' time);
+inline float float_step(float f, bool towards_positive) {
+    if (!std::isfinite(f)) return f;
+    if (f == 0.0f) return towards_positive ? std::numeric_limits<float>::denorm_min() : -std::numeric_limits<float>::denorm_min();
+    uint32_t bits;
+    std::memcpy(&bits, &f, sizeof bits);
+    bits = (f > 0.0f) == towards_positive ? bits + 1 : bits - 1;
+    std::memcpy(&f, &bits, sizeof bits);
+    return f;
+}
+inline float round_down(double x) {
+    const float f = float(x);
+    return double(f) > x ? float_step(f, false) : f;
+}
+inline float round_up(double x) {
+    const float f = float(x);
+    return double(f) < x ? float_step(f, true) : f;
+}
+// the host's threads for these loops (at most 8; a test may set another count, 0 restoring the
+// machine's, to show that the results do not depend on it), and body(thread, begin, end) over
+// their contiguous shares of [0, n) in parallel.
 int host_threads();
+void set_host_threads(int threads);
 template <typename Body>
 void in_parallel(size_t n, const Body& body) {
     const int threads = host_threads();
@@ -72,6 +104,16 @@ void in_parallel(size_t n, const Body& body) {
     for (int t = 0; t < threads; ++t)
         pool.emplace_back([&, t] { body(t, n * size_t(t) / size_t(threads), n * size_t(t + 1) / size_t(threads)); });
     for (std::thread& th : pool) th.join();
+}
+// body(thread, item) for every item of [0, n), each taken by whichever thread is free: for items
+// of unequal work (the lists' bands, whose rows may hold most of the geometry or none).  The
+// results must not depend on which thread ran an item.
+template <typename Body>
+void each_in_parallel(size_t n, const Body& body) {
+    std::atomic<size_t> next{0};
+    in_parallel(size_t(host_threads()), [&](int t, size_t, size_t) {
+        for (size_t item = next++; item < n; item = next++) body(t, item);
+    });
 }
 
 }  // namespace ht

@@ -40,13 +40,14 @@ constexpr size_t kLocalSize = kPathGroup;
 
 cl::NDRange global_for(size_t n) { return cl::NDRange(round_up(std::max<size_t>(n, 1), kLocalSize)); }
 
-template <typename T>
-cl::Buffer device_array(cl::Context& ctx, const std::vector<T>& v) {
+template <typename T, typename Allocator>
+cl::Buffer device_array(cl::Context& ctx, const std::vector<T, Allocator>& v) {
     // OpenCL refuses zero-sized buffers; a one-element dummy keeps kernel signatures uniform.
-    size_t bytes = std::max<size_t>(v.size(), 1) * sizeof(T);
-    std::vector<T> padded = v;
-    if (padded.empty()) padded.resize(1);
-    return cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes, padded.data());
+    if (v.empty()) {
+        const T dummy{};
+        return cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, sizeof(T), const_cast<T*>(&dummy));
+    }
+    return cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, v.size() * sizeof(T), const_cast<T*>(v.data()));
 }
 
 // The render program in three builds: shade, which holds the fibre models and every scene

@@ -26,22 +26,25 @@ bool project_along(const SceneGeometry& g, const PrimitiveStarts& starts, const 
                    double cell_radii, HtShadowGrid* grid, ProjectedPrimitives* out) {
     const size_t np = g.points.size();
     if (np == 0 || g.segments.empty()) return false;
-    // per point: u, v, w and the ball radius widened by the margin; per thread: the extent of
-    // the balls' boxes, the radii's sum, whether all is finite
-    std::vector<double> at(4 * np);
+    // point i's u, v, w and its ball radius widened by the margin (made again for each primitive
+    // at the point, rather than kept per point: the array cost more in fresh pages than the
+    // arithmetic twice)
+    const auto point_at = [&](size_t i, double* a) {
+        const glm::dvec3 p(g.points[i].x, g.points[i].y, g.points[i].z);
+        a[0] = glm::dot(p, u), a[1] = glm::dot(p, v), a[2] = glm::dot(p, w), a[3] = ball_radius(g, i) + margin;
+    };
+    // per thread: the extent of the balls' boxes, the radii's sum, whether all is finite
     struct Share {
         double lo_u = HUGE_VAL, hi_u = -HUGE_VAL, lo_v = HUGE_VAL, hi_v = -HUGE_VAL, radius_sum = 0;
         size_t radius_count = 0;
         bool finite = true;
-        std::vector<PrimitiveImage> images;
     };
     std::vector<Share> shares(static_cast<size_t>(host_threads()));
     in_parallel(np, [&](int t, size_t begin, size_t end) {
         Share& sh = shares[size_t(t)];
         for (size_t i = begin; i < end; ++i) {
-            const glm::dvec3 p(g.points[i].x, g.points[i].y, g.points[i].z);
-            double* a = &at[4 * i];
-            a[0] = glm::dot(p, u), a[1] = glm::dot(p, v), a[2] = glm::dot(p, w), a[3] = ball_radius(g, i) + margin;
+            double a[4];
+            point_at(i, a);
             sh.finite = sh.finite && std::isfinite(a[0] + a[1] + a[2] + a[3]);
             sh.lo_u = std::min(sh.lo_u, a[0] - a[3]), sh.hi_u = std::max(sh.hi_u, a[0] + a[3]);
             sh.lo_v = std::min(sh.lo_v, a[1] - a[3]), sh.hi_v = std::max(sh.hi_v, a[1] + a[3]);
@@ -75,42 +78,30 @@ bool project_along(const SceneGeometry& g, const PrimitiveStarts& starts, const 
     // with those), in point order: a capsule's as its two end balls' boxes, a triangle's as the
     // box of its three; keyed by how far along w they reach, rounded up.
     const double u0 = grid->u[3], v0 = grid->v[3], inv = grid->inv_cell;
-    in_parallel(np, [&](int t, size_t begin, size_t end) {
-        std::vector<PrimitiveImage>& images = shares[size_t(t)].images;
-        images.reserve(g.segments.size() / shares.size() + 16);
-        for (size_t first = begin; first < end; ++first) {
-            const uint32_t k = starts.primitive[first];
-            if (k == kNoPrimitive) continue;
-            const uint32_t n = starts.vertices[first];
-            PrimitiveImage im;
-            im.primitive = k;
-            double key = -HUGE_VAL, box[4] = {HUGE_VAL, -HUGE_VAL, HUGE_VAL, -HUGE_VAL};
-            for (uint32_t j = 0; j < n; ++j) {
-                const double* p = &at[4 * (first + j)];
-                const double e[4] = {(p[0] - p[3] - u0) * inv, (p[0] + p[3] - u0) * inv, (p[1] - p[3] - v0) * inv,
-                                     (p[1] + p[3] - v0) * inv};
-                box[0] = std::min(box[0], e[0]), box[1] = std::max(box[1], e[1]);
-                box[2] = std::min(box[2], e[2]), box[3] = std::max(box[3], e[3]);
-                key = std::max(key, p[2] + p[3]);
-                if (j < 2) {
-                    float* d = j == 0 ? im.a : im.b;
-                    d[0] = round_down(e[0]), d[1] = round_up(e[1]), d[2] = round_down(e[2]), d[3] = round_up(e[3]);
-                }
+    out->bounded = images_in_point_order(starts, out->images, [&](size_t first, uint32_t k, uint32_t n, PrimitiveImage* im) {
+        im->primitive = k;
+        double key = -HUGE_VAL, box[4] = {HUGE_VAL, -HUGE_VAL, HUGE_VAL, -HUGE_VAL};
+        for (uint32_t j = 0; j < n; ++j) {
+            double p[4];
+            point_at(first + j, p);
+            const double e[4] = {(p[0] - p[3] - u0) * inv, (p[0] + p[3] - u0) * inv, (p[1] - p[3] - v0) * inv,
+                                 (p[1] + p[3] - v0) * inv};
+            box[0] = std::min(box[0], e[0]), box[1] = std::max(box[1], e[1]);
+            box[2] = std::min(box[2], e[2]), box[3] = std::max(box[3], e[3]);
+            key = std::max(key, p[2] + p[3]);
+            if (j < 2) {
+                float* d = j == 0 ? im->a : im->b;
+                d[0] = round_down(e[0]), d[1] = round_up(e[1]), d[2] = round_down(e[2]), d[3] = round_up(e[3]);
             }
-            if (n == 3)  // a triangle: its box at both ends
-                for (float* d : {im.a, im.b})
-                    d[0] = round_down(box[0]), d[1] = round_up(box[1]), d[2] = round_down(box[2]), d[3] = round_up(box[3]);
-            im.depth = round_up(key);
-            images.push_back(im);
         }
+        if (n == 3)  // a triangle: its box at both ends
+            for (float* d : {im->a, im->b})
+                d[0] = round_down(box[0]), d[1] = round_up(box[1]), d[2] = round_down(box[2]), d[3] = round_up(box[3]);
+        im->depth = round_up(key);
+        return ImageMade::Keep;
     });
-    size_t total = 0;
-    for (const Share& sh : shares) total += sh.images.size();
-    out->images.reserve(total);
-    for (const Share& sh : shares) out->images.insert(out->images.end(), sh.images.begin(), sh.images.end());
     out->width = int(nx), out->height = int(ny);
-    out->bounded = true;
-    return true;
+    return out->bounded;
 }
 
 }  // namespace
@@ -135,14 +126,19 @@ ShadowLists build_shadow_lists(const SceneGeometry& g, const std::vector<HtLight
         ProjectedPrimitives projected;
         if (starts.primitive.empty()) starts = primitive_starts(g);  // once for every light
         if (!project_along(g, starts, w, u, v, margin, cell_radii, &grid, &projected)) continue;
-        const PixelCandidates c = pixel_candidates(projected);
+        PixelCandidates c = pixel_candidates(projected);
         if (!c.enabled) continue;
         grid.cell_offset = uint32_t(out.start.size());
-        const uint32_t entry_offset = uint32_t(out.primitive.size());
-        for (size_t i = 0; i < c.start.size(); ++i) out.start.push_back(c.start[i] + entry_offset);
-        out.count.insert(out.count.end(), c.count.begin(), c.count.end());
-        out.primitive.insert(out.primitive.end(), c.primitive.begin(), c.primitive.end());
-        out.key.insert(out.key.end(), c.depth.begin(), c.depth.end());
+        if (out.grids.empty()) {  // the first grid's lists as they are: most scenes have one sun
+            out.start = std::move(c.start), out.count = std::move(c.count);
+            out.primitive = std::move(c.primitive), out.key = std::move(c.depth);
+        } else {
+            const uint32_t entry_offset = uint32_t(out.primitive.size());
+            for (size_t i = 0; i < c.start.size(); ++i) out.start.push_back(c.start[i] + entry_offset);
+            out.count.insert(out.count.end(), c.count.begin(), c.count.end());
+            out.primitive.insert(out.primitive.end(), c.primitive.begin(), c.primitive.end());
+            out.key.insert(out.key.end(), c.depth.begin(), c.depth.end());
+        }
         out.tree_cells += c.tree_pixels;
         out.grids.push_back(grid);
     }

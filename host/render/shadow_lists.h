@@ -7,6 +7,7 @@
 #pragma once
 
 #include "bvh/bvh.h"
+#include "core/bulk_vector.h"
 #include "kernels/types.h"
 
 #include <cstdint>
@@ -29,8 +30,9 @@ struct ShadowLists {
     // every grid's cells back to back (HtShadowGrid::cell_offset), as PixelCandidates holds them:
     // cell c's list is entries start[c] .. start[c] + count[c] (count kCandidatesUseTree: the
     // tree), nearest the light last; key = how far along dir the primitive reaches, rounded up
-    std::vector<uint32_t> start, count, primitive;
-    std::vector<float> key;
+    std::vector<uint32_t> start, count;
+    BulkVector<uint32_t> primitive;
+    BulkVector<float> key;
     size_t tree_cells = 0;
     bool enabled() const { return !grids.empty(); }
     uint64_t bytes() const;

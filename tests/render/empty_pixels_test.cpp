@@ -22,35 +22,42 @@ ht::Scene sparse_strand() {
 
 }  // namespace
 
+// With the camera's lists the empty pixels are those with an empty list, without them those the
+// images' 1-pixel margin leaves (render/pixel_footprint.h): both skip only pixels whose every bit
+// the trace would give.
 TEST(EmptyPixels, SkippedPixelsHoldTheTracedBitsAndAreNotTraced) {
-    const ht::Scene s = sparse_strand();
-    ht::RenderSettings rs = small_settings(6, 11, 3);
-    rs.first_hit_splits = 2;
-    rs.target_error = 0.01f;  // the even half film is filled too
-    ht::RenderStats skipped, traced;
-    ht::Film a, b;
-    {
-        ht::Renderer r(context(), s, rs);
-        r.render(a);
-        skipped = r.stats();
+    for (const bool lists : {true, false}) {
+        SCOPED_TRACE(lists ? "empty pixels from the camera's lists" : "empty pixels from the images");
+        const ht::Scene s = sparse_strand();
+        ht::RenderSettings rs = small_settings(6, 11, 3);
+        rs.camera_lists = lists;
+        rs.first_hit_splits = 2;
+        rs.target_error = 0.01f;  // the even half film is filled too
+        ht::RenderStats skipped, traced;
+        ht::Film a, b;
+        {
+            ht::Renderer r(context(), s, rs);
+            r.render(a);
+            skipped = r.stats();
+        }
+        rs.skip_empty_pixels = false;
+        {
+            ht::Renderer r(context(), s, rs);
+            r.render(b);
+            traced = r.stats();
+        }
+        ASSERT_GT(skipped.empty_pixels, 0u) << "a sparse strand leaves pixels empty";
+        EXPECT_EQ(skipped.background_samples, uint64_t(skipped.empty_pixels) * rs.spp);
+        EXPECT_EQ(skipped.camera_rays + skipped.background_samples, traced.camera_rays);
+        EXPECT_EQ(traced.background_samples, 0u);
+        EXPECT_EQ(a.rgba, b.rgba);
+        EXPECT_EQ(a.even, b.even);
+        // and the background is in those pixels: the coloured environment, every sample
+        size_t background_pixels = 0;
+        for (size_t i = 0; i < size_t(rs.width) * rs.height; ++i)
+            if (std::fabs(a.mean(i, 0) - 0.3f) < 1e-6f && std::fabs(a.mean(i, 2) - 0.7f) < 1e-6f) ++background_pixels;
+        EXPECT_GE(background_pixels, skipped.empty_pixels);
     }
-    rs.skip_empty_pixels = false;
-    {
-        ht::Renderer r(context(), s, rs);
-        r.render(b);
-        traced = r.stats();
-    }
-    ASSERT_GT(skipped.empty_pixels, 0u) << "a sparse strand leaves pixels empty";
-    EXPECT_EQ(skipped.background_samples, uint64_t(skipped.empty_pixels) * rs.spp);
-    EXPECT_EQ(skipped.camera_rays + skipped.background_samples, traced.camera_rays);
-    EXPECT_EQ(traced.background_samples, 0u);
-    EXPECT_EQ(a.rgba, b.rgba);
-    EXPECT_EQ(a.even, b.even);
-    // and the background is in those pixels: the coloured environment, every sample
-    size_t background_pixels = 0;
-    for (size_t i = 0; i < size_t(rs.width) * rs.height; ++i)
-        if (std::fabs(a.mean(i, 0) - 0.3f) < 1e-6f && std::fabs(a.mean(i, 2) - 0.7f) < 1e-6f) ++background_pixels;
-    EXPECT_GE(background_pixels, skipped.empty_pixels);
 }
 
 // The camera turned away from the hair: every pixel empty, none traced, the same film.

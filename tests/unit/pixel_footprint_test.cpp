@@ -17,7 +17,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <random>
+#include <string>
 
 namespace {
 
@@ -49,8 +51,8 @@ bool ray_meets_geometry(const HtCamera& cam, const SceneGeometry& g, uint32_t pi
 }
 
 // Every empty pixel is checked with a 6 x 6 grid of jitters from 0 to 0.99999 and 8 random ones.
-void expect_conservative(const HtCamera& cam, const SceneGeometry& g, const char* what, size_t* empty_out = nullptr) {
-    const PixelFootprint f = pixel_footprint(cam, g);
+void expect_footprint_conservative(const HtCamera& cam, const SceneGeometry& g, const PixelFootprint& f,
+                                   const std::string& what) {
     ASSERT_EQ(f.seen.size() + f.empty.size(), size_t(cam.width) * cam.height) << what;
     std::vector<uint8_t> mark(size_t(cam.width) * cam.height, 0);
     for (const auto* list : {&f.seen, &f.empty})
@@ -68,7 +70,23 @@ void expect_conservative(const HtCamera& cam, const SceneGeometry& g, const char
         for (int k = 0; k < 8; ++k)
             ASSERT_FALSE(ray_meets_geometry(cam, g, pixel, u(rng), u(rng))) << what << ": pixel " << pixel;
     }
-    if (empty_out) *empty_out = f.empty.size();
+}
+
+// Both footprints: the images' and, when the camera gets lists, the lists' (a pixel with an empty
+// list), which must call empty at least every pixel the images' 1-pixel margin does.
+void expect_conservative(const HtCamera& cam, const SceneGeometry& g, const char* what, size_t* empty_out = nullptr,
+                         size_t* tighter_out = nullptr) {
+    const PixelFootprint from_images = pixel_footprint(cam, g);
+    expect_footprint_conservative(cam, g, from_images, what);
+    if (empty_out) *empty_out = from_images.empty.size();
+    const PixelCandidates lists = pixel_candidates(project_primitives(cam, g));
+    if (!lists.enabled) return;
+    const PixelFootprint from_lists = pixel_footprint(lists);
+    expect_footprint_conservative(cam, g, from_lists, std::string(what) + ", from the lists");
+    EXPECT_TRUE(std::includes(from_lists.empty.begin(), from_lists.empty.end(), from_images.empty.begin(),
+                              from_images.empty.end()))
+        << what << ": the lists call empty every pixel the images do";
+    if (tighter_out) *tighter_out = from_lists.empty.size() - from_images.empty.size();
 }
 
 HtCamera camera(double eye_x, double eye_y, double eye_z, double fov, int w, int h) {
@@ -83,9 +101,10 @@ HtCamera camera(double eye_x, double eye_y, double eye_z, double fov, int w, int
 
 TEST(PixelFootprint, EmptyPixelsMeetNoGeometryUnderBruteForce) {
     const SceneGeometry g = build_geometry(random_strands(3, 30, 6, 0.15, 0.01));
-    size_t empty = 0;
-    expect_conservative(camera(0, 0, 4, 40, 48, 32), g, "framing", &empty);
+    size_t empty = 0, tighter = 0;
+    expect_conservative(camera(0, 0, 4, 40, 48, 32), g, "framing", &empty, &tighter);
     EXPECT_GT(empty, 100u) << "thin strands leave most pixels empty";
+    EXPECT_GT(tighter, 0u) << "the lists' margin is 1/64 pixel, the images' 1";
     expect_conservative(camera(0.3, 2.5, 1.5, 70, 40, 40), g, "close and wide");
     size_t far_empty = 0;
     expect_conservative(camera(30, 5, 40, 20, 40, 30), g, "far: fibres below a pixel wide", &far_empty);
@@ -248,4 +267,46 @@ TEST(PixelCandidates, CapAndBudget) {
     EXPECT_FALSE(pixel_candidates(projected, 4).enabled) << "a cap below 8: no lists";
     // the eye among the strands: no lists
     EXPECT_FALSE(pixel_candidates(project_primitives(camera(0.01, 0.0, 0.02, 60, 16, 16), g)).enabled);
+}
+
+// The images and lists are made on several threads, each band's lists by one; the results must
+// not depend on how many: the same bytes on 1, 2, 3 and 8 threads.  Each list is nearest first.
+TEST(PixelCandidates, SameListsOnAnyThreadCount) {
+    const SceneGeometry g = build_geometry(dense_tuft());
+    const HtCamera cam = camera(0.2, 0.4, 3, 10, 64, 48);
+    struct Made {
+        BulkVector<PrimitiveImage> images;
+        PixelCandidates lists;
+        PixelFootprint footprint;
+    };
+    std::vector<Made> made;
+    for (const int threads : {1, 2, 3, 8}) {
+        set_host_threads(threads);
+        Made m;
+        const ProjectedPrimitives p = project_primitives(cam, g);
+        ASSERT_TRUE(p.bounded);
+        m.images = p.images;
+        m.lists = pixel_candidates(p);
+        m.footprint = pixel_footprint(m.lists);
+        made.push_back(std::move(m));
+    }
+    set_host_threads(0);
+    const Made& one = made[0];
+    ASSERT_TRUE(one.lists.enabled);
+    ASSERT_GT(one.lists.primitive.size(), 10000u);
+    for (size_t p = 0; p < one.lists.count.size(); ++p) {
+        if (one.lists.count[p] == kCandidatesUseTree) continue;
+        for (uint32_t j = 1; j < one.lists.count[p]; ++j)
+            ASSERT_LE(one.lists.depth[one.lists.start[p] + j - 1], one.lists.depth[one.lists.start[p] + j]) << "pixel " << p;
+    }
+    for (size_t k = 1; k < made.size(); ++k) {
+        const Made& m = made[k];
+        ASSERT_EQ(m.images.size(), one.images.size()) << k;
+        EXPECT_EQ(0, std::memcmp(m.images.data(), one.images.data(), one.images.size() * sizeof(PrimitiveImage))) << k;
+        EXPECT_EQ(m.lists.start, one.lists.start) << k;
+        EXPECT_EQ(m.lists.count, one.lists.count) << k;
+        EXPECT_TRUE(m.lists.primitive == one.lists.primitive) << k;
+        EXPECT_TRUE(m.lists.depth == one.lists.depth) << k;
+        EXPECT_EQ(m.footprint.seen, one.footprint.seen) << k;
+    }
 }

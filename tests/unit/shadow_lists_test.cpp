@@ -10,11 +10,13 @@
 #include "bvh/bvh.h"
 #include "kernels/geometry/candidate_list.h"
 #include "render/candidate_lists.h"
+#include "render/primitive_images.h"
 #include "render/scene_upload.h"
 #include "render/shadow_lists.h"
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <random>
 
 namespace {
@@ -134,4 +136,26 @@ TEST(ShadowLists, NoneForNonFiniteGeometry) {
     g.points[3].x = NAN;
     EXPECT_FALSE(build_shadow_lists(g, {directional(0, -1, 0)}).enabled());
     EXPECT_FALSE(build_shadow_lists(build_geometry(Strands{}), {directional(0, -1, 0)}).enabled());
+}
+
+// Made on several threads: the same grids and lists on 1, 2, 3 and 8 (render/candidate_lists.h).
+TEST(ShadowLists, SameListsOnAnyThreadCount) {
+    const SceneGeometry g = build_geometry(httest::random_strands(3, 300, 8, 0.08, 0.02, 0.4, 0.6, 0.5));
+    const std::vector<HtLight> lights = {directional(0.3f, -1, 0.2f), directional(-1, 0.1f, 0.4f)};
+    std::vector<ShadowLists> made;
+    for (const int threads : {1, 2, 3, 8}) {
+        set_host_threads(threads);
+        made.push_back(build_shadow_lists(g, lights));
+    }
+    set_host_threads(0);
+    ASSERT_EQ(made[0].grids.size(), 2u);
+    ASSERT_GT(made[0].primitive.size(), 10000u);
+    for (size_t k = 1; k < made.size(); ++k) {
+        ASSERT_EQ(made[k].grids.size(), 2u);
+        EXPECT_EQ(0, std::memcmp(made[k].grids.data(), made[0].grids.data(), 2 * sizeof(HtShadowGrid))) << k;
+        EXPECT_EQ(made[k].start, made[0].start) << k;
+        EXPECT_EQ(made[k].count, made[0].count) << k;
+        EXPECT_TRUE(made[k].primitive == made[0].primitive) << k;
+        EXPECT_TRUE(made[k].key == made[0].key) << k;
+    }
 }
