@@ -40,9 +40,13 @@ HT_FN uint ht_candidates_closest(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_CONST_GLOBAL
 /* Whether a shadow ray along a directional light's `dir` is blocked, from the list of its cell
  * (host/render/shadow_lists.h): prim[0 .. n) with key[i] how far along dir primitive i reaches
  * (nondecreasing, rounded up).  A primitive reaching no further than the ray's origin cannot
- * block it: those are skipped by a binary search (with an allowance of a relative 1e-4 for the
- * float arithmetic), the rest tested nearest first by the tree's leaf test, stopping at the
- * first hit -- so the answer is the tree's any-hit answer. */
+ * block it, and testing one anyway changes no answer (a hit it gave would be a true hit, which
+ * the tree finds too): so the list is walked from its end, the primitives reaching furthest
+ * towards the light first, in groups of eight through the tree's leaf test, until a group's
+ * furthest entry reaches no further than the origin (with an allowance of a relative 1e-4 for
+ * the float arithmetic) or a group holds a hit -- the tree's any-hit answer.  Walking down in
+ * sequence reads the list's cache lines in order; a binary search for the first entry past the
+ * origin, then a walk up, waited on a miss at each of its steps (docs/PERFORMANCE.md section 8). */
 HT_FN uint ht_candidates_any(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_CONST_GLOBAL uint* prim, HT_CONST_GLOBAL float* key,
                              uint n, HtRay ray) {
     real3 o, d;
@@ -51,15 +55,11 @@ HT_FN uint ht_candidates_any(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_CONST_GLOBAL uin
     uint best = HT_NO_HIT;
     const real w = dot(o, d);
     const real reach = w - HT_R(1e-4) * (HT_R(1) + fabs(w));
-    uint lo = 0u, hi = n;
-    while (lo < hi) {
-        const uint mid = (lo + hi) / 2u;
-        if ((real)key[mid] > reach) hi = mid;
-        else lo = mid + 1u;
-    }
-    for (uint g = lo; g < n; g += 8u)
-        if (ht_intersect_entries(HT_SEGS_ARG, HT_POINTS_ARG, prim, g, n - g < 8u ? n - g : 8u, o, d, tmin, &tbest, &best))
+    for (uint end = n; end > 0u && (real)key[end - 1u] > reach; end = end > 8u ? end - 8u : 0u) {
+        const uint g = end > 8u ? end - 8u : 0u;
+        if (ht_intersect_entries(HT_SEGS_ARG, HT_POINTS_ARG, prim, g, end - g, o, d, tmin, &tbest, &best))
             return 1u;
+    }
     return 0u;
 }
 
