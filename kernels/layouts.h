@@ -29,11 +29,11 @@
         F(HtHit, tx, 16) F(HtHit, ty, 20) F(HtHit, tz, 24) F(HtHit, radius, 28)                    \
     S(HtPathState, 48) F(HtPathState, throughput, 0) F(HtPathState, pixel, 12)                    \
         F(HtPathState, radiance, 16) F(HtPathState, flags, 28) F(HtPathState, last_pdf, 32)        \
-        F(HtPathState, split, 36)                                                                  \
+        F(HtPathState, split, 36) F(HtPathState, sample, 40)                                      \
     S(HtShadowContrib, 16) F(HtShadowContrib, contrib, 0) F(HtShadowContrib, path, 12)            \
     S(HtDualRecord, 32) F(HtDualRecord, weight, 0) F(HtDualRecord, material, 12)                  \
         F(HtDualRecord, theta_i, 16) F(HtDualRecord, theta_o, 20) F(HtDualRecord, phi, 24)        \
-    S(HtBounce, 32) F(HtBounce, seed, 0) F(HtBounce, sample, 4) F(HtBounce, bounce, 8)            \
+    S(HtBounce, 32) F(HtBounce, seed, 0) F(HtBounce, pad0, 4) F(HtBounce, bounce, 8)              \
         F(HtBounce, max_depth, 12) F(HtBounce, field_mode, 16) F(HtBounce, pixel_angle, 20)        \
         F(HtBounce, splits, 24) F(HtBounce, light_samples, 28)                                     \
     S(HtCamera, 80) F(HtCamera, eye, 0) F(HtCamera, right, 16) F(HtCamera, up, 32)                \

@@ -111,8 +111,8 @@ typedef struct {
 
 /* ---------------------------------------------------------------- wavefront path state */
 
-/* One path of the current pass.  Path i of a pass renders pixel (pass_offset + i).  The path's
- * radiance is summed in bounce order inside the path, so float results do not depend on the
+/* One path of the current pass: a sample of `pixel` (kernels/stages/generate_camera_rays.cl says
+ * which camera path renders which pixel and sample).  The path's radiance is summed in bounce order inside the path, so float results do not depend on the
  * order in which queues are compacted. */
 typedef struct {
     float throughput[3];
@@ -122,7 +122,8 @@ typedef struct {
     float last_pdf;  /* solid-angle pdf of the BCSDF sample that made the current ray (MIS) */
     uint split;      /* which of its camera path's continuations this is (--first-hit-splits;
                       * kernels/rng.h ht_continuation_sample): 0 for the camera path itself */
-    float pad1, pad2;
+    uint sample;     /* the camera sample's index: a pass may render several samples of a pixel */
+    float pad2;
 } HtPathState;
 #define HT_PATH_FROM_CAMERA 1u  /* the current ray is a camera ray: no MIS on what it sees */
 
@@ -153,10 +154,11 @@ typedef struct {
 #define HT_COUNTER_CUT 3   /* paths cut by --max-depth (kernels/stages/shade.cl says which) */
 #define HT_COUNTER_COUNT 4
 
-/* What one shade launch needs besides its buffers: the sample's coordinates in the random
- * sequence, the bounce and its limit, the --fiber-field choice and the first-hit splits. */
+/* What one shade launch needs besides its buffers: the seed of the random sequence (each path
+ * carries its sample index), the bounce and its limit, the --fiber-field choice and the first-hit
+ * splits. */
 typedef struct {
-    uint seed, sample, bounce, max_depth;
+    uint seed, pad0, bounce, max_depth;
     uint field_mode;    /* HT_FIELD_* */
     float pixel_angle;  /* radians per pixel at the image centre (ray footprint for HT_FIELD_AUTO) */
     uint splits;        /* --first-hit-splits: continuations of each camera path after its first vertex */

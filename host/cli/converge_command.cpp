@@ -43,11 +43,13 @@ std::vector<std::string> split(const std::string& s, char sep) {
 // (model = --model, depth = --max-depth, indirect = --indirect, field = --fiber-field, sampler =
 // --sampler, splits = --first-hit-splits, light_samples = --first-hit-light-samples,
 // light_threshold = --light-threshold, a value or off, light_pick = --light-pick, empty_pixels =
-// --empty-pixels, camera_rays = --camera-rays, shadow_rays = --shadow-rays), on top of the options given on the command line.
+// --empty-pixels, camera_rays = --camera-rays, shadow_rays = --shadow-rays, samples_per_pass =
+// --samples-per-pass), on top of the options given on the command line.
 std::vector<ConvergeConfig> parse_configs(const std::string& text, const ImageRequest& base) {
     static const std::vector<std::string> known = {"model",   "depth",  "indirect",     "field",
                                                    "sampler", "splits", "light_samples", "light_threshold",
-                                                   "light_pick", "empty_pixels", "camera_rays", "shadow_rays"};
+                                                   "light_pick", "empty_pixels", "camera_rays", "shadow_rays",
+                                                   "samples_per_pass"};
     std::vector<ConvergeConfig> out;
     for (auto& c : split(text, ';')) {
         ConvergeConfig cfg{c, base};
@@ -74,6 +76,8 @@ std::vector<ConvergeConfig> parse_configs(const std::string& text, const ImageRe
                 r.settings.camera_lists = require_choice("--configs camera_rays", v, {"lists", "tree"}) == "lists";
             if (k == "shadow_rays")
                 r.settings.shadow_lists = shadow_lists_mode(require_choice("--configs shadow_rays", v, {"auto", "lists", "tree"}));
+            if (k == "samples_per_pass")
+                r.settings.samples_per_pass = parse_int("--configs samples_per_pass", v, 1, kMaxSamplesPerPass);
             if (k == "empty_pixels")
                 r.settings.skip_empty_pixels = require_choice("--configs empty_pixels", v, {"skip", "trace"}) == "skip";
             if (k == "light_pick")
@@ -195,7 +199,7 @@ int cmd_converge(const std::vector<std::string>& args) {
                             "a CSV of the measurements and a log-log plot.");
     p.group("convergence")
         .path("--reference", "REF", "linear reference image (EXR) of the same size", PathKind::Input)
-        .option("--configs", "LIST", "configurations separated by ';', each key=value pairs separated by ','; keys as the render options: model (--model), depth (--max-depth), indirect (--indirect), field (--fiber-field), sampler (--sampler), splits (--first-hit-splits), light_samples (--first-hit-light-samples), light_threshold (--light-threshold, a value or off), light_pick (--light-pick), empty_pixels (--empty-pixels), camera_rays (--camera-rays), shadow_rays (--shadow-rays)", "depth=1")
+        .option("--configs", "LIST", "configurations separated by ';', each key=value pairs separated by ','; keys as the render options: model (--model), depth (--max-depth), indirect (--indirect), field (--fiber-field), sampler (--sampler), splits (--first-hit-splits), light_samples (--first-hit-light-samples), light_threshold (--light-threshold, a value or off), light_pick (--light-pick), empty_pixels (--empty-pixels), camera_rays (--camera-rays), shadow_rays (--shadow-rays), samples_per_pass (--samples-per-pass)", "depth=1")
         .option("--spp", "LIST", "increasing sample counts at which the error is measured", "1,2,4,8,16,32")
         .path("--csv", "FILE", "write config,spp,seconds,rmse,relmse,max_error,nonfinite,sparkle_share,cpu_seconds rows (sparkle_share: pixels whose error exceeds 10x the reference's 3x3 local standard deviation, as render --reference prints; cpu_seconds: the process's CPU time, all threads)", PathKind::Csv, "converge.csv")
         .path("--png", "FILE", "log-log plot of RMSE against render time", PathKind::Image, "converge.png")
@@ -265,13 +269,16 @@ int cmd_converge(const std::vector<std::string>& args) {
             if (!quiet) std::fprintf(stderr, "%-32s %s\n", cfg.label.c_str(), choice.describe().c_str());
         }
         size_t next = 0;
-        for (int sample = 0; sample < spps.back(); ++sample) {
+        for (int sample = 0; sample < spps.back();) {
             auto t0 = std::chrono::steady_clock::now();
             const double c0 = process_cpu_seconds();
-            r.render_sample(uint32_t(sample));
+            // several samples per pass, never past the next point of the curve
+            const int n = std::min(r.samples_per_pass(), spps[next] - sample);
+            r.render_samples(uint32_t(sample), uint32_t(n));
+            sample += n;
             seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
             cpu_seconds += process_cpu_seconds() - c0;
-            if (sample + 1 == spps[next]) {
+            if (sample == spps[next]) {
                 r.download_film(film);
                 ErrorMetrics m = compare_images(film_to_rgb(film), reference, film.width, film.height);
                 const double rmse = std::sqrt(std::max(0.0, m.rmse * m.rmse - ref_noise * ref_noise));

@@ -10,7 +10,7 @@
 
 namespace ht {
 
-MemoryPlan plan_device_memory(uint64_t pixels, uint64_t scene_bytes, uint64_t max_alloc, uint64_t global_mem,
+MemoryPlan plan_device_memory(uint64_t pixels, uint64_t camera_paths, uint64_t scene_bytes, uint64_t max_alloc, uint64_t global_mem,
                               uint64_t user_limit, size_t max_paths_per_pass, const PathBufferSet& buffers,
                               const GeometryPaging& paging) {
     MemoryPlan p;
@@ -38,10 +38,10 @@ MemoryPlan plan_device_memory(uint64_t pixels, uint64_t scene_bytes, uint64_t ma
     const uint64_t group_bytes = buffers.pass_bytes(2 * kPathGroup) - buffers.pass_bytes(kPathGroup);
     const uint64_t fit_groups = 1 + (avail - min_pass) / group_bytes;
     const uint64_t per_pixel = buffers.slots_per_pixel;
-    uint64_t paths = std::min<uint64_t>({pixels * per_pixel, max_paths_per_pass, fit_groups * kPathGroup,
+    uint64_t paths = std::min<uint64_t>({std::max<uint64_t>(camera_paths, 1) * per_pixel, max_paths_per_pass, fit_groups * kPathGroup,
                                          max_alloc / buffers.largest_element()});
-    p.pixels_per_pass = size_t(std::max<uint64_t>(paths / per_pixel, 1));
-    p.paths_per_pass = p.pixels_per_pass * per_pixel;
+    p.camera_paths_per_pass = size_t(std::max<uint64_t>(paths / per_pixel, 1));
+    p.paths_per_pass = p.camera_paths_per_pass * per_pixel;
     p.pass_bytes = buffers.pass_bytes(p.paths_per_pass);
     return p;
 }

@@ -37,6 +37,10 @@ namespace ht {
 
 namespace {
 constexpr size_t kLocalSize = kPathGroup;
+// A pass renders several samples of each traced pixel (RenderSettings::samples_per_pass) only up
+// to this many camera paths: beyond, one sample's launches are long enough to amortise, and the
+// path buffers would grow for nothing.
+constexpr size_t kSamplesPerPassPaths = size_t(1) << 18;
 
 cl::NDRange global_for(size_t n) { return cl::NDRange(round_up(std::max<size_t>(n, 1), kLocalSize)); }
 
@@ -152,11 +156,12 @@ struct Renderer::Impl {
     size_t seen_count = 0, empty_count = 0;
     cl_float4 background{{0.0f, 0.0f, 0.0f, 1.0f}};
     RayDump* dump = nullptr;        // --dump-rays
+    PixelSelection render_selection() const;  // the pixels a sample of the render traces
 
     // per-pass buffers (render/path_buffers.h), sized for max paths per pass
     PathBufferSet buffer_set;
     size_t capacity = 0;         // path slots per pass
-    size_t pixels_per_pass = 0;  // capacity / paths_per_pixel
+    size_t camera_paths_per_pass = 0;  // capacity / paths_per_pixel
     // --first-hit-splits, or 1 where no path goes on past its first vertex (depth 1 without an
     // environment): there is nothing to split, and the image is the same either way.  auto: the
     // pilot's N until the pilot has run (splits_pending), then its choice.
@@ -311,13 +316,18 @@ struct Renderer::Impl {
         // the lists of the pixels that see geometry and of those that do not: 4 bytes per pixel
         const uint64_t pixel_lists = empty_count > 0 ? 4 * uint64_t(s.width) * uint64_t(s.height) : 0;
         const uint64_t scene_bytes = device_geometry.bytes + prepared.extra_scene_bytes() + pixel_lists;
-        return plan_device_memory(uint64_t(s.width) * uint64_t(s.height), scene_bytes, cl.info().max_alloc,
+        // a pass holds every traced pixel, each for up to --samples-per-pass samples, while that
+        // stays within kSamplesPerPassPaths camera paths (or one sample of the image)
+        const uint64_t pixels = uint64_t(s.width) * uint64_t(s.height), traced = empty_count > 0 ? seen_count : pixels;
+        const uint64_t camera_paths =
+            std::max(pixels, std::min(traced * uint64_t(std::max(s.samples_per_pass, 1)), uint64_t(kSamplesPerPassPaths)));
+        return plan_device_memory(pixels, camera_paths, scene_bytes, cl.info().max_alloc,
                                   cl.info().global_mem, s.max_device_bytes, std::max<size_t>(s.max_paths_per_pass, 1),
                                   buffer_set, device_geometry.paging);
     }
 
     void use_plan(const MemoryPlan& plan) {
-        pixels_per_pass = plan.pixels_per_pass;
+        camera_paths_per_pass = plan.camera_paths_per_pass;
         allocate(plan.paths_per_pass);
     }
 
@@ -362,13 +372,29 @@ struct Renderer::Impl {
         counters = cl::Buffer(cl.context(), CL_MEM_READ_WRITE, HT_COUNTER_COUNT * sizeof(uint32_t));
     }
 
-    // One sample over the selected pixels, pass by pass; the pilot's when `pilot`.
-    void trace_sample(uint32_t sample, const PixelSelection& selected) {
+    size_t selected_pixels(const PixelSelection& selected) const {
+        return selected.list ? selected.count : size_t(settings.width) * size_t(settings.height);
+    }
+
+    // How many samples of the selected pixels one pass renders: --samples-per-pass when a pass
+    // holds them all (else one, passes over the pixels as before); one for the pilot, whose
+    // kernels read a camera path per pixel, and while rays are dumped (a dump lists them by sample).
+    uint32_t samples_per_pass(const PixelSelection& selected) const {
+        const size_t pixels = selected_pixels(selected);
+        if (pilot || dump || pixels == 0) return 1;
+        return uint32_t(std::clamp<size_t>(camera_paths_per_pass / pixels, 1, size_t(std::max(settings.samples_per_pass, 1))));
+    }
+
+    // Samples first .. first + samples - 1 of the selected pixels, pass by pass, each pass all
+    // `samples` of its pixels (samples_per_pass); the pilot's when `pilot`.
+    void trace_samples(uint32_t first, uint32_t samples, const PixelSelection& selected) {
         const RenderSettings& s = settings;
-        const size_t pixels = selected.list ? selected.count : size_t(s.width) * size_t(s.height);
+        const size_t pixels = selected_pixels(selected);
+        const size_t pixels_per_pass = std::max<size_t>(camera_paths_per_pass / samples, 1);
         for (size_t offset = 0; offset < pixels; offset += pixels_per_pass) {
-            const uint32_t count = uint32_t(std::min(pixels_per_pass, pixels - offset));
-            generate_camera_rays(uint32_t(offset), count, sample, selected);
+            const uint32_t pass_pixels = uint32_t(std::min(pixels_per_pass, pixels - offset));
+            const uint32_t count = pass_pixels * samples;  // camera paths
+            generate_camera_rays(uint32_t(offset), count, first, samples, selected);
             stats.camera_rays += count;
             stats.paths += uint64_t(count) * splits;
             int q = 0;
@@ -384,7 +410,7 @@ struct Renderer::Impl {
                 else
                     intersect_closest(q, n);
                 if (dump) dump->closest(cl.queue(), queue_rays(q), buffer(PathBuffer::Hits), n, bounce);
-                shade(q, n, sample, bounce);
+                shade(q, n, bounce);
                 // the first shade leaves `light_samples` shadow slots and `splits` stage slots
                 // per camera ray, later ones one of each per ray
                 const uint32_t shadow_slots = bounce == 0 ? n * light_samples : n;
@@ -419,7 +445,7 @@ struct Renderer::Impl {
             if (pilot)
                 pilot_accumulate(count, uint32_t(offset));
             else
-                accumulate(film_buf, count, sample);
+                accumulate(film_buf, pass_pixels, samples);
         }
         cl.queue().finish();
     }
@@ -432,18 +458,21 @@ struct Renderer::Impl {
         return set_paged_args(k, a, device_geometry.points);
     }
 
-    void generate_camera_rays(uint32_t offset, uint32_t count, uint32_t sample, const PixelSelection& selected) {
-        k_generate.setArg(0, prepared.camera);
-        k_generate.setArg(1, offset);
-        k_generate.setArg(2, count);
-        k_generate.setArg(3, seed);
-        k_generate.setArg(4, sample);
-        k_generate.setArg(5, cl_uint(paths_per_pixel));
-        k_generate.setArg(6, selected.list ? *selected.list : pixel_list);  // unread without a list: any buffer
-        k_generate.setArg(7, cl_uint(selected.list != nullptr));
-        k_generate.setArg(8, queue_rays(0));
-        k_generate.setArg(9, queue_paths(0));
-        k_generate.setArg(10, buffer(PathBuffer::Paths));
+    void generate_camera_rays(uint32_t offset, uint32_t count, uint32_t first, uint32_t samples,
+                              const PixelSelection& selected) {
+        cl_uint a = 0;
+        k_generate.setArg(a++, prepared.camera);
+        k_generate.setArg(a++, offset);
+        k_generate.setArg(a++, count);
+        k_generate.setArg(a++, seed);
+        k_generate.setArg(a++, first);
+        k_generate.setArg(a++, samples);
+        k_generate.setArg(a++, cl_uint(paths_per_pixel));
+        k_generate.setArg(a++, selected.list ? *selected.list : pixel_list);  // unread without a list: any buffer
+        k_generate.setArg(a++, cl_uint(selected.list != nullptr));
+        k_generate.setArg(a++, queue_rays(0));
+        k_generate.setArg(a++, queue_paths(0));
+        k_generate.setArg(a++, buffer(PathBuffer::Paths));
         launch(k_generate, count);
     }
 
@@ -471,7 +500,7 @@ struct Renderer::Impl {
         launch(k_camera, count);
     }
 
-    void shade(int q, uint32_t count, uint32_t sample, uint32_t bounce) {
+    void shade(int q, uint32_t count, uint32_t bounce) {
         static const uint32_t zero[HT_COUNTER_COUNT] = {0, 0, 0, 0};
         cl.queue().enqueueWriteBuffer(counters, CL_FALSE, 0, sizeof zero, zero);
         cl_uint a = 0;
@@ -484,7 +513,7 @@ struct Renderer::Impl {
                                buffer(PathBuffer::ShadowContrib), buffer(PathBuffer::StageRays),
                                buffer(PathBuffer::StagePath), counters};
         a = set_bundle_args(k_shade, a, queue);
-        const HtBounce b{seed, sample, bounce, uint32_t(settings.max_depth), settings.fiber_field,
+        const HtBounce b{seed, 0, bounce, uint32_t(settings.max_depth), settings.fiber_field,
                          prepared.pixel_angle, splits, light_samples};
         k_shade.setArg(a++, b);
         if (settings.aovs) {
@@ -596,32 +625,39 @@ struct Renderer::Impl {
         launch(k_resolve, count);
     }
 
-    void accumulate(cl::Buffer& film, uint32_t count, uint32_t sample) {
-        const bool even = settings.target_error > 0 && sample % 2 == 0;
-        k_accumulate.setArg(0, buffer(PathBuffer::Paths));
-        k_accumulate.setArg(1, count);
-        k_accumulate.setArg(2, cl_uint(paths_per_pixel));
-        k_accumulate.setArg(3, film);
-        k_accumulate.setArg(4, cl_uint(even));
-        k_accumulate.setArg(5, even ? film_even : pixel_list);  // unread when odd: any buffer
+    // `pixels` pixels of the pass, `samples` samples each; with --target-error the even samples
+    // also go to the even half film.
+    void accumulate(cl::Buffer& film, uint32_t pixels, uint32_t samples) {
+        const bool halves = settings.target_error > 0;
+        cl_uint a = 0;
+        k_accumulate.setArg(a++, buffer(PathBuffer::Paths));
+        k_accumulate.setArg(a++, pixels);
+        k_accumulate.setArg(a++, samples);
+        k_accumulate.setArg(a++, cl_uint(paths_per_pixel));
+        k_accumulate.setArg(a++, film);
+        k_accumulate.setArg(a++, cl_uint(halves));
+        k_accumulate.setArg(a++, halves ? film_even : pixel_list);  // unread without halves: any buffer
         if (settings.aovs) {
-            k_accumulate.setArg(6, buffer(PathBuffer::Aovs));
-            k_accumulate.setArg(7, film_aov);
+            k_accumulate.setArg(a++, buffer(PathBuffer::Aovs));
+            k_accumulate.setArg(a++, film_aov);
         }
-        launch(k_accumulate, count);
+        launch(k_accumulate, pixels);
     }
 
-    // The empty pixels' share of one sample (upload_pixel_lists).
-    void accumulate_background(uint32_t sample) {
-        const bool even = settings.target_error > 0 && sample % 2 == 0;
-        k_accumulate_background.setArg(0, empty_list);
-        k_accumulate_background.setArg(1, cl_uint(empty_count));
-        k_accumulate_background.setArg(2, background);
-        k_accumulate_background.setArg(3, film_buf);
-        k_accumulate_background.setArg(4, cl_uint(even));
-        k_accumulate_background.setArg(5, even ? film_even : empty_list);  // unread when odd: any buffer
+    // The empty pixels' share of samples first .. first + samples - 1 (upload_pixel_lists).
+    void accumulate_background(uint32_t first, uint32_t samples) {
+        const bool halves = settings.target_error > 0;
+        cl_uint a = 0;
+        k_accumulate_background.setArg(a++, empty_list);
+        k_accumulate_background.setArg(a++, cl_uint(empty_count));
+        k_accumulate_background.setArg(a++, background);
+        k_accumulate_background.setArg(a++, first);
+        k_accumulate_background.setArg(a++, samples);
+        k_accumulate_background.setArg(a++, film_buf);
+        k_accumulate_background.setArg(a++, cl_uint(halves));
+        k_accumulate_background.setArg(a++, halves ? film_even : empty_list);  // unread without halves: any buffer
         launch(k_accumulate_background, empty_count);
-        stats.background_samples += empty_count;
+        stats.background_samples += uint64_t(empty_count) * samples;
     }
 
     void pilot_record_first_vertex(uint32_t cameras) {
@@ -755,25 +791,38 @@ void Renderer::set_pixels(const std::vector<uint32_t>& pixels) {
     r.listed_pixels = pixels.size();
 }
 
-void Renderer::render_sample(uint32_t sample) {
+void Renderer::render_sample(uint32_t sample) { render_samples(sample, 1); }
+
+// A sample over every pixel traces those that may see geometry (perhaps none); not while rays are
+// dumped (a dump holds every camera ray of the render).
+Renderer::Impl::PixelSelection Renderer::Impl::render_selection() const {
+    if (listed_pixels > 0) return {&pixel_list, listed_pixels};
+    if (empty_count > 0 && !dump) return {&seen_list, seen_count};
+    return {};
+}
+
+int Renderer::samples_per_pass() const {
+    const Impl& r = *impl_;
+    return int(r.samples_per_pass(r.render_selection()));
+}
+
+void Renderer::render_samples(uint32_t first, uint32_t count) {
     Impl& r = *impl_;
     if (r.splits_pending) choose_first_hit_splits();
     auto t0 = std::chrono::steady_clock::now();
     try {
-        // a sample over every pixel traces those that may see geometry (perhaps none); not while
-        // rays are dumped (a dump holds every camera ray of the render)
-        if (r.listed_pixels > 0) {
-            r.trace_sample(sample, {&r.pixel_list, r.listed_pixels});
-        } else if (r.empty_count > 0 && !r.dump) {
-            r.trace_sample(sample, {&r.seen_list, r.seen_count});
-            r.accumulate_background(sample);
-        } else {
-            r.trace_sample(sample, {});
+        const Impl::PixelSelection selected = r.render_selection();
+        const uint32_t per_pass = r.samples_per_pass(selected);
+        for (uint32_t done = 0; done < count;) {
+            const uint32_t n = std::min(per_pass, count - done);
+            r.trace_samples(first + done, n, selected);
+            if (selected.list == &r.seen_list) r.accumulate_background(first + done, n);
+            done += n;
         }
     } catch (const cl::Error& e) {
         throw DeviceError(std::string("OpenCL failure in ") + e.what() + ": " + cl_error_name(e.err()));
     }
-    r.stats.samples += 1;
+    r.stats.samples += count;
     r.stats.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
@@ -818,7 +867,7 @@ SplitChoice Renderer::choose_first_hit_splits() {
         r.pilot = &pilot;
         for (pilot.half = 0; pilot.half < 2; ++pilot.half) {
             r.seed = pilot_seed(r.settings.seed, int(pilot.half));
-            for (int i = 0; i < kPilotSamples; ++i) r.trace_sample(uint32_t(i), {&pilot_list, pixels.size()});
+            for (int i = 0; i < kPilotSamples; ++i) r.trace_samples(uint32_t(i), 1, {&pilot_list, pixels.size()});
         }
         r.cl.queue().enqueueReadBuffer(pilot.moments, CL_TRUE, 0, moments.size() * sizeof(float), moments.data());
     } catch (const cl::Error& e) {
@@ -874,9 +923,11 @@ RenderStats Renderer::render(Film& film, const ProgressFn& progress) {
         film.rgba.assign(4 * pixels, 0.0f);
     }
     upload_film(film);
-    for (int si = 0; si < s.spp; ++si) {
-        render_sample(uint32_t(s.first_sample + si));
-        if (progress && !progress(si + 1, s.spp)) break;
+    for (int si = 0; si < s.spp;) {
+        const int n = std::min(samples_per_pass(), s.spp - si);
+        render_samples(uint32_t(s.first_sample + si), uint32_t(n));
+        si += n;
+        if (progress && !progress(si, s.spp)) break;
     }
     download_film(film);
     return impl_->stats;

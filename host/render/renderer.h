@@ -94,7 +94,13 @@ public:
 
     // The same, one step at a time, for callers that checkpoint between samples:
     void upload_film(const Film& film);
-    void render_sample(uint32_t sample);  // one pass over every pixel, finished on return
+    void render_sample(uint32_t sample);  // one sample of every pixel, finished on return
+    // Samples first .. first + count - 1 of every pixel, finished on return: the same film as
+    // count render_sample calls, with up to samples_per_pass() of them in each pass.
+    void render_samples(uint32_t first, uint32_t count);
+    // How many samples a pass renders now (--samples-per-pass, when a pass holds every traced pixel
+    // that many times; else 1): callers that stop between samples step by it.
+    int samples_per_pass() const;
     void download_film(Film& film);
     // The pixels the next render_sample calls render (indices y * width + x, ascending); empty:
     // every pixel.  render --target-error narrows it to the tiles still above the target; the

@@ -27,6 +27,11 @@ constexpr double kMinLightThreshold = 1e-6, kMaxLightThreshold = 1;
 // more than the kernels' pick reads (HT_LIGHT_PICK_MAX); otherwise every pick is uniform.
 inline bool light_pick_chooses(size_t lights) { return lights >= 2 && lights <= HT_LIGHT_PICK_MAX; }
 
+// RenderSettings::samples_per_pass by default: measured in docs/PERFORMANCE.md section 8
+// "Several samples per pass"; and the most the command line accepts.
+constexpr int kDefaultSamplesPerPass = 8;
+constexpr int kMaxSamplesPerPass = 64;
+
 struct RenderSettings {
     int width = 512, height = 512;
     int spp = 16;
@@ -40,6 +45,11 @@ struct RenderSettings {
     enum class Indirect { Exact, Afs, Dual } indirect = Indirect::Exact;
     int first_sample = 0;     // render samples [first_sample, first_sample + spp)
     size_t max_paths_per_pass = 1u << 20;  // bounds device memory for big images
+    // --samples-per-pass: how many consecutive samples of each traced pixel one pass renders when
+    // all of them fit, so that a pixel's samples are neighbouring work-items (its candidate list
+    // and fibres in cache) and each stage is launched once for them all; the film is the same bits
+    // for any value (kernels/stages/accumulate.cl).  1: a pass per sample.
+    int samples_per_pass = kDefaultSamplesPerPass;
     uint64_t max_device_bytes = 0;         // --max-memory (0: the device's global memory)
     bool profile_stages = false;           // time each stage kernel (drains the queue after each)
     // Cap on each indirect sample's contribution (largest channel; 0: none), compiled into shade.

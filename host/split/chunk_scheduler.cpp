@@ -54,10 +54,11 @@ std::vector<DeviceShare> render_chunks(const std::vector<Renderer*>& devices, co
                 const auto t0 = std::chrono::steady_clock::now();
                 int rendered = 0;
                 while (seg.first + seg.count < end && !stop) {
-                    r.render_sample(uint32_t(seg.first + seg.count));
-                    ++seg.count;
-                    ++rendered;
-                    ++samples;
+                    const int n = std::min(r.samples_per_pass(), end - (seg.first + seg.count));
+                    r.render_samples(uint32_t(seg.first + seg.count), uint32_t(n));
+                    seg.count += n;
+                    rendered += n;
+                    samples += n;
                 }
                 if (rendered > 0) r.download_film(seg.film);
                 share.busy_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -1,23 +1,26 @@
 /* Stage 1: camera -> extension queue.
- * Camera path i of this pass renders pixel (pixel_offset + i) for sample `sample`; its ray goes to
- * rays[i].  With --first-hit-splits N it owns the N path states from i N on -- itself
- * (continuation 0, ray_path[i] = i N) and the continuations its first vertex will start
- * (kernels/stages/shade.cl) -- all starting with throughput 1 and radiance 0, so that accumulate
- * can add them up whether they were started or not.
- * With `listed` (render --target-error) camera path i renders pixel pixel_list[pixel_offset + i]
- * instead: the pixels still short of the target.  The random numbers depend on the pixel, never on
- * the slot, so a pixel renders the same sample whichever others share its pass. */
+ * A pass renders `samples` consecutive samples (first_sample ..) of each of its pixels: camera
+ * path i renders pixel (pixel_offset + i / samples) for sample first_sample + i % samples, so the
+ * samples of a pixel are neighbouring work-items and find its candidate list and its fibres in
+ * cache.  Its ray goes to rays[i].  With --first-hit-splits N it owns the N path states from i N
+ * on -- itself (continuation 0, ray_path[i] = i N) and the continuations its first vertex will
+ * start (kernels/stages/shade.cl) -- all starting with throughput 1 and radiance 0, so that
+ * accumulate can add them up whether they were started or not.
+ * With `listed` (render --target-error) the pixel is pixel_list[pixel_offset + i / samples]
+ * instead: the pixels still short of the target.  The random numbers depend on the pixel and the
+ * sample, never on the slot, so a pixel renders the same sample whichever others share its pass. */
 #include "../types.h"
 #include "../rng.h"
 #include "../camera.h"
 
 __kernel void generate_camera_rays(HtCamera camera, uint pixel_offset, uint count, uint seed,
-                                   uint sample, uint splits, __global const uint* pixel_list,
+                                   uint first_sample, uint samples, uint splits, __global const uint* pixel_list,
                                    uint listed, __global HtRay* rays, __global uint* ray_path,
                                    __global HtPathState* paths) {
     uint i = get_global_id(0);
     if (i >= count) return;
-    uint pixel = listed ? pixel_list[pixel_offset + i] : pixel_offset + i;
+    const uint index = pixel_offset + i / samples, sample = first_sample + i % samples;
+    uint pixel = listed ? pixel_list[index] : index;
     uint px = pixel % camera.width, py = pixel / camera.width;
     float jx = ht_sample(seed, pixel, sample, 0u, HT_DIM_PIXEL_X);
     float jy = ht_sample(seed, pixel, sample, 0u, HT_DIM_PIXEL_Y);
@@ -29,7 +32,8 @@ __kernel void generate_camera_rays(HtCamera camera, uint pixel_offset, uint coun
     s.pixel = pixel;
     s.flags = HT_PATH_FROM_CAMERA;
     s.last_pdf = 0.0f;
-    s.pad1 = s.pad2 = 0.0f;
+    s.sample = sample;
+    s.pad2 = 0.0f;
     for (uint j = 0u; j < splits; ++j) {
         s.split = j;
         paths[i * splits + j] = s;

@@ -229,7 +229,7 @@ HT_FN int ht_next_event(__global const HtLight* lights, uint light_count, const 
 
 __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM, HT_SCENE_PARAMS, HT_SHADE_QUEUE_PARAMS,
                     HtBounce b HT_SHADE_AOV_PARAMS HT_SHADE_DUAL_PARAMS) {
-    const uint seed = b.seed, sample = b.sample, bounce = b.bounce, max_depth = b.max_depth;
+    const uint seed = b.seed, bounce = b.bounce, max_depth = b.max_depth;
     const uint field_mode = b.field_mode;
     const float pixel_angle = b.pixel_angle;
     const uint splits = b.splits, light_samples = b.light_samples;
@@ -249,6 +249,7 @@ __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM, HT_SCENE_PARA
     if (active) {
         const uint p = ray_path[k];
         HtPathState st = paths[p];
+        const uint sample = st.sample;
         HtRay ray = rays[k];
         HtHit hit = hits[k];
 #if HT_FEATURE_AOVS

@@ -9,18 +9,7 @@
 #include "cli_test_util.h"
 #include "io/image_io.h"
 
-namespace {
-
 using namespace rendertest;
-
-ht::Scene sparse_strand() {
-    ht::Scene s = ht::load_scene("builtin:strand?hairs=40&segments=12");
-    ht::ensure_camera_and_light(s);
-    s.environment.color = {0.3f, 0.45f, 0.7f};
-    return s;
-}
-
-}  // namespace
 
 // With the camera's lists the empty pixels are those with an empty list, without them those the
 // images' 1-pixel margin leaves (render/pixel_footprint.h): both skip only pixels whose every bit

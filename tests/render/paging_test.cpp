@@ -60,11 +60,11 @@ TEST(GeometryPaging, MemoryPlanCountsTheScenePagesNotOneAllocation) {
     // a 3 MiB scene on a device allocating at most 1 MiB: refused before paging existed, now the
     // planner only needs the film to fit one allocation and everything to fit the memory
     const GeometryPaging paging{3, 20};
-    MemoryPlan p = plan_device_memory(64 * 64, 3 << 20, 1 << 20, 64 << 20, 0, 1 << 20, PathBufferSet{}, paging);
+    MemoryPlan p = plan_device_memory(64 * 64, 64 * 64, 3 << 20, 1 << 20, 64 << 20, 0, 1 << 20, PathBufferSet{}, paging);
     EXPECT_EQ(p.paging.pages, 3u);
     EXPECT_GT(p.paths_per_pass, 0u);
     try {
-        plan_device_memory(64 * 64, 3 << 20, 1 << 20, 3 << 20, 0, 1 << 20, PathBufferSet{}, paging);
+        plan_device_memory(64 * 64, 64 * 64, 3 << 20, 1 << 20, 3 << 20, 0, 1 << 20, PathBufferSet{}, paging);
         FAIL() << "a scene filling the whole device accepted";
     } catch (const DeviceError& e) {
         EXPECT_NE(std::string(e.what()).find("in 3 pages of 1.0 MiB per array"), std::string::npos) << e.what();

@@ -26,6 +26,15 @@ inline ht::Scene thick_strand() {
     return s;
 }
 
+// Few fibres that leave most pixels empty, with a coloured background for those pixels to show
+// (render/pixel_footprint.h skips them).
+inline ht::Scene sparse_strand() {
+    ht::Scene s = ht::load_scene("builtin:strand?hairs=40&segments=12");
+    ht::ensure_camera_and_light(s);
+    s.environment.color = {0.3f, 0.45f, 0.7f};
+    return s;
+}
+
 // 48 x 48 pixels: enough for image statistics, quick at a thousand samples.
 inline ht::RenderSettings small_settings(int spp, uint32_t seed, int depth) {
     ht::RenderSettings rs;
