@@ -377,11 +377,11 @@ struct Renderer::Impl {
     }
 
     // How many samples of the selected pixels one pass renders: --samples-per-pass when a pass
-    // holds them all (else one, passes over the pixels as before); one for the pilot, whose
-    // kernels read a camera path per pixel, and while rays are dumped (a dump lists them by sample).
+    // holds them all (else one, passes over the pixels as before); one while rays are dumped (a
+    // dump lists them by sample).
     uint32_t samples_per_pass(const PixelSelection& selected) const {
         const size_t pixels = selected_pixels(selected);
-        if (pilot || dump || pixels == 0) return 1;
+        if (dump || pixels == 0) return 1;
         return uint32_t(std::clamp<size_t>(camera_paths_per_pass / pixels, 1, size_t(std::max(settings.samples_per_pass, 1))));
     }
 
@@ -443,7 +443,7 @@ struct Renderer::Impl {
                 n = c.next;
             }
             if (pilot)
-                pilot_accumulate(count, uint32_t(offset));
+                pilot_accumulate(pass_pixels, samples, uint32_t(offset));
             else
                 accumulate(film_buf, pass_pixels, samples);
         }
@@ -668,15 +668,17 @@ struct Renderer::Impl {
         launch(k_pilot_record, slots);
     }
 
-    void pilot_accumulate(uint32_t count, uint32_t list_offset) {
-        k_pilot_accumulate.setArg(0, buffer(PathBuffer::Paths));
-        k_pilot_accumulate.setArg(1, pilot->first_vertex);
-        k_pilot_accumulate.setArg(2, count);
-        k_pilot_accumulate.setArg(3, cl_uint(paths_per_pixel));
-        k_pilot_accumulate.setArg(4, list_offset);
-        k_pilot_accumulate.setArg(5, pilot->half);
-        k_pilot_accumulate.setArg(6, pilot->moments);
-        launch(k_pilot_accumulate, count);
+    void pilot_accumulate(uint32_t pixels, uint32_t samples, uint32_t list_offset) {
+        cl_uint a = 0;
+        k_pilot_accumulate.setArg(a++, buffer(PathBuffer::Paths));
+        k_pilot_accumulate.setArg(a++, pilot->first_vertex);
+        k_pilot_accumulate.setArg(a++, pixels);
+        k_pilot_accumulate.setArg(a++, samples);
+        k_pilot_accumulate.setArg(a++, cl_uint(paths_per_pixel));
+        k_pilot_accumulate.setArg(a++, list_offset);
+        k_pilot_accumulate.setArg(a++, pilot->half);
+        k_pilot_accumulate.setArg(a++, pilot->moments);
+        launch(k_pilot_accumulate, pixels);
     }
 
     // A film's AOV sums or even half on the device: a copy of `sums`, or zeros when it is empty
@@ -861,13 +863,17 @@ SplitChoice Renderer::choose_first_hit_splits() {
         Impl::Pilot pilot;
         pilot.moments = cl::Buffer(r.cl.context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR,
                                    moments.size() * sizeof(float), moments.data());
-        // a pass of the pilot holds at most all its pixels: outside the memory plan, but small
-        const size_t slots = std::min(r.capacity, PathBufferSet::slots(pixels.size() * r.paths_per_pixel));
+        // a pass of the pilot holds at most all its pixels, per_pass times: outside the memory
+        // plan, but small
+        const Impl::PixelSelection selected{&pilot_list, pixels.size()};
+        const uint32_t per_pass = r.samples_per_pass(selected);
+        const size_t slots = std::min(r.capacity, PathBufferSet::slots(pixels.size() * per_pass * r.paths_per_pixel));
         pilot.first_vertex = cl::Buffer(r.cl.context(), CL_MEM_READ_WRITE, slots * 4 * sizeof(float));
         r.pilot = &pilot;
         for (pilot.half = 0; pilot.half < 2; ++pilot.half) {
             r.seed = pilot_seed(r.settings.seed, int(pilot.half));
-            for (int i = 0; i < kPilotSamples; ++i) r.trace_samples(uint32_t(i), 1, {&pilot_list, pixels.size()});
+            for (uint32_t i = 0; i < uint32_t(kPilotSamples); i += per_pass)
+                r.trace_samples(i, std::min(per_pass, uint32_t(kPilotSamples) - i), selected);
         }
         r.cl.queue().enqueueReadBuffer(pilot.moments, CL_TRUE, 0, moments.size() * sizeof(float), moments.data());
     } catch (const cl::Error& e) {

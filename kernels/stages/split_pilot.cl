@@ -8,7 +8,8 @@
  * environment, the first-hit next-event estimates credited to that slot), so what a slot gains
  * later is its continuation's alone.
  *
- * pilot_accumulate, in place of accumulate: camera path i (pilot pixel list_offset + i), with slot
+ * pilot_accumulate, in place of accumulate: work-item i takes pilot pixel list_offset + i and its
+ * `samples` camera paths of the pass (i samples .., as accumulate does), each, with slot
  * radiances R_j and first-vertex parts F_j (continuation j in slot j < N), gives the sample
  * Y = sum_j R_j, its first vertex's part F = sum_j F_j and the continuations' values
  * c_j = R_j - F_j (each 1/N of a continuation's estimate C_j).  The pilot renders every pixel
@@ -21,7 +22,8 @@
  *   moments[4 list + 3].w          += 1:
  * the sample's moments, the first vertex's per half (whose means differ by the error of either)
  * and its second moment, and an unbiased estimate of E[Var(C | first vertex)]: the variance the
- * splits divide by N.  Sums are taken in sample order, one work-item per pixel. */
+ * splits divide by N.  Sums are taken in sample order, one work-item per pixel, with the same float
+ * additions however many samples a pass holds. */
 #include "../types.h"
 
 __kernel void pilot_record_first_vertex(__global const HtPathState* paths, uint count,
@@ -33,34 +35,41 @@ __kernel void pilot_record_first_vertex(__global const HtPathState* paths, uint 
 }
 
 __kernel void pilot_accumulate(__global const HtPathState* paths, __global const float4* first_vertex,
-                               uint count, uint slots, uint list_offset, uint seed_half,
+                               uint count, uint samples, uint slots, uint list_offset, uint seed_half,
                                __global float4* moments) {
     uint i = get_global_id(0);
     if (i >= count) return;
-    const uint first = i * slots;
-    /* one read per slot; the continuations are the first HT_PILOT_SPLITS slots, any after them
-     * (more first-hit light samples than continuations) hold light samples only */
-    float3 y = (float3)(0.0f), f = (float3)(0.0f), c_mean = (float3)(0.0f);
-    float3 c[HT_PILOT_SPLITS];
-    for (uint j = 0u; j < slots; ++j) {
-        const HtPathState s = paths[first + j];
-        const float3 r = (float3)(s.radiance[0], s.radiance[1], s.radiance[2]);
-        const float3 fj = first_vertex[first + j].xyz;
-        y += r;
-        f += fj;
-        if (j < HT_PILOT_SPLITS) {
-            c[j] = r - fj;
-            c_mean += c[j];
-        }
-    }
-    c_mean /= (float)HT_PILOT_SPLITS;
-    float spread = 0.0f;
-    for (uint j = 0u; j < HT_PILOT_SPLITS; ++j) spread += dot(c[j] - c_mean, c[j] - c_mean);
-    const float n = (float)HT_PILOT_SPLITS;
     __global float4* m = moments + 4u * (size_t)(list_offset + i);
-    m[0] += (float4)(y, dot(y, y));
-    m[1u + seed_half].xyz += f;
-    m[1].w += dot(f, f);
-    m[2].w += n * n / (n - 1.0f) * spread;
-    m[3].w += 1.0f;
+    float4 m0 = m[0], m1 = m[1], m2 = m[2], m3 = m[3];
+    for (uint k = 0u; k < samples; ++k) {
+        const uint first = (i * samples + k) * slots;
+        /* one read per slot; the continuations are the first HT_PILOT_SPLITS slots, any after them
+         * (more first-hit light samples than continuations) hold light samples only */
+        float3 y = (float3)(0.0f), f = (float3)(0.0f), c_mean = (float3)(0.0f);
+        float3 c[HT_PILOT_SPLITS];
+        for (uint j = 0u; j < slots; ++j) {
+            const HtPathState s = paths[first + j];
+            const float3 r = (float3)(s.radiance[0], s.radiance[1], s.radiance[2]);
+            const float3 fj = first_vertex[first + j].xyz;
+            y += r;
+            f += fj;
+            if (j < HT_PILOT_SPLITS) {
+                c[j] = r - fj;
+                c_mean += c[j];
+            }
+        }
+        c_mean /= (float)HT_PILOT_SPLITS;
+        float spread = 0.0f;
+        for (uint j = 0u; j < HT_PILOT_SPLITS; ++j) spread += dot(c[j] - c_mean, c[j] - c_mean);
+        const float n = (float)HT_PILOT_SPLITS;
+        m0 += (float4)(y, dot(y, y));
+        if (seed_half == 0u)
+            m1.xyz += f;
+        else
+            m2.xyz += f;
+        m1.w += dot(f, f);
+        m2.w += n * n / (n - 1.0f) * spread;
+        m3.w += 1.0f;
+    }
+    m[0] = m0, m[1] = m1, m[2] = m2, m[3] = m3;
 }

@@ -123,3 +123,24 @@ TEST(SamplesPerPass, RangesAndListedPixels) {
         EXPECT_EQ(a.rgba, b.rgba);
     }
 }
+
+// --first-hit-splits auto's pilot renders its samples several to a pass too
+// (kernels/stages/split_pilot.cl pilot_accumulate): the same moments, the same choice.
+TEST(SamplesPerPass, ThePilotMeasuresTheSame) {
+    const ht::Scene s = thick_strand();
+    ht::RenderSettings rs = small_settings(2, 4, 3);
+    rs.first_hit_splits = ht::kAutoFirstHitSplits;
+    ht::SplitChoice choice[2];
+    for (const int n : {1, 8}) {
+        rs.samples_per_pass = n;
+        ht::Renderer r(context(), s, rs);
+        choice[n == 8] = r.choose_first_hit_splits();
+    }
+    EXPECT_GT(choice[0].variance.total, 0.0) << "the pilot saw light";
+    EXPECT_EQ(choice[0].variance.total, choice[1].variance.total);
+    EXPECT_EQ(choice[0].variance.split, choice[1].variance.split);
+    EXPECT_EQ(choice[0].variance.stratification, choice[1].variance.stratification);
+    EXPECT_EQ(choice[0].cost.c0, choice[1].cost.c0);
+    EXPECT_EQ(choice[0].cost.c1, choice[1].cost.c1);
+    EXPECT_EQ(choice[0].splits, choice[1].splits);
+}
