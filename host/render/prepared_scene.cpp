@@ -4,6 +4,7 @@
 #include "fiber/afs_quadrature.h"
 #include "fiber/dual_scattering.h"
 #include "kernels/fiber/afs.h"
+#include "render/primitive_images.h"
 #include "render/scene_upload.h"
 
 #include <algorithm>
@@ -67,9 +68,13 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& s, const R
     p.texel_bytes = texel_buffer_size(scene.textures) * sizeof(uint32_t);
     const HtEnvironment& env = p.environment.header;
     const bool skip_empty = s.skip_empty_pixels && !s.aovs && !(env.enabled && env.has_map);
+    // which primitive begins at each point: made once for the camera's projection and the
+    // lights' alike, by whichever comes first
+    PrimitiveStarts starts;
     if (skip_empty || s.camera_lists) {
         const auto t0 = std::chrono::steady_clock::now();
-        const ProjectedPrimitives projected = project_primitives(p.camera, p.geometry);
+        starts = primitive_starts(p.geometry);
+        const ProjectedPrimitives projected = project_primitives(p.camera, p.geometry, &starts);
         const auto t1 = std::chrono::steady_clock::now();
         if (s.camera_lists)
             p.candidates = pixel_candidates(projected, s.camera_list_cap ? s.camera_list_cap : kMaxCandidatesPerPixel);
@@ -84,7 +89,8 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& s, const R
     }
     if (wants_shadow_lists(s, p)) {
         const auto t0 = std::chrono::steady_clock::now();
-        p.shadow_lists = build_shadow_lists(p.geometry, p.lights);
+        if (starts.primitive.empty()) starts = primitive_starts(p.geometry);
+        p.shadow_lists = build_shadow_lists(p.geometry, p.lights, kShadowCellRadii, &starts);
         p.shadow_lists_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     }
 

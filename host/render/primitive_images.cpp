@@ -73,7 +73,7 @@ void PrimitiveImage::box(double* r) const {
     r[2] = std::min(a[2], b[2]), r[3] = std::max(a[3], b[3]);
 }
 
-ProjectedPrimitives project_primitives(const HtCamera& camera, const SceneGeometry& g) {
+ProjectedPrimitives project_primitives(const HtCamera& camera, const SceneGeometry& g, const PrimitiveStarts* given) {
     const int w = int(camera.width), h = int(camera.height);
     const CameraFrame frame(camera);
     ProjectedPrimitives out, unbounded;
@@ -114,7 +114,9 @@ ProjectedPrimitives project_primitives(const HtCamera& camera, const SceneGeomet
         o[4] = z0;
         return kInFront;
     };
-    const PrimitiveStarts starts = primitive_starts(g);
+    PrimitiveStarts made;
+    if (!given) made = primitive_starts(g);
+    const PrimitiveStarts& starts = given ? *given : made;
     out.bounded = images_in_point_order(starts, out.images, [&](size_t first, uint32_t k, uint32_t n, PrimitiveImage* im) {
         double bounds[3][5];
         int behind = 0, in_front = 0;

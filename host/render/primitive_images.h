@@ -51,7 +51,11 @@ struct ProjectedPrimitives {
     BulkVector<PrimitiveImage> images;
     double depth_row[3] = {0, 0, 0};
 };
-ProjectedPrimitives project_primitives(const HtCamera& camera, const SceneGeometry& geometry);
+// starts: primitive_starts(geometry) when the caller has made it for other passes too (nullptr:
+// made here).
+struct PrimitiveStarts;
+ProjectedPrimitives project_primitives(const HtCamera& camera, const SceneGeometry& geometry,
+                                       const PrimitiveStarts* starts = nullptr);
 
 // Shared with the light's grids (render/shadow_lists.h):
 // the primitive beginning at each point (kNoPrimitive: none) and its vertex count (2 or 3),

@@ -106,14 +106,16 @@ bool project_along(const SceneGeometry& g, const PrimitiveStarts& starts, const 
 
 }  // namespace
 
-ShadowLists build_shadow_lists(const SceneGeometry& g, const std::vector<HtLight>& lights, double cell_radii) {
+ShadowLists build_shadow_lists(const SceneGeometry& g, const std::vector<HtLight>& lights, double cell_radii,
+                               const PrimitiveStarts* given) {
     ShadowLists out;
     // the kernel's float rounding of a ray origin's coordinates and of the capsule roots: a few
     // ulps of the scene's largest coordinate, covered by far
     double scale = 1;
     for (const HtPoint& p : g.points) scale = std::max({scale, std::fabs(double(p.x)), std::fabs(double(p.y)), std::fabs(double(p.z))});
     const double margin = 1e-5 * scale;
-    PrimitiveStarts starts;
+    PrimitiveStarts made;
+    const PrimitiveStarts* starts = given;
     for (const HtLight& light : lights) {
         if (light.type != HT_LIGHT_DIRECTIONAL || out.grids.size() == kMaxShadowGrids) continue;
         HtShadowGrid grid{};
@@ -124,8 +126,8 @@ ShadowLists build_shadow_lists(const SceneGeometry& g, const std::vector<HtLight
         const glm::dvec3 other = std::fabs(w.x) < 0.6 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
         const glm::dvec3 u = glm::normalize(glm::cross(w, other)), v = glm::cross(w, u);
         ProjectedPrimitives projected;
-        if (starts.primitive.empty()) starts = primitive_starts(g);  // once for every light
-        if (!project_along(g, starts, w, u, v, margin, cell_radii, &grid, &projected)) continue;
+        if (!starts) made = primitive_starts(g), starts = &made;  // once for every light
+        if (!project_along(g, *starts, w, u, v, margin, cell_radii, &grid, &projected)) continue;
         PixelCandidates c = pixel_candidates(projected);
         if (!c.enabled) continue;
         grid.cell_offset = uint32_t(out.start.size());

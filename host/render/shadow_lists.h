@@ -40,7 +40,10 @@ struct ShadowLists {
 
 // Lists for the first kMaxShadowGrids directional lights among `lights`; a light gets none when
 // the geometry holds a non-finite point or the lists would not fit kMaxCandidateEntries.
+// starts: primitive_starts(geometry) when the caller has made it for the camera too (nullptr:
+// made here, once for every light; render/primitive_images.h).
+struct PrimitiveStarts;
 ShadowLists build_shadow_lists(const SceneGeometry& geometry, const std::vector<HtLight>& lights,
-                               double cell_radii = kShadowCellRadii);
+                               double cell_radii = kShadowCellRadii, const PrimitiveStarts* starts = nullptr);
 
 }  // namespace ht
