@@ -317,6 +317,11 @@ void report(const PreparedRender& job, const RenderRequest& request, const RunOu
     if (st.shadow_list_entries)
         std::fprintf(stderr, "shadow rays toward directional lights from per-cell lists: %zu entries (made in %.0f ms)\n",
                      st.shadow_list_entries, st.shadow_lists_ms);
+    if (st.camera_lists_dropped || st.shadow_lists_dropped)
+        std::fprintf(stderr, "%s left out: the render fits the device memory only without them (the rays traverse the BVH instead, the same image)\n",
+                     st.camera_lists_dropped && st.shadow_lists_dropped ? "camera-ray and shadow-ray lists"
+                     : st.camera_lists_dropped                          ? "camera-ray lists"
+                                                                        : "shadow-ray lists");
     if (st.paths)
         std::fprintf(stderr, "max depth %d cut %llu of %llu paths (%.3g %%)\n", job.settings.max_depth,
                      (unsigned long long)st.cut_paths, (unsigned long long)st.paths,

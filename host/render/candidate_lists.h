@@ -37,6 +37,9 @@ struct PixelCandidates {
     float depth_row[3] = {0, 0, 0};
     size_t tree_pixels = 0;
     uint32_t max_per_pixel = 0;  // the cap that fit the budget
+    uint64_t bytes() const {  // on the device
+        return (start.size() + count.size() + primitive.size()) * sizeof(uint32_t) + depth.size() * sizeof(float);
+    }
 };
 PixelCandidates pixel_candidates(const ProjectedPrimitives& projected, uint32_t max_per_pixel = kMaxCandidatesPerPixel,
                                  uint64_t max_entries = kMaxCandidateEntries);

@@ -17,8 +17,7 @@ uint64_t PreparedScene::extra_scene_bytes() const {
     return environment.texels.size() * sizeof(float) +
            (environment.marginal.size() + environment.conditional.size()) * sizeof(float) + texel_bytes +
            texture_headers.size() * sizeof(HtTexture) + (afs_table.size() + dual_table.size()) * sizeof(float) +
-           (candidates.start.size() + candidates.count.size() + candidates.primitive.size()) * sizeof(uint32_t) +
-           candidates.depth.size() * sizeof(float) + shadow_lists.bytes();
+           candidates.bytes() + shadow_lists.bytes();
 }
 
 namespace {

@@ -130,6 +130,7 @@ struct Renderer::Impl {
         cl_float4 depth_row{};
     } candidate_lists;
     bool use_candidate_lists = false;
+    uint64_t dropped_list_bytes = 0;  // lists the memory plan left on the host (plan_memory_dropping_lists)
     // The directional lights' shadow lists (render/shadow_lists.h), when the scene has them
     struct ShadowListBuffers {
         cl::Buffer grids, start, count, primitive, key;
@@ -257,7 +258,7 @@ struct Renderer::Impl {
         upload_pixel_lists();  // before the plan, which counts them
         upload_candidate_lists();
         upload_shadow_lists();
-        const MemoryPlan plan = plan_memory();
+        const MemoryPlan plan = plan_memory_dropping_lists();
         upload_textures();
         use_plan(plan);
         pixel_list = device_array(cl.context(), std::vector<cl_uint>{});
@@ -315,7 +316,7 @@ struct Renderer::Impl {
         const RenderSettings& s = settings;
         // the lists of the pixels that see geometry and of those that do not: 4 bytes per pixel
         const uint64_t pixel_lists = empty_count > 0 ? 4 * uint64_t(s.width) * uint64_t(s.height) : 0;
-        const uint64_t scene_bytes = device_geometry.bytes + prepared.extra_scene_bytes() + pixel_lists;
+        const uint64_t scene_bytes = device_geometry.bytes + prepared.extra_scene_bytes() - dropped_list_bytes + pixel_lists;
         // a pass holds every traced pixel, each for up to --samples-per-pass samples, while that
         // stays within kSamplesPerPassPaths camera paths (or one sample of the image)
         const uint64_t pixels = uint64_t(s.width) * uint64_t(s.height), traced = empty_count > 0 ? seen_count : pixels;
@@ -324,6 +325,32 @@ struct Renderer::Impl {
         return plan_device_memory(pixels, camera_paths, scene_bytes, cl.info().max_alloc,
                                   cl.info().global_mem, s.max_device_bytes, std::max<size_t>(s.max_paths_per_pass, 1),
                                   buffer_set, device_geometry.paging);
+    }
+
+    // The candidate and shadow lists only make rays faster, with the tree's answers: a render that
+    // would fit the device without them drops them instead of failing -- the shadow lists first,
+    // which save less -- and says so in its statistics.
+    MemoryPlan plan_memory_dropping_lists() {
+        for (;;) {
+            try {
+                return plan_memory();
+            } catch (const DeviceError&) {
+                if (shadow_lists.grid_count > 0) {
+                    dropped_list_bytes += prepared.shadow_lists.bytes();
+                    shadow_lists = ShadowListBuffers{};
+                    stats.shadow_list_entries = 0;
+                    stats.shadow_lists_dropped = true;
+                } else if (use_candidate_lists) {
+                    dropped_list_bytes += prepared.candidates.bytes();
+                    candidate_lists = CandidateLists{};
+                    use_candidate_lists = false;
+                    stats.candidate_entries = stats.candidate_tree_pixels = 0;
+                    stats.camera_lists_dropped = true;
+                } else {
+                    throw;
+                }
+            }
+        }
     }
 
     void use_plan(const MemoryPlan& plan) {
@@ -903,6 +930,8 @@ void RenderStats::add(const RenderStats& o) {
     candidates_ms = std::max(candidates_ms, o.candidates_ms);
     shadow_list_entries = std::max(shadow_list_entries, o.shadow_list_entries);
     shadow_lists_ms = std::max(shadow_lists_ms, o.shadow_lists_ms);
+    camera_lists_dropped = camera_lists_dropped || o.camera_lists_dropped;
+    shadow_lists_dropped = shadow_lists_dropped || o.shadow_lists_dropped;
     paths += o.paths;
     extension_rays += o.extension_rays;
     shadow_rays += o.shadow_rays;

@@ -42,6 +42,9 @@ struct RenderStats {
     // (0: none) and build time.
     size_t shadow_list_entries = 0;
     double shadow_lists_ms = 0;
+    // The lists made but left on the host, because the render fits the device only without them
+    // (the rays then traverse the tree: the same hits).
+    bool camera_lists_dropped = false, shadow_lists_dropped = false;
     // camera rays x --first-hit-splits: the paths of the estimate, each continuation one of them
     uint64_t paths = 0;
     uint64_t nonfinite_caught = 0;  // NaN/Inf values zeroed by the kernels

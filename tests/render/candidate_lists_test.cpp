@@ -134,3 +134,46 @@ TEST(CandidateLists, TheRaysUseTheLists) {
         ASSERT_NEAR(blank.mean(i, 0), 0.25f, 1e-6f) << "camera rays answered from the lists: pixel " << i;
     EXPECT_NE(lit.rgba, blank.rgba) << "the strand is in view";
 }
+
+// The lists only make rays faster: a device that holds the render without them but not with them
+// gets a render without them (the same film), told in the statistics, instead of a refusal; a
+// device too small even without them still refuses.
+TEST(CandidateLists, ListsThatDoNotFitTheDeviceAreLeftOut) {
+    const ht::Scene s = with_sun(scene("builtin:ball?hairs=1000&segments=16"));
+    ht::RenderSettings rs = small_settings(2, 5, 2);
+    const auto fits = [&](const ht::RenderSettings& settings) {
+        try {
+            ht::Renderer r(context(), s, settings);
+            return true;
+        } catch (const ht::DeviceError&) {
+            return false;
+        }
+    };
+    // the least --max-memory that holds the render without lists
+    ht::RenderSettings bare = rs;
+    bare.camera_lists = false;
+    bare.shadow_lists = ht::RenderSettings::ShadowLists::Tree;
+    uint64_t lo = 1, hi = uint64_t(1) << 32;  // fits at hi, not at lo
+    bare.max_device_bytes = hi;
+    ASSERT_TRUE(fits(bare));
+    while (hi - lo > 1) {
+        bare.max_device_bytes = lo + (hi - lo) / 2;
+        (fits(bare) ? hi : lo) = bare.max_device_bytes;
+    }
+    rs.camera_lists = true;
+    rs.shadow_lists = ht::RenderSettings::ShadowLists::Lists;
+    ht::RenderStats full, tight;
+    const ht::Film with_lists = render(s, rs, &full);
+    ASSERT_GT(full.candidate_entries, 0u);
+    ASSERT_GT(full.shadow_list_entries, 0u);
+    EXPECT_FALSE(full.camera_lists_dropped || full.shadow_lists_dropped);
+    rs.max_device_bytes = hi;
+    const ht::Film without = render(s, rs, &tight);
+    EXPECT_TRUE(tight.shadow_lists_dropped);
+    EXPECT_TRUE(tight.camera_lists_dropped);
+    EXPECT_EQ(tight.candidate_entries, 0u);
+    EXPECT_EQ(tight.shadow_list_entries, 0u);
+    EXPECT_EQ(with_lists.rgba, without.rgba);
+    rs.max_device_bytes = lo;
+    EXPECT_FALSE(fits(rs)) << "too small even without the lists";
+}
