@@ -70,7 +70,7 @@ const OptionRow kOptions[] = {
     {"scene overrides", "--environment", "FILE", "lat-long HDR environment map (.exr/.hdr, +y up); replaces the scene's", "", Kind::InputFile, kBoth},
     {"scene overrides", "--environment-intensity", "K", "multiplier for the environment", "1", Kind::Value, kBoth},
 
-    {"long renders", "--time-limit", "SECONDS", "stop after the sample that crosses this wall time (0 = none)", "0", Kind::Value, kRender},
+    {"long renders", "--time-limit", "SECONDS", "stop after the pass that crosses this wall time (a pass renders up to --samples-per-pass samples; 0 = none)", "0", Kind::Value, kRender},
     {"long renders", "--checkpoint", "FILE", "write the progressive state to FILE (atomically) every --checkpoint-every seconds, at the end (after the images) and on SIGINT/SIGTERM", "", Kind::Checkpoint, kRender},
     {"long renders", "--checkpoint-every", "SECONDS", "checkpoint interval", "60", Kind::Value, kRender},
     {"long renders", "--resume", "FILE", "continue a render from a checkpoint (same scene, options and seed)", "", Kind::Value, kRender},
