@@ -256,9 +256,10 @@ struct Renderer::Impl {
         }
 
         upload_pixel_lists();  // before the plan, which counts them
+        // the plan decides which lists fit before any is allocated on the device
+        const MemoryPlan plan = plan_memory_dropping_lists();
         upload_candidate_lists();
         upload_shadow_lists();
-        const MemoryPlan plan = plan_memory_dropping_lists();
         upload_textures();
         use_plan(plan);
         pixel_list = device_array(cl.context(), std::vector<cl_uint>{});
@@ -288,6 +289,8 @@ struct Renderer::Impl {
     void upload_candidate_lists() {
         const PixelCandidates& c = prepared.candidates;
         if (!c.enabled) return;
+        stats.candidates_ms = prepared.candidates_ms;  // made, whether it fits or not
+        if (stats.camera_lists_dropped) return;
         candidate_lists.start = device_array(cl.context(), c.start);
         candidate_lists.count = device_array(cl.context(), c.count);
         candidate_lists.primitive = device_array(cl.context(), c.primitive);
@@ -296,12 +299,13 @@ struct Renderer::Impl {
         use_candidate_lists = true;
         stats.candidate_tree_pixels = c.tree_pixels;
         stats.candidate_entries = c.primitive.size();
-        stats.candidates_ms = prepared.candidates_ms;
     }
 
     void upload_shadow_lists() {
         const ShadowLists& l = prepared.shadow_lists;
         if (!l.enabled()) return;
+        stats.shadow_lists_ms = prepared.shadow_lists_ms;  // made, whether they fit or not
+        if (stats.shadow_lists_dropped) return;
         shadow_lists.grids = device_array(cl.context(), l.grids);
         shadow_lists.start = device_array(cl.context(), l.start);
         shadow_lists.count = device_array(cl.context(), l.count);
@@ -309,7 +313,6 @@ struct Renderer::Impl {
         shadow_lists.key = device_array(cl.context(), l.key);
         shadow_lists.grid_count = cl_uint(l.grids.size());
         stats.shadow_list_entries = l.primitive.size();
-        stats.shadow_lists_ms = prepared.shadow_lists_ms;
     }
 
     MemoryPlan plan_memory() const {
@@ -328,23 +331,18 @@ struct Renderer::Impl {
     }
 
     // The candidate and shadow lists only make rays faster, with the tree's answers: a render that
-    // would fit the device without them drops them instead of failing -- the shadow lists first,
-    // which save less -- and says so in its statistics.
+    // would fit the device without them leaves them on the host instead of failing -- the shadow
+    // lists first, which save less -- and says so in its statistics (upload_*_lists skip them).
     MemoryPlan plan_memory_dropping_lists() {
         for (;;) {
             try {
                 return plan_memory();
             } catch (const DeviceError&) {
-                if (shadow_lists.grid_count > 0) {
+                if (prepared.shadow_lists.enabled() && !stats.shadow_lists_dropped) {
                     dropped_list_bytes += prepared.shadow_lists.bytes();
-                    shadow_lists = ShadowListBuffers{};
-                    stats.shadow_list_entries = 0;
                     stats.shadow_lists_dropped = true;
-                } else if (use_candidate_lists) {
+                } else if (prepared.candidates.enabled && !stats.camera_lists_dropped) {
                     dropped_list_bytes += prepared.candidates.bytes();
-                    candidate_lists = CandidateLists{};
-                    use_candidate_lists = false;
-                    stats.candidate_entries = stats.candidate_tree_pixels = 0;
                     stats.camera_lists_dropped = true;
                 } else {
                     throw;
