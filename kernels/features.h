@@ -83,6 +83,8 @@
  *                                read in kernels/stages/shade.cl)
  *   HT_LIGHT_PICK_IMPORTANCE     --light-pick importance with 2..HT_LIGHT_PICK_MAX lights
  *                                (undefined: uniform; kernels/lights.h, kernels/stages/shade.cl)
+ *   HT_LIGHT_GUIDE F             --light-guiding share (undefined: off, as for a scene without
+ *                                lights; kernels/integrator/light_guide.h, kernels/stages/shade.cl)
  *   HT_REGULARIZE_WIDTH W        --regularize width in radians (undefined: off;
  *                                kernels/integrator/shading_point.h)
  *   HT_SPAWN_PBRT                --spawn-offset pbrt (undefined: capsule offsets; same file)

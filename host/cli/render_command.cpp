@@ -399,6 +399,7 @@ ImageMetadata metadata_of(const PreparedRender& job, const RenderRequest& reques
     meta.floats["hairtrace:clamp_indirect"] = job.renderers.front()->stats().clamp_indirect;
     meta.floats["hairtrace:regularize_deg"] = job.settings.regularize_deg;
     meta.floats["hairtrace:light_threshold"] = job.settings.light_threshold;
+    meta.floats["hairtrace:light_guiding"] = job.renderers.front()->stats().light_guiding;
     meta.floats["hairtrace:render_seconds"] = float(since(out.start));
     meta.text["hairtrace:device"] = device.name + " / " + device.platform + " " + device.driver;
     meta.text["hairtrace:version"] = HT_VERSION;

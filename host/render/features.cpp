@@ -200,7 +200,8 @@ std::string kernel_build_options(const KernelFeatures& f) {
 }
 
 std::string estimator_build_options(float clamp_indirect, float regularize_deg, float light_threshold,
-                                    bool spawn_offset_pbrt, bool sampler_sobol, bool light_pick_importance) {
+                                    bool spawn_offset_pbrt, bool sampler_sobol, bool light_pick_importance,
+                                    float light_guiding) {
     auto float_define = [](const char* name, double v) {
         char def[80];
         std::snprintf(def, sizeof def, " -D%s=%.9ef", name, v);
@@ -213,6 +214,7 @@ std::string estimator_build_options(float clamp_indirect, float regularize_deg, 
     if (spawn_offset_pbrt) o += " -DHT_SPAWN_PBRT=1";
     if (sampler_sobol) o += " -DHT_SAMPLER_SOBOL=1";
     if (light_pick_importance) o += " -DHT_LIGHT_PICK_IMPORTANCE=1";
+    if (light_guiding > 0) o += float_define("HT_LIGHT_GUIDE", light_guiding);
     return o;
 }
 

@@ -42,6 +42,7 @@ bool wants_shadow_lists(const RenderSettings& s, const PreparedScene& p) {
 PreparedScene prepare_scene(const Scene& scene, const RenderSettings& s, const RecipeReady& recipe_ready) {
     PreparedScene p;
     p.settings = s;
+    p.settings.light_guiding = effective_light_guiding(s.light_guiding, !scene.lights.empty(), scene.environment.enabled());
     const bool afs = s.indirect == RenderSettings::Indirect::Afs;
     // The lobe bounds are a quadrature per material: once per render, not per device.
     p.features = scene_features(scene, s.fiber_field, afs, s.features);
@@ -51,7 +52,8 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& s, const R
                                                   s.spawn_offset == RenderSettings::SpawnOffset::Pbrt,
                                                   s.sampler == RenderSettings::Sampler::Sobol,
                                                   s.light_pick == RenderSettings::LightPick::Importance &&
-                                                      light_pick_chooses(scene.lights.size()));
+                                                      light_pick_chooses(scene.lights.size()),
+                                                  p.settings.light_guiding);
     if (recipe_ready) recipe_ready(p);
     BvhOptions bvh;
     bvh.obb_ratio = s.bvh_oriented;

@@ -22,7 +22,7 @@ const char* const kPartMessages[RenderIdentity::kPartCount] = {
     "a different camera (the scene's camera or the default framing, image aspect)",
     "different settings (--width, --height, --seed, --max-depth, --chunk, --indirect, --fiber-field, "
     "--features, --clamp-indirect, --regularize, --spawn-offset, --sampler, --first-hit-splits, "
-    "--first-hit-light-samples, --light-threshold, --target-error, --min-spp)",
+    "--first-hit-light-samples, --light-threshold, --light-guiding, --target-error, --min-spp)",
     "different AOVs (--aovs: which output values are recorded, if any)",
 };
 
@@ -98,6 +98,7 @@ uint64_t settings_digest(const RenderSettings& s, int chunk) {
     if (s.target_error > 0) d.add(s.target_error).add(s.adaptive_min_spp);
     if (s.bvh_oriented > 0) d.add(s.bvh_oriented);
     if (s.light_threshold > 0) d.add(s.light_threshold);
+    if (s.light_guiding != 0) d.add(s.light_guiding).add(std::string("light_guiding"));
     if (s.light_pick != RenderSettings::LightPick::Uniform) d.add(s.light_pick);
     return d.h;
 }

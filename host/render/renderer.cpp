@@ -212,6 +212,7 @@ struct Renderer::Impl {
         paths_per_pixel = std::max(splits, light_samples);
         buffer_set.slots_per_pixel = paths_per_pixel;
         stats.clamp_indirect = s.clamp_indirect;
+        stats.light_guiding = p.settings.light_guiding;
         // The render identity (render/render_identity.h) leaves the paging out: it depends on
         // the device, and paged and unpaged renders give the same bits (tested).
         features = p.features;

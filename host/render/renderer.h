@@ -55,6 +55,7 @@ struct RenderStats {
     int samples = 0;
     std::string kernel_options;
     float clamp_indirect = 0.0f;  // the cap in effect (0: none)
+    float light_guiding = 0.0f;   // the share of continuations guided towards the lights (0: none)
     // With RenderSettings::profile_stages: seconds per stage kernel (the queue is drained after
     // every launch, which costs some overlap, so only the proportions are meaningful).
     std::vector<std::pair<std::string, double>> stage_seconds;

@@ -23,6 +23,23 @@ constexpr int kAutoFirstHitSplits = 0;
 // fibre would be played for.
 constexpr double kMinLightThreshold = 1e-6, kMaxLightThreshold = 1;
 
+// --light-guiding's range (kernels/integrator/light_guide.h): the share of a fibre vertex's
+// continuations drawn towards the lights; 1 would leave directions no light lies in unsampled.
+constexpr double kMinLightGuiding = 1e-3, kMaxLightGuiding = 0.9;
+// RenderSettings::light_guiding for --light-guiding auto, and the share auto takes.
+constexpr float kAutoLightGuiding = -1.0f, kDefaultLightGuiding = 0.2f;
+
+// The share of continuations guided in a scene with or without lights and an environment that
+// gives light: none without lights; auto guides a scene lit by its lights alone.  An environment's
+// light arrives from every direction the guide does not aim at, and guided weights spread (1 / (F
+// r + 1 - F) per vertex): in the white furnace of a dense lock (tests/render/furnace_test.cpp)
+// guiding towards a light that gives nothing put single pixels at 0.4-1.7 of the truth at 16 spp.
+inline float effective_light_guiding(float setting, bool has_lights, bool environment_gives_light) {
+    if (!has_lights) return 0.0f;
+    if (setting < 0) return environment_gives_light ? 0.0f : kDefaultLightGuiding;
+    return setting;
+}
+
 // Whether --light-pick importance has a choice to make among `lights` lights: two or more, and no
 // more than the kernels' pick reads (HT_LIGHT_PICK_MAX); otherwise every pick is uniform.
 inline bool light_pick_chooses(size_t lights) { return lights >= 2 && lights <= HT_LIGHT_PICK_MAX; }
@@ -60,6 +77,11 @@ struct RenderSettings {
     // their shadow ray by Russian roulette (kernels/integrator/roulette.h); 0 here (off), the
     // command line's default is chosen by measurement (docs/PERFORMANCE.md §8).
     float light_threshold = 0.0f;
+    // --light-guiding: the share of a fibre vertex's continuations drawn from a lobe around the
+    // direction to a light instead of from the BCSDF, weighted by the mixture's density
+    // (kernels/integrator/light_guide.h); 0 here (off), the command line's default is chosen by
+    // measurement (docs/PERFORMANCE.md §8).  kAutoLightGuiding: effective_light_guiding decides.
+    float light_guiding = 0.0f;
     // How a single next-event estimate chooses among two or more lights: uniformly (here), or half
     // by what each light delivers unshadowed at the shading point times how squarely it faces the
     // fibre or surface there, half evenly over the lights that reach it (kernels/lights.h

@@ -169,6 +169,18 @@ HT_FN void ht_point_eval(const HtShadingPoint* sp, real3 wi, real3* value, real*
                     pdf);
 }
 
+/* A fibre's continuation from the four uniforms u0..u3 (kernels/fiber/bcsdf.h's sampler); mixture
+ * as ht_point_sample's. */
+HT_FN int ht_point_sample_fibre(const HtShadingPoint* sp, real u0, real u1, real u2, real u3, int mixture,
+                                real3* wi, real3* weight, real* pdf) {
+    real3 wi_l = make_real3(0, 0, 0);
+    *weight = make_real3(0, 0, 0);
+    if (!ht_bcsdf_sample_mode_o(&sp->mat, &sp->wo_prep, sp->wo_l, sp->h, u0, u1, u2, u3, mixture, &wi_l, weight, pdf))
+        return 0;
+    *wi = sp->fx * wi_l.x + sp->fy * wi_l.y + sp->fz * wi_l.z;
+    return 1;
+}
+
 /* Draws the vertex's uniforms from the BSDF slots of `bounce` (kernels/rng.h's layout).  mixture
  * 0 when no light can be met by the sampled ray (no MIS): *pdf may then be 0 and the weight that
  * of the drawn lobe alone (kernels/fiber/bcsdf.h, ht_bcsdf_sample_mode_o). */
@@ -186,12 +198,7 @@ HT_FN int ht_point_sample(const HtShadingPoint* sp, uint seed, uint pixel, uint 
 #endif
     real u0 = ht_sample(seed, pixel, sample, bounce, HT_DIM_BSDF_0);
     real u3 = ht_sample(seed, pixel, sample, bounce, HT_DIM_BSDF_0 + 3u);
-    real3 wi_l = make_real3(0, 0, 0);
-    *weight = make_real3(0, 0, 0);
-    if (!ht_bcsdf_sample_mode_o(&sp->mat, &sp->wo_prep, sp->wo_l, sp->h, u0, u1, u2, u3, mixture, &wi_l, weight, pdf))
-        return 0;
-    *wi = sp->fx * wi_l.x + sp->fy * wi_l.y + sp->fz * wi_l.z;
-    return 1;
+    return ht_point_sample_fibre(sp, u0, u1, u2, u3, mixture, wi, weight, pdf);
 }
 
 #endif

@@ -46,6 +46,9 @@
 #include "../integrator/mis.h"
 #include "../integrator/roulette.h"
 #include "../integrator/shading_point.h"
+#ifdef HT_LIGHT_GUIDE
+#include "../integrator/light_guide.h"
+#endif
 #include "../integrator/aov_record.h"
 #include "../integrator/aov_lobes.h"
 #include "stage_args.h"
@@ -196,6 +199,10 @@ HT_FN int ht_next_event(__global const HtLight* lights, uint light_count, const 
     /* lights that BCSDF sampling can also reach (the environment map) share the estimate by MIS;
      * the others keep weight 1 and need no BCSDF pdf */
     ht_point_eval(sp, ls.wi, &value, ls.pdf > 0.0f ? &pdf_bsdf : 0);
+#ifdef HT_LIGHT_GUIDE
+    /* a continuation finds the light with the guided mixture's density, not the BCSDF's */
+    if (ls.pdf > 0.0f) pdf_bsdf = ht_guided_pdf(sp, lights, light_count, HT_LIGHT_GUIDE, bounce, ls.wi, pdf_bsdf);
+#endif
     float w = ls.pdf > 0.0f ? ht_mis_power(ls.pdf / inv_pick, pdf_bsdf) : 1.0f;
     float3 c = thr * value * ls.li_over_pdf * (inv_pick * w);
     if (!ht_finite3(c)) {
@@ -374,8 +381,13 @@ __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM, HT_SCENE_PARA
             const uint cont_sample = ht_continuation_sample(sample, splits, cont->split);
             float3 wi, weight;
             float pdf;
+#ifdef HT_LIGHT_GUIDE
+            const int sampled = ht_point_sample_guided(&sp, lights, light_count, HT_LIGHT_GUIDE, seed, st.pixel,
+                                                       cont_sample, bounce, ht_env_in_nee(&env), &wi, &weight, &pdf);
+#else
             const int sampled =
                 ht_point_sample(&sp, seed, st.pixel, cont_sample, bounce, ht_env_in_nee(&env), &wi, &weight, &pdf);
+#endif
             if (extend && sampled) {
                 float3 nthr =
                     ht_roulette_at(thr * weight * split_weight, share, seed, st.pixel, cont_sample, bounce);

@@ -66,6 +66,11 @@ TEST(RenderIdentity, EachPartFollowsItsInputs) {
     RenderSettings threshold = rs;
     threshold.light_threshold = 0.1f;
     only(render_identity(s, threshold, 16), RenderIdentity::Settings);
+    RenderSettings guided = rs, guided_auto = rs;
+    guided.light_guiding = 0.2f;
+    guided_auto.light_guiding = kAutoLightGuiding;
+    only(render_identity(s, guided, 16), RenderIdentity::Settings);
+    only(render_identity(s, guided_auto, 16), RenderIdentity::Settings);
     RenderSettings oriented = rs;
     oriented.bvh_oriented = 0.8f;
     only(render_identity(s, oriented, 16), RenderIdentity::Settings);
