@@ -90,6 +90,6 @@
  *   HT_SPAWN_PBRT                --spawn-offset pbrt (undefined: capsule offsets; same file)
  *   HT_SAMPLER_SOBOL             --sampler: 1 Owen-scrambled Sobol', 0 independent (default 0 for
  *                                builds without options; kernels/rng.h)
- *   HT_RR_START_BOUNCE B         first bounce with Russian roulette (3; kernels/stages/shade.cl) */
+ *   HT_RR_START_BOUNCE B         first bounce with Russian roulette (4; kernels/stages/shade.cl) */
 
 #endif

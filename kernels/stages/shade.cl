@@ -53,8 +53,14 @@
 #include "../integrator/aov_lobes.h"
 #include "stage_args.h"
 
+/* Roulette decides the rays of bounce 4 on (the fourth vertex's continuation).  From bounce 3
+ * on, as until session 19, pbrt's lock at depth 5 took 1.15x the time to pbrt's error: a path cut
+ * two vertices before --max-depth saves little work, and its survivors' doubled weights cost
+ * more.  At depth 20 and on the demo the two starts measured the same; no roulette at all at
+ * depth 5 gained more on the lock (1.27x) but lost 8 % on the demo (docs/PERFORMANCE.md section 8
+ * "Roulette from the fourth vertex"). */
 #ifndef HT_RR_START_BOUNCE
-#define HT_RR_START_BOUNCE 3u
+#define HT_RR_START_BOUNCE 4u
 #endif
 
 /* --clamp-indirect: light that scattered at two or more surfaces before reaching the camera (NEE
