@@ -22,7 +22,8 @@ const char* const kPartMessages[RenderIdentity::kPartCount] = {
     "a different camera (the scene's camera or the default framing, image aspect)",
     "different settings (--width, --height, --seed, --max-depth, --chunk, --indirect, --fiber-field, "
     "--features, --clamp-indirect, --regularize, --spawn-offset, --sampler, --first-hit-splits, "
-    "--first-hit-light-samples, --light-threshold, --light-guiding, --target-error, --min-spp)",
+    "--first-hit-light-samples, --light-threshold, --light-guiding, --target-error, --min-spp; or a "
+    "hairtrace whose estimator differs wrote it)",
     "different AOVs (--aovs: which output values are recorded, if any)",
 };
 
@@ -86,8 +87,15 @@ uint64_t camera_digest(const PreparedScene& p) { return Digest().add(p.camera).h
 
 // The kernel build options are left out: they follow from the scene and these settings (and
 // from the device's geometry paging, which never changes a bit).
+// The estimator's revision: the same settings give other samples once the kernels' rules change,
+// so a checkpoint or a render-farm part written by a build with other rules must not be merged
+// with this one's samples.  Builds before revision 1 digested no revision.
+//   1: roulette from the rays of bounce 4 (was 3), and --light-guiding (kernels/stages/shade.cl).
+constexpr uint32_t kEstimatorRevision = 1;
+
 uint64_t settings_digest(const RenderSettings& s, int chunk) {
     Digest d;
+    d.add(kEstimatorRevision);
     d.add(s.width).add(s.height).add(s.seed).add(s.max_depth).add(chunk);
     d.add(s.indirect).add(s.fiber_field).add(s.features).add(s.clamp_indirect).add(s.regularize_deg);
     d.add(s.spawn_offset).add(s.sampler);
