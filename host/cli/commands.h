@@ -40,6 +40,10 @@ void apply_model_override(Scene& scene, const std::string& model);
 // near|far|auto|material -> HT_FIELD_*; throws UsageError naming `what` otherwise.
 uint32_t parse_fiber_field(const std::string& what, const std::string& value);
 
+// --light-guiding / configs light_guiding=: a share, auto (kAutoLightGuiding) or off (0); throws
+// UsageError naming `what` otherwise.
+float parse_light_guiding(const std::string& what, const std::string& value);
+
 // "r,g,b" or a single value for all three.
 Vec3f parse_rgb(const std::string& option, const std::string& text);
 

@@ -73,9 +73,7 @@ std::vector<ConvergeConfig> parse_configs(const std::string& text, const ImageRe
             if (k == "light_threshold")
                 r.settings.light_threshold = v == "off" ? 0.0f : float(parse_double("--configs light_threshold", v, kMinLightThreshold, kMaxLightThreshold));
             if (k == "light_guiding")
-                r.settings.light_guiding = v == "off"    ? 0.0f
-                                           : v == "auto" ? kAutoLightGuiding
-                                                         : float(parse_double("--configs light_guiding", v, kMinLightGuiding, kMaxLightGuiding));
+                r.settings.light_guiding = parse_light_guiding("--configs light_guiding", v);
             if (k == "camera_rays")
                 r.settings.camera_lists = require_choice("--configs camera_rays", v, {"lists", "tree"}) == "lists";
             if (k == "shadow_rays")

@@ -178,9 +178,7 @@ ImageRequest parse_image_request(const ArgParser& p) {
     s.clamp_indirect = float(p.get_double_or("--clamp-indirect", "off", 1e-30, 3.0e38).value_or(0.0));
     s.regularize_deg = float(p.get_double_or("--regularize", "off", 0.1, 90).value_or(0.0));
     s.light_threshold = float(p.get_double_or("--light-threshold", "off", kMinLightThreshold, kMaxLightThreshold).value_or(0.0));
-    s.light_guiding = p.get("--light-guiding") == "auto"
-                          ? kAutoLightGuiding
-                          : float(p.get_double_or("--light-guiding", "off", kMinLightGuiding, kMaxLightGuiding).value_or(0.0));
+    s.light_guiding = parse_light_guiding("--light-guiding", p.get("--light-guiding"));
     s.bvh_oriented = float(p.get_double_or("--bvh-oriented", "off", 0.01, 1).value_or(0.0));
     if (p.get_choice("--spawn-offset", {"capsule", "pbrt"}) == "pbrt") s.spawn_offset = RenderSettings::SpawnOffset::Pbrt;
     if (p.get_choice("--sampler", {"sobol", "independent"}) == "independent") s.sampler = RenderSettings::Sampler::Independent;

@@ -1,6 +1,7 @@
 #include "cli/commands.h"
 #include "kernels/types.h"
 #include "scene/hair_presets.h"
+#include "render/settings.h"
 
 #include <cmath>
 #include <cstdlib>
@@ -46,6 +47,12 @@ uint32_t parse_fiber_field(const std::string& what, const std::string& f) {
     if (f == "far") return HT_FIELD_FAR;
     if (f == "auto") return HT_FIELD_AUTO;
     throw UsageError(what + " must be near, far, auto or material, got '" + f + "'");
+}
+
+float parse_light_guiding(const std::string& what, const std::string& value) {
+    if (value == "auto") return kAutoLightGuiding;
+    if (value == "off") return 0.0f;
+    return float(parse_double(what, value, kMinLightGuiding, kMaxLightGuiding));
 }
 
 namespace {
