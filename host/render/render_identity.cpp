@@ -91,7 +91,9 @@ uint64_t camera_digest(const PreparedScene& p) { return Digest().add(p.camera).h
 // so a checkpoint or a render-farm part written by a build with other rules must not be merged
 // with this one's samples.  Builds before revision 1 digested no revision.
 //   1: roulette from the rays of bounce 4 (was 3), and --light-guiding (kernels/stages/shade.cl).
-constexpr uint32_t kEstimatorRevision = 1;
+//   2: guided continuations of chiang fibres weigh each lobe against the guide on its own
+//      (kernels/integrator/light_guide.h).
+constexpr uint32_t kEstimatorRevision = 2;
 
 uint64_t settings_digest(const RenderSettings& s, int chunk) {
     Digest d;

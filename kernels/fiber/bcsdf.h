@@ -201,6 +201,47 @@ HT_FIBER_FN int ht_bcsdf_sample_o(const HtMaterial* m, const HtBcsdfWo* o, real3
     return ht_bcsdf_sample_mode_o(m, o, wo, h, u0, u1, u2, u3, 1, wi, weight, pdf);
 }
 
+/* The lobes one at a time, for an estimator that weighs each lobe against another density on its
+ * own (kernels/integrator/light_guide.h: a lobe drawn by the BCSDF then needs only that lobe's
+ * density, not the whole model's).  Models whose lobes are sampled exactly, so that lobe p's value
+ * at wi is colour_p times the density with which it draws wi: chiang.  For the others
+ * ht_bcsdf_has_lobe_densities is 0 and the other two are not to be called. */
+HT_FIBER_FN int ht_bcsdf_has_lobe_densities(const HtMaterial* m) {
+#if HT_FEATURE_MODEL_CHIANG
+    return m->model == HT_MODEL_CHIANG;
+#else
+    return 0;
+#endif
+}
+/* Lobe p's share of the sampler's choice (its return), colour (*colour) and density at wi (*density). */
+HT_FIBER_FN real ht_bcsdf_lobe_o(const HtMaterial* m, const HtBcsdfWo* o, real3 wo, real3 wi, int p, real3* colour,
+                                 real* density) {
+    *colour = ht_splat(HT_R(0));
+    *density = HT_R(0);
+#if HT_FEATURE_MODEL_CHIANG
+    if (m->model == HT_MODEL_CHIANG && o->chiang.ap_pdf[p] > HT_R(0) && ht_valid_dir(wi)) {
+        *colour = o->chiang.ap[p];
+        *density = ht_sanitize(ht_chiang_lobe_density(m, &o->chiang, wo, wi, p));
+        return o->chiang.ap_pdf[p];
+    }
+#endif
+    return HT_R(0);
+}
+/* A direction drawn from the sampler's lobe choice (u0) and that lobe (u1..u3): returns the lobe,
+ * or -1 when none could be drawn. */
+HT_FIBER_FN int ht_bcsdf_draw_lobe_o(const HtMaterial* m, const HtBcsdfWo* o, real3 wo, real u0, real u1, real u2,
+                                     real u3, real3* wi) {
+    *wi = make_real3(HT_R(1), HT_R(0), HT_R(0));
+#if HT_FEATURE_MODEL_CHIANG
+    if (m->model == HT_MODEL_CHIANG && ht_valid_dir(wo)) {
+        const int p = ht_chiang_draw(m, &o->chiang, wo, ht_sanitize_u(u0), ht_sanitize_u(u1), ht_sanitize_u(u2),
+                                     ht_sanitize_u(u3), wi);
+        return ht_valid_dir(*wi) ? p : -1;
+    }
+#endif
+    return -1;
+}
+
 // mixture: as ht_bcsdf_sample_mode_o's
 HT_FIBER_FN int ht_bcsdf_sample_mode(const HtMaterial* m, real3 wo, real h, real u0, real u1, real u2, real u3,
                                      int mixture, real3* wi, real3* weight, real* pdf) {

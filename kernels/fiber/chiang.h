@@ -137,6 +137,18 @@ HT_FIBER_FN int ht_chiang_draw(const HtMaterial* m, const HtChiangSetup* c, real
     return p;
 }
 
+/* The density with which lobe p draws wi, M_p N_p (M_3 / (2 pi) for the residual): the sampler
+ * draws each lobe's factors exactly, so lobe p's value at wi is A_p times it. */
+HT_FIBER_FN real ht_chiang_lobe_density(const HtMaterial* m, const HtChiangSetup* c, real3 wo, real3 wi, int p) {
+    real sin_i, cos_i;
+    ht_theta(wi, &sin_i, &cos_i);
+    if (p == 3) return ht_mp_n(cos_i, sin_i, c->cos_o, c->sin_o, m->v[3], ht_chiang_log_norm(m, 3)) * HT_INV_TWO_PI;
+    real sp, cp;
+    ht_chiang_tilt(m, p, c->sin_o, c->cos_o, &sp, &cp);
+    return ht_mp_n(cos_i, sin_i, cp, sp, m->v[p], ht_chiang_log_norm(m, p)) *
+           ht_trimmed_logistic(ht_wrap_pi(ht_relative_phi(wo, wi) - ht_phi_path(p, c->gamma_o, c->gamma_t)), m->s);
+}
+
 /* c: ht_chiang_setup of m, wo and h (a shading point makes it once: kernels/fiber/bcsdf.h).
  * weight = value / pdf of all lobes at the drawn direction (MIS needs that pdf). */
 HT_FIBER_FN int ht_chiang_sample_setup(const HtMaterial* m, const HtChiangSetup* c, real3 wo, real u0, real u1, real u2,

@@ -61,9 +61,9 @@ TEST(LightGuide, TheLobeIsADensityWithTheVonMisesFisherMeanCosine) {
 }
 
 TEST(LightGuide, GuidedSamplesAgreeWithTheMixturesDensity) {
-    // Each sample's pdf is the mixture's density at its direction (what the next-event estimate's
-    // MIS uses, ht_guided_pdf) and its weight the value there over that pdf; some samples come from
-    // the guide (near a light's direction), most from the BCSDF.
+    // With an MIS partner (mixture 1), each sample's pdf is the mixture's density at its direction
+    // (what the next-event estimate's MIS uses, ht_guided_pdf) and its weight the value there over
+    // that pdf; some samples come from the guide (near a light's direction), most from the BCSDF.
     const real share = 0.3;
     for (const char* model : {"chiang", "zinke", "marschner"})
         for (double h : {-0.7, 0.2}) {
@@ -72,7 +72,7 @@ TEST(LightGuide, GuidedSamplesAgreeWithTheMixturesDensity) {
             for (uint s = 0; s < 3000; ++s) {
                 real3 wi, weight;
                 real pdf = 0;
-                if (!ht_point_sample_guided(&sp, rig().data(), uint(rig().size()), share, 11u, 5u, s, 1u, 0, &wi, &weight,
+                if (!ht_point_sample_guided(&sp, rig().data(), uint(rig().size()), share, 11u, 5u, s, 1u, 1, &wi, &weight,
                                             &pdf))
                     continue;
                 ++sampled;
@@ -126,6 +126,47 @@ TEST(LightGuide, TheGuidedAlbedoEqualsTheBcsdfSampledOne) {
             EXPECT_NEAR(mean[1], mean[0], 5 * std::sqrt(var[0] + var[1]))
                 << model << " h " << h << ": guided " << mean[1] << ", BCSDF-sampled " << mean[0];
         }
+}
+
+TEST(LightGuide, PerLobeWeightsAreEachLobeAgainstTheGuide) {
+    // Without an MIS partner, chiang's guided continuations weigh each lobe against the guide on its
+    // own (light_guide.h): recomputed here from the model's lobe values and the sampler's lobe
+    // choice, independently of the kernel's per-lobe helpers.  A BCSDF draw's weight is one of the
+    // terms, a guided draw's their sum, so the weight must equal either one term or the sum.
+    const real share = 0.3;
+    for (double h : {-0.7, 0.2}) {
+        const HtShadingPoint sp = fibre_point(h, "chiang");
+        const HtChiangSetup& c = sp.wo_prep.chiang;
+        int as_one = 0, as_sum = 0;
+        for (uint s = 0; s < 3000; ++s) {
+            real3 wi, weight;
+            real pdf = -1;
+            if (!ht_point_sample_guided(&sp, rig().data(), uint(rig().size()), share, 11u, 5u, s, 1u, 0, &wi, &weight,
+                                        &pdf))
+                continue;
+            EXPECT_EQ(pdf, 0);
+            real3 mu, lobes[4], value;
+            real guide;
+            ht_guide_lights(rig().data(), uint(rig().size()), sp.p, uint(rig().size()), &mu, wi, &guide);
+            ht_chiang_eval_setup(&sp.mat, &c, sp.wo_l, ht_to_fiber_local(wi, sp.fx, sp.fy, sp.fz), lobes, &value, 0);
+            double sum = 0, term[4];
+            for (int p = 0; p < 4; ++p) {
+                // lobe p's value is A_p d_p: its density d_p from the value's green channel
+                const double d = c.ap[p].y > 0 ? lobes[p].y / c.ap[p].y : 0;
+                term[p] = c.ap_pdf[p] > 0 ? lobes[p].y / (share * guide + (1 - share) * c.ap_pdf[p] * d) : 0;
+                sum += term[p];
+            }
+            const double tol = 1e-9 * std::max(1.0, sum);
+            bool one = false;
+            for (int p = 0; p < 4; ++p) one = one || std::fabs(weight.y - term[p]) <= tol;
+            as_one += one;
+            as_sum += std::fabs(weight.y - sum) <= tol;
+            ASSERT_TRUE(one || std::fabs(weight.y - sum) <= tol) << "h " << h << " sample " << s << " weight " << weight.y;
+        }
+        // a share of about 0.3 comes from the guide
+        EXPECT_GT(as_sum, 600) << h;
+        EXPECT_GT(as_one, 1800) << h;
+    }
 }
 
 TEST(LightGuide, NothingGuidesWithoutALightThatReachesTheVertexNorPastTheFirstVertices) {
