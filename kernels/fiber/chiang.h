@@ -78,6 +78,20 @@ HT_FIBER_FN void ht_chiang_tilt(const HtMaterial* m, int p, real sin_o, real cos
     *cp = fabs(c);
 }
 
+/* M_p N_p of lobe p < 3 at (sin_i, cos_i, phi): the density with which the sampler's lobe p draws
+ * that direction (it draws both factors exactly); lobe p's value is A_p times it. */
+HT_FIBER_FN real ht_chiang_mn(const HtMaterial* m, const HtChiangSetup* c, int p, real sin_i, real cos_i, real phi) {
+    real sp, cp;
+    ht_chiang_tilt(m, p, c->sin_o, c->cos_o, &sp, &cp);
+    real mp = ht_mp_n(cos_i, sin_i, cp, sp, m->v[p], ht_chiang_log_norm(m, p));
+    real np = ht_trimmed_logistic(ht_wrap_pi(phi - ht_phi_path(p, c->gamma_o, c->gamma_t)), m->s);
+    return mp * np;
+}
+/* The residual lobe's M_3 / (2 pi) (uniform in phi), likewise. */
+HT_FIBER_FN real ht_chiang_residual_m(const HtMaterial* m, const HtChiangSetup* c, real sin_i, real cos_i) {
+    return ht_mp_n(cos_i, sin_i, c->cos_o, c->sin_o, m->v[3], ht_chiang_log_norm(m, 3)) * HT_INV_TWO_PI;
+}
+
 /* value, pdf and the per-lobe values (R, TT, TRT, residual) for given setup. */
 HT_FIBER_FN void ht_chiang_eval_setup(const HtMaterial* m, const HtChiangSetup* c, real3 wo, real3 wi,
                                 real3* lobes, real3* value, real* pdf) {
@@ -88,17 +102,14 @@ HT_FIBER_FN void ht_chiang_eval_setup(const HtMaterial* m, const HtChiangSetup* 
     real pd = HT_R(0);
     for (int p = 0; p < 3; ++p) {
         if (!HT_LOBE_ON(p)) { lobes[p] = ht_splat(HT_R(0)); continue; }
-        real sp, cp;
-        ht_chiang_tilt(m, p, c->sin_o, c->cos_o, &sp, &cp);
-        real mp = ht_mp_n(cos_i, sin_i, cp, sp, m->v[p], ht_chiang_log_norm(m, p));
-        real np = ht_trimmed_logistic(ht_wrap_pi(phi - ht_phi_path(p, c->gamma_o, c->gamma_t)), m->s);
-        real3 l = c->ap[p] * (mp * np);
+        const real mn = ht_chiang_mn(m, c, p, sin_i, cos_i, phi);
+        real3 l = c->ap[p] * mn;
         lobes[p] = l;
         sum += l;
-        pd += mp * np * c->ap_pdf[p];
+        pd += mn * c->ap_pdf[p];
     }
 #if HT_FEATURE_LOBE_TRT
-    real m3 = ht_mp_n(cos_i, sin_i, c->cos_o, c->sin_o, m->v[3], ht_chiang_log_norm(m, 3)) * HT_INV_TWO_PI;
+    real m3 = ht_chiang_residual_m(m, c, sin_i, cos_i);
     lobes[3] = c->ap[3] * m3;
     sum += lobes[3];
     pd += m3 * c->ap_pdf[3];
@@ -137,16 +148,11 @@ HT_FIBER_FN int ht_chiang_draw(const HtMaterial* m, const HtChiangSetup* c, real
     return p;
 }
 
-/* The density with which lobe p draws wi, M_p N_p (M_3 / (2 pi) for the residual): the sampler
- * draws each lobe's factors exactly, so lobe p's value at wi is A_p times it. */
+/* The density with which lobe p draws wi (ht_chiang_mn, ht_chiang_residual_m). */
 HT_FIBER_FN real ht_chiang_lobe_density(const HtMaterial* m, const HtChiangSetup* c, real3 wo, real3 wi, int p) {
     real sin_i, cos_i;
     ht_theta(wi, &sin_i, &cos_i);
-    if (p == 3) return ht_mp_n(cos_i, sin_i, c->cos_o, c->sin_o, m->v[3], ht_chiang_log_norm(m, 3)) * HT_INV_TWO_PI;
-    real sp, cp;
-    ht_chiang_tilt(m, p, c->sin_o, c->cos_o, &sp, &cp);
-    return ht_mp_n(cos_i, sin_i, cp, sp, m->v[p], ht_chiang_log_norm(m, p)) *
-           ht_trimmed_logistic(ht_wrap_pi(ht_relative_phi(wo, wi) - ht_phi_path(p, c->gamma_o, c->gamma_t)), m->s);
+    return p == 3 ? ht_chiang_residual_m(m, c, sin_i, cos_i) : ht_chiang_mn(m, c, p, sin_i, cos_i, ht_relative_phi(wo, wi));
 }
 
 /* c: ht_chiang_setup of m, wo and h (a shading point makes it once: kernels/fiber/bcsdf.h).

@@ -100,38 +100,17 @@ HT_FN real ht_guided_pdf(const HtShadingPoint* sp, HT_CONST_GLOBAL HtLight* ligh
     return n ? share * guide + (HT_R(1) - share) * pdf_bsdf : pdf_bsdf;
 }
 
-/* The per-lobe estimator of the header comment, for a fibre vertex that n >= 1 lights guide and no
- * light a continuation can meet: *pdf is not needed (and not set) there, as with the BCSDF's own
- * lobe-only weight. */
-HT_FN int ht_point_sample_guided_lobes(const HtShadingPoint* sp, HT_CONST_GLOBAL HtLight* lights, uint light_count,
-                                       real share, uint n, real u0, real u1, real u2, real u3, real3* wi,
-                                       real3* weight) {
-    real3 wl, mu = make_real3(0, 0, 1), sum = make_real3(0, 0, 0), colour;
-    real guide, density;
-    if (u0 < share) {
-        uint k = (uint)(u0 / share * (real)n);
-        k = k < n ? k : n - 1u;
-        ht_guide_lights(lights, light_count, sp->p, k, &mu, mu, 0);
-        *wi = ht_vmf_sample(mu, u1, u2);
-        ht_guide_lights(lights, light_count, sp->p, light_count, &mu, *wi, &guide);
-        wl = ht_to_fiber_local(*wi, sp->fx, sp->fy, sp->fz);
-        for (int p = 0; p < 4; ++p) {
-            const real pick = ht_bcsdf_lobe_o(&sp->mat, &sp->wo_prep, sp->wo_l, wl, p, &colour, &density);
-            const real d = share * guide + (HT_R(1) - share) * pick * density;
-            if (pick > HT_R(0) && d > HT_R(0)) sum += colour * (density / d);
-        }
-    } else {
-        const real ub = ht_min((u0 - share) / (HT_R(1) - share), HT_R(0.99999994));
-        const int p = ht_bcsdf_draw_lobe_o(&sp->mat, &sp->wo_prep, sp->wo_l, ub, u1, u2, u3, &wl);
-        if (p < 0) return 0;
-        *wi = sp->fx * wl.x + sp->fy * wl.y + sp->fz * wl.z;
-        ht_guide_lights(lights, light_count, sp->p, light_count, &mu, *wi, &guide);
+/* The per-lobe weight of the header comment at wl (fibre frame), guide = the guide's density there: lobe
+ * `drawn`'s term for a BCSDF draw of that lobe, the sum over the lobes for a guided draw (drawn < 0). */
+HT_FN real3 ht_guided_lobes_weight(const HtShadingPoint* sp, real share, real guide, real3 wl, int drawn) {
+    real3 sum = make_real3(0, 0, 0), colour;
+    real density;
+    for (int p = drawn < 0 ? 0 : drawn; p <= (drawn < 0 ? 3 : drawn); ++p) {
         const real pick = ht_bcsdf_lobe_o(&sp->mat, &sp->wo_prep, sp->wo_l, wl, p, &colour, &density);
         const real d = share * guide + (HT_R(1) - share) * pick * density;
-        if (pick > HT_R(0) && d > HT_R(0)) sum = colour * (density / d);
+        if (pick > HT_R(0) && d > HT_R(0)) sum += colour * (density / d);
     }
-    *weight = ht_sanitize3(sum);
-    return sum.x + sum.y + sum.z > HT_R(0);
+    return ht_sanitize3(sum);
 }
 
 /* ht_point_sample with a share of the continuation drawn towards the lights (header comment).
@@ -156,22 +135,37 @@ HT_FN int ht_point_sample_guided(const HtShadingPoint* sp, HT_CONST_GLOBAL HtLig
     real pdf_bsdf = HT_R(0);
     *weight = make_real3(0, 0, 0);
     *pdf = HT_R(0);
-    if (!mixture && ht_bcsdf_has_lobe_densities(&sp->mat))
-        return ht_point_sample_guided_lobes(sp, lights, light_count, share, n, u0, u1, u2, u3, wi, weight);
+    /* per-lobe weights (header comment): the lobe a BCSDF draw took, -1 for a guided draw */
+    const int per_lobe = !mixture && ht_bcsdf_has_lobe_densities(&sp->mat);
+    int drawn = -1;
+    real3 wl;
     if (u0 < share) {
         uint k = (uint)(u0 / share * (real)n);
         k = k < n ? k : n - 1u;
         ht_guide_lights(lights, light_count, sp->p, k, &mu, mu, 0);
         *wi = ht_vmf_sample(mu, u1, u2);
-        ht_point_eval(sp, *wi, &value, &pdf_bsdf);
+        if (per_lobe)
+            wl = ht_to_fiber_local(*wi, sp->fx, sp->fy, sp->fz);
+        else
+            ht_point_eval(sp, *wi, &value, &pdf_bsdf);
     } else {
         real3 w;
         const real ub = ht_min((u0 - share) / (HT_R(1) - share), HT_R(0.99999994));
-        if (!ht_point_sample_fibre(sp, ub, u1, u2, u3, 1, wi, &w, &pdf_bsdf)) return 0;
-        value = w * pdf_bsdf;
+        if (per_lobe) {
+            drawn = ht_bcsdf_draw_lobe_o(&sp->mat, &sp->wo_prep, sp->wo_l, ub, u1, u2, u3, &wl);
+            if (drawn < 0) return 0;
+            *wi = sp->fx * wl.x + sp->fy * wl.y + sp->fz * wl.z;
+        } else {
+            if (!ht_point_sample_fibre(sp, ub, u1, u2, u3, 1, wi, &w, &pdf_bsdf)) return 0;
+            value = w * pdf_bsdf;
+        }
     }
     real guide;
     ht_guide_lights(lights, light_count, sp->p, light_count, &mu, *wi, &guide);
+    if (per_lobe) {
+        *weight = ht_guided_lobes_weight(sp, share, guide, wl, drawn);
+        return weight->x + weight->y + weight->z > HT_R(0);
+    }
     const real p = share * guide + (HT_R(1) - share) * pdf_bsdf;
     if (!(p > HT_R(0))) return 0;
     *pdf = p;
