@@ -105,4 +105,25 @@ HT_FN real ht_sample(uint seed, uint pixel, uint sample, uint bounce, uint slot)
 #endif
 }
 
+/* The pair of slots that are components 0 and 1 of slot_a's group (the pairs of the layout
+ * above): one group seed and one shuffle for both; the numbers of two ht_sobol_sample calls
+ * (tests/unit/sobol_test.cpp). */
+HT_FN void ht_sobol_sample2(uint seed, uint pixel, uint sample, uint bounce, uint slot_a, real* a, real* b) {
+    uint comp;
+    const uint group = ht_slot_group(slot_a, &comp);
+    ht_sobol_uniform2(ht_sobol_pixel_seed(seed, pixel), bounce * HT_GROUPS_PER_BOUNCE + group, sample, a, b);
+}
+
+/* Slots a and b of one bounce drawn together; for sobol they must be components 0 and 1 of one
+ * group (a pair of the layout above). */
+HT_FN void ht_sample2(uint seed, uint pixel, uint sample, uint bounce, uint slot_a, uint slot_b, real* a, real* b) {
+#if HT_SAMPLER_SOBOL
+    ht_sobol_sample2(seed, pixel, sample, bounce, slot_a, a, b);
+    (void)slot_b;
+#else
+    *a = ht_uniform(seed, pixel, sample, ht_dim(bounce, slot_a));
+    *b = ht_uniform(seed, pixel, sample, ht_dim(bounce, slot_b));
+#endif
+}
+
 #endif

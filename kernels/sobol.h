@@ -45,42 +45,15 @@ HT_FN uint ht_owen_scramble(uint x, uint seed) {
     return ht_reverse_bits32(ht_laine_karras(ht_reverse_bits32(x), seed));
 }
 
-/* Sobol' dimension dim (0..3) of point `index` as a 32-bit fraction.  Dimension 0 is the van der
- * Corput sequence; 1..3 follow Joe & Kuo's primitive polynomials x+1, x^2+x+1, x^3+x+1 with
- * initial direction numbers (1), (1,3), (1,3,1).  The direction numbers are made on the fly by
- * their recurrence (in 32-bit fixed point: v_k = a_1 v_{k-1} ^ ... ^ v_{k-s} ^ (v_{k-s} >> s)),
- * a loop over the index's bits instead of a table that OpenCL C and C++ would declare apart. */
-HT_FN uint ht_sobol_bits(uint index, uint dim) {
-    if (dim == 0u) return ht_reverse_bits32(index);
-    /* v1, v2, v3: the last three direction numbers, v1 the newest */
-    uint v1 = 0x80000000u, v2 = 0u, v3 = 0u;
-    uint k = 1u; /* 1-based number of the direction number held in v1 */
-    uint x = 0u;
-    while (index != 0u) {
-        if (index & 1u) x ^= v1;
-        index >>= 1;
-        ++k;
-        uint v;
-        if (dim == 1u) {
-            v = v1 ^ (v1 >> 1);
-        } else if (dim == 2u) {
-            v = k == 2u ? (3u << 30) : v1 ^ v2 ^ (v2 >> 2);
-        } else {
-            v = k == 2u ? (3u << 30) : (k == 3u ? (1u << 29) : v2 ^ v3 ^ (v3 >> 3));
-        }
-        v3 = v2;
-        v2 = v1;
-        v1 = v;
-    }
-    return x;
-}
-
 /* The seed of one group of one pixel: every (seed, pixel, group) gets its own shuffle and
- * scrambles; the constants keep it apart from ht_hash4's other uses. */
+ * scrambles; the constants keep it apart from ht_hash4's other uses.  The first two hashes depend
+ * on (seed, pixel) alone: ht_sobol_pixel_seed, made once where a vertex draws from several groups. */
+HT_FN uint ht_sobol_pixel_seed(uint seed, uint pixel) { return ht_hash32(ht_hash32(seed ^ 0x5bd1e995u) ^ pixel); }
+HT_FN uint ht_sobol_group_seed_of(uint pixel_seed, uint group) {
+    return ht_hash32(pixel_seed ^ (group * 0x27d4eb2du + 0x165667b1u));
+}
 HT_FN uint ht_sobol_group_seed(uint seed, uint pixel, uint group) {
-    uint h = ht_hash32(seed ^ 0x5bd1e995u);
-    h = ht_hash32(h ^ pixel);
-    return ht_hash32(h ^ (group * 0x27d4eb2du + 0x165667b1u));
+    return ht_sobol_group_seed_of(ht_sobol_pixel_seed(seed, pixel), group);
 }
 
 /* Burley's shuffle: the sample index Owen-scrambled, then xor-ed with the scramble of 0.  That
@@ -92,17 +65,66 @@ HT_FN uint ht_sobol_shuffle(uint sample, uint seed) {
     return ht_reverse_bits32(ht_laine_karras(ht_reverse_bits32(sample), seed) ^ ht_laine_karras(0u, seed));
 }
 
-/* Component `comp` (0..3) of sample `sample` of a group: a 32-bit fraction. */
-HT_FN uint ht_sobol_group_bits(uint group_seed, uint sample, uint comp) {
-    uint index = ht_sobol_shuffle(sample, group_seed);
-    uint x = ht_sobol_bits(index, comp);
-    return ht_owen_scramble(x, ht_hash32(group_seed + (comp + 1u) * 0x9e3779b9u));
+/* Sobol' dimension dim (0..3) of point `index`, bit-reversed (the output scramble reverses its
+ * input, ht_owen_scramble, so the sampler wants the point that way round).  Dimension 0 is the van
+ * der Corput sequence, whose reversal is the index itself; 1..3 follow Joe & Kuo's primitive
+ * polynomials x+1, x^2+x+1, x^3+x+1 with initial direction numbers (1), (1,3), (1,3,1).  The
+ * direction numbers are made on the fly by their recurrence (in 32-bit fixed point: v_k = a_1
+ * v_{k-1} ^ ... ^ v_{k-s} ^ (v_{k-s} >> s)) run reversed -- a right shift becomes a left shift,
+ * v_1 = 2^31 becomes 1 -- in a loop over the index's bits instead of a table that OpenCL C and C++
+ * would declare apart. */
+HT_FN uint ht_sobol_bits_reversed(uint index, uint dim) {
+    if (dim == 0u) return index;
+    uint r1 = 1u, r2 = 0u, r3 = 0u;
+    uint k = 1u;
+    uint x = 0u;
+    while (index != 0u) {
+        if (index & 1u) x ^= r1;
+        index >>= 1;
+        ++k;
+        uint r;
+        if (dim == 1u) {
+            r = r1 ^ (r1 << 1);
+        } else if (dim == 2u) {
+            r = k == 2u ? 3u : r1 ^ r2 ^ (r2 << 2);
+        } else {
+            r = k == 2u ? 3u : (k == 3u ? 4u : r2 ^ r3 ^ (r3 << 3));
+        }
+        r3 = r2;
+        r2 = r1;
+        r1 = r;
+    }
+    return x;
 }
 
-/* Uniform in [0, 1): the top 24 bits, exact in float and never rounded to 1. */
+/* The point itself as a 32-bit fraction. */
+HT_FN uint ht_sobol_bits(uint index, uint dim) { return ht_reverse_bits32(ht_sobol_bits_reversed(index, dim)); }
+
+/* Component `comp` (0..3) of the point with shuffled index `index` of a group: a 32-bit fraction,
+ * the Sobol' bits Owen-scrambled with the component's own seed. */
+HT_FN uint ht_sobol_component_bits(uint group_seed, uint index, uint comp) {
+    return ht_reverse_bits32(
+        ht_laine_karras(ht_sobol_bits_reversed(index, comp), ht_hash32(group_seed + (comp + 1u) * 0x9e3779b9u)));
+}
+
+/* Component `comp` (0..3) of sample `sample` of a group: a 32-bit fraction. */
+HT_FN uint ht_sobol_group_bits(uint group_seed, uint sample, uint comp) {
+    return ht_sobol_component_bits(group_seed, ht_sobol_shuffle(sample, group_seed), comp);
+}
+
+/* The top 24 bits as a uniform in [0, 1): exact in float and never rounded to 1. */
+HT_FN real ht_sobol_to_unit(uint bits) { return (real)(bits >> 8) * HT_R(5.9604644775390625e-8); }
+
 HT_FN real ht_sobol_uniform(uint seed, uint pixel, uint group, uint sample, uint comp) {
-    uint bits = ht_sobol_group_bits(ht_sobol_group_seed(seed, pixel, group), sample, comp);
-    return (real)(bits >> 8) * HT_R(5.9604644775390625e-8);
+    return ht_sobol_to_unit(ht_sobol_group_bits(ht_sobol_group_seed(seed, pixel, group), sample, comp));
+}
+
+/* Components 0 and 1 of one group's point: one group seed and one shuffle for both. */
+HT_FN void ht_sobol_uniform2(uint pixel_seed, uint group, uint sample, real* u0, real* u1) {
+    const uint group_seed = ht_sobol_group_seed_of(pixel_seed, group);
+    const uint index = ht_sobol_shuffle(sample, group_seed);
+    *u0 = ht_sobol_to_unit(ht_sobol_component_bits(group_seed, index, 0u));
+    *u1 = ht_sobol_to_unit(ht_sobol_component_bits(group_seed, index, 1u));
 }
 
 #endif

@@ -127,10 +127,9 @@ HT_FN int ht_point_sample_guided(const HtShadingPoint* sp, HT_CONST_GLOBAL HtLig
                        ? 0u
                        : ht_guide_lights(lights, light_count, sp->p, light_count, &mu, mu, 0);
     if (n == 0u) return ht_point_sample(sp, seed, pixel, sample, bounce, mixture, wi, weight, pdf);
-    const real u0 = ht_sample(seed, pixel, sample, bounce, HT_DIM_BSDF_0);
-    const real u1 = ht_sample(seed, pixel, sample, bounce, HT_DIM_BSDF_0 + 1u);
-    const real u2 = ht_sample(seed, pixel, sample, bounce, HT_DIM_BSDF_0 + 2u);
-    const real u3 = ht_sample(seed, pixel, sample, bounce, HT_DIM_BSDF_0 + 3u);
+    real u0, u1, u2, u3;
+    ht_sample2(seed, pixel, sample, bounce, HT_DIM_BSDF_0, HT_DIM_BSDF_0 + 3u, &u0, &u3);
+    ht_sample2(seed, pixel, sample, bounce, HT_DIM_BSDF_0 + 1u, HT_DIM_BSDF_0 + 2u, &u1, &u2);
     real3 value;
     real pdf_bsdf = HT_R(0);
     *weight = make_real3(0, 0, 0);

@@ -187,8 +187,8 @@ HT_FN int ht_point_sample_fibre(const HtShadingPoint* sp, real u0, real u1, real
 HT_FN int ht_point_sample(const HtShadingPoint* sp, uint seed, uint pixel, uint sample, uint bounce, int mixture,
                           real3* wi, real3* weight, real* pdf) {
     /* the jointly stratified pair: a surface's cosine-weighted direction, a fibre's longitudinal angle */
-    real u1 = ht_sample(seed, pixel, sample, bounce, HT_DIM_BSDF_0 + 1u);
-    real u2 = ht_sample(seed, pixel, sample, bounce, HT_DIM_BSDF_0 + 2u);
+    real u1, u2;
+    ht_sample2(seed, pixel, sample, bounce, HT_DIM_BSDF_0 + 1u, HT_DIM_BSDF_0 + 2u, &u1, &u2);
 #if HT_FEATURE_MESHES
     if (sp->is_surface) {
         /* cosine-weighted: value * cos / pdf is the albedo */
@@ -196,8 +196,8 @@ HT_FN int ht_point_sample(const HtShadingPoint* sp, uint seed, uint pixel, uint 
         return ht_lambert_sample(sp->ns, sp->ng, u1, u2, wi, pdf);
     }
 #endif
-    real u0 = ht_sample(seed, pixel, sample, bounce, HT_DIM_BSDF_0);
-    real u3 = ht_sample(seed, pixel, sample, bounce, HT_DIM_BSDF_0 + 3u);
+    real u0, u3;
+    ht_sample2(seed, pixel, sample, bounce, HT_DIM_BSDF_0, HT_DIM_BSDF_0 + 3u, &u0, &u3);
     return ht_point_sample_fibre(sp, u0, u1, u2, u3, mixture, wi, weight, pdf);
 }
 

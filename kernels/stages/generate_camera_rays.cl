@@ -22,8 +22,8 @@ __kernel void generate_camera_rays(HtCamera camera, uint pixel_offset, uint coun
     const uint index = pixel_offset + i / samples, sample = first_sample + i % samples;
     uint pixel = listed ? pixel_list[index] : index;
     uint px = pixel % camera.width, py = pixel / camera.width;
-    float jx = ht_sample(seed, pixel, sample, 0u, HT_DIM_PIXEL_X);
-    float jy = ht_sample(seed, pixel, sample, 0u, HT_DIM_PIXEL_Y);
+    float jx, jy;
+    ht_sample2(seed, pixel, sample, 0u, HT_DIM_PIXEL_X, HT_DIM_PIXEL_Y, &jx, &jy);
     rays[i] = ht_camera_ray(&camera, px, py, jx, jy);
     ray_path[i] = i * splits;
     HtPathState s;

@@ -137,8 +137,7 @@ HT_FN int ht_nee_sample(__global const HtLight* lights, uint light_count, const 
 #else
     if (li >= light_count) {
 #endif
-        u = ht_sample(seed, pixel, sample, bounce, HT_DIM_LIGHT_U);
-        v = ht_sample(seed, pixel, sample, bounce, HT_DIM_LIGHT_V);
+        ht_sample2(seed, pixel, sample, bounce, HT_DIM_LIGHT_U, HT_DIM_LIGHT_V, &u, &v);
     }
     if (li < light_count) {
         HtLight light = lights[li];

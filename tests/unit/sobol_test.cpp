@@ -198,6 +198,58 @@ TEST(Sobol, PixelsAreDecorrelated) {
     }
 }
 
+TEST(Sobol, PointsAreThoseOfTheDirectionNumberTable) {
+    // The kernels make direction numbers by their recurrence, bit-reversed, on the fly; here they
+    // come from the textbook construction instead (Joe & Kuo's m_k, v_k = m_k 2^(32-k), the
+    // recurrence written out over a table) and point n is the xor of v_k over n's bits -- for every
+    // index of the first 2^18 and the highest 4,096 of every dimension.
+    const uint degree[4] = {0, 1, 2, 3}, coeffs[4] = {0, 0, 1, 1};  // a_1..a_{s-1} as bits, x^3+x+1: a = (0, 1)
+    const uint m_init[4][3] = {{1, 0, 0}, {1, 0, 0}, {1, 3, 0}, {1, 3, 1}};
+    for (uint d = 0; d < 4; ++d) {
+        uint v[33];
+        for (uint k = 1; k <= 32; ++k) {
+            if (d == 0) {
+                v[k] = 1u << (32 - k);
+            } else if (k <= degree[d]) {
+                v[k] = m_init[d][k - 1] << (32 - k);
+            } else {
+                const uint s = degree[d];
+                uint x = v[k - s] ^ (v[k - s] >> s);
+                for (uint j = 1; j < s; ++j)
+                    if ((coeffs[d] >> (s - 1 - j)) & 1u) x ^= v[k - j];
+                v[k] = x;
+            }
+        }
+        auto point = [&](uint n) {
+            uint x = 0;
+            for (uint k = 1; n != 0; ++k, n >>= 1)
+                if (n & 1u) x ^= v[k];
+            return x;
+        };
+        for (uint i = 0; i < (1u << 18); ++i) ASSERT_EQ(ht_sobol_bits(i, d), point(i)) << "dim " << d << " i " << i;
+        for (uint i = 0xffffffffu; i > 0xffffffffu - 4096u; --i)
+            ASSERT_EQ(ht_sobol_bits(i, d), point(i)) << "dim " << d << " i " << i;
+    }
+}
+
+TEST(Sobol, PairsDrawnTogetherAreTheSameNumbers) {
+    // ht_sample2 (both samplers) and the Sobol' pair share a group's seed and shuffle: each pair of
+    // the layout must give exactly what two single draws give.
+    for (const auto& pr : kPairs)
+        for (uint bounce = 0; bounce < 6; ++bounce)
+            for (uint pixel = 0; pixel < 64; ++pixel)
+                for (uint sample = 0; sample < 300; sample += 7) {
+                    const uint seed = 11u + pixel * 131u;
+                    double a = -1, b = -1;
+                    ht_sobol_sample2(seed, pixel * 7919u, sample, bounce, pr.first, &a, &b);
+                    ASSERT_EQ(a, ht_sobol_sample(seed, pixel * 7919u, sample, bounce, pr.first));
+                    ASSERT_EQ(b, ht_sobol_sample(seed, pixel * 7919u, sample, bounce, pr.second));
+                    ht_sample2(seed, pixel, sample, bounce, pr.first, pr.second, &a, &b);
+                    ASSERT_EQ(a, ht_sample(seed, pixel, sample, bounce, pr.first));
+                    ASSERT_EQ(b, ht_sample(seed, pixel, sample, bounce, pr.second));
+                }
+}
+
 TEST(Sobol, SeedsGiveOtherSequences) {
     int same = 0;
     for (uint i = 0; i < 256; ++i)
