@@ -111,7 +111,7 @@ HT_FN real ht_sample(uint seed, uint pixel, uint sample, uint bounce, uint slot)
 HT_FN void ht_sobol_sample2(uint seed, uint pixel, uint sample, uint bounce, uint slot_a, real* a, real* b) {
     uint comp;
     const uint group = ht_slot_group(slot_a, &comp);
-    ht_sobol_uniform2(ht_sobol_pixel_seed(seed, pixel), bounce * HT_GROUPS_PER_BOUNCE + group, sample, a, b);
+    ht_sobol_uniform2(seed, pixel, bounce * HT_GROUPS_PER_BOUNCE + group, sample, a, b);
 }
 
 /* Slots a and b of one bounce drawn together; for sobol they must be components 0 and 1 of one

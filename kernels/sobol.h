@@ -40,20 +40,20 @@ HT_FN uint ht_laine_karras(uint x, uint seed) {
     return x;
 }
 
-/* Nested uniform scramble in base 2 of a 32-bit fixed-point fraction (or of a sample index). */
-HT_FN uint ht_owen_scramble(uint x, uint seed) {
-    return ht_reverse_bits32(ht_laine_karras(ht_reverse_bits32(x), seed));
+/* Nested uniform scramble in base 2 of a 32-bit fixed-point fraction (or of a sample index),
+ * given the value bit-reversed (the Sobol' points are built that way round,
+ * ht_sobol_bits_reversed). */
+HT_FN uint ht_owen_scramble_reversed(uint x_reversed, uint seed) {
+    return ht_reverse_bits32(ht_laine_karras(x_reversed, seed));
 }
+HT_FN uint ht_owen_scramble(uint x, uint seed) { return ht_owen_scramble_reversed(ht_reverse_bits32(x), seed); }
 
 /* The seed of one group of one pixel: every (seed, pixel, group) gets its own shuffle and
- * scrambles; the constants keep it apart from ht_hash4's other uses.  The first two hashes depend
- * on (seed, pixel) alone: ht_sobol_pixel_seed, made once where a vertex draws from several groups. */
-HT_FN uint ht_sobol_pixel_seed(uint seed, uint pixel) { return ht_hash32(ht_hash32(seed ^ 0x5bd1e995u) ^ pixel); }
-HT_FN uint ht_sobol_group_seed_of(uint pixel_seed, uint group) {
-    return ht_hash32(pixel_seed ^ (group * 0x27d4eb2du + 0x165667b1u));
-}
+ * scrambles; the constants keep it apart from ht_hash4's other uses. */
 HT_FN uint ht_sobol_group_seed(uint seed, uint pixel, uint group) {
-    return ht_sobol_group_seed_of(ht_sobol_pixel_seed(seed, pixel), group);
+    uint h = ht_hash32(seed ^ 0x5bd1e995u);
+    h = ht_hash32(h ^ pixel);
+    return ht_hash32(h ^ (group * 0x27d4eb2du + 0x165667b1u));
 }
 
 /* Burley's shuffle: the sample index Owen-scrambled, then xor-ed with the scramble of 0.  That
@@ -66,7 +66,7 @@ HT_FN uint ht_sobol_shuffle(uint sample, uint seed) {
 }
 
 /* Sobol' dimension dim (0..3) of point `index`, bit-reversed (the output scramble reverses its
- * input, ht_owen_scramble, so the sampler wants the point that way round).  Dimension 0 is the van
+ * input, ht_owen_scramble_reversed, so the sampler wants the point that way round).  Dimension 0 is the van
  * der Corput sequence, whose reversal is the index itself; 1..3 follow Joe & Kuo's primitive
  * polynomials x+1, x^2+x+1, x^3+x+1 with initial direction numbers (1), (1,3), (1,3,1).  The
  * direction numbers are made on the fly by their recurrence (in 32-bit fixed point: v_k = a_1
@@ -103,8 +103,7 @@ HT_FN uint ht_sobol_bits(uint index, uint dim) { return ht_reverse_bits32(ht_sob
 /* Component `comp` (0..3) of the point with shuffled index `index` of a group: a 32-bit fraction,
  * the Sobol' bits Owen-scrambled with the component's own seed. */
 HT_FN uint ht_sobol_component_bits(uint group_seed, uint index, uint comp) {
-    return ht_reverse_bits32(
-        ht_laine_karras(ht_sobol_bits_reversed(index, comp), ht_hash32(group_seed + (comp + 1u) * 0x9e3779b9u)));
+    return ht_owen_scramble_reversed(ht_sobol_bits_reversed(index, comp), ht_hash32(group_seed + (comp + 1u) * 0x9e3779b9u));
 }
 
 /* Component `comp` (0..3) of sample `sample` of a group: a 32-bit fraction. */
@@ -120,8 +119,8 @@ HT_FN real ht_sobol_uniform(uint seed, uint pixel, uint group, uint sample, uint
 }
 
 /* Components 0 and 1 of one group's point: one group seed and one shuffle for both. */
-HT_FN void ht_sobol_uniform2(uint pixel_seed, uint group, uint sample, real* u0, real* u1) {
-    const uint group_seed = ht_sobol_group_seed_of(pixel_seed, group);
+HT_FN void ht_sobol_uniform2(uint seed, uint pixel, uint group, uint sample, real* u0, real* u1) {
+    const uint group_seed = ht_sobol_group_seed(seed, pixel, group);
     const uint index = ht_sobol_shuffle(sample, group_seed);
     *u0 = ht_sobol_to_unit(ht_sobol_component_bits(group_seed, index, 0u));
     *u1 = ht_sobol_to_unit(ht_sobol_component_bits(group_seed, index, 1u));
