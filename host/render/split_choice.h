@@ -40,9 +40,14 @@ constexpr int kPilotSplits = int(HT_PILOT_SPLITS);
 constexpr int kPilotSamples = 8;
 // At most a sixteenth of the image's pixels (a pixel in kPilotStride in each direction), and no
 // more than about kPilotPixels of them: the pilot then costs at most one sample of the image with
-// 2 continuations, and a fraction of one in large images.
+// 2 continuations, and a quarter of one from 256^2 up.  Why 1024 and not more: the pilot's time
+// is render time (pbrt's lock reaches pbrt's 64-spp error in ~8 samples), and with 4096 pixels
+// it was 8 % of that time, while over eight seeds 1024 pixels chose from the same range of N on
+// every scene measured (docs/PERFORMANCE.md section 8, "A smaller pilot").  Fewer samples per
+// pixel instead would not do: the stratification the pilot measures grows with the sample count,
+// and at 4 samples it came out too small (N too low on straight.hair blond).
 constexpr int kPilotStride = 4;
-constexpr int kPilotPixels = 4096;
+constexpr int kPilotPixels = 1024;
 // The stratification is taken as at least 1 and at most this (a safeguard against a first
 // vertex that barely varies; over eight seeds the scenes measured show 0.7-6.9).
 constexpr double kMaxStratification = 16;
