@@ -39,7 +39,7 @@ struct QueryBatch {
 bool run_kernel(QueryBatch& r, const char* name) {
     try {
         ClContext ctx;
-        cl::Program prog = ctx.build("fiber/fiber_query.cl", "-cl-std=CL1.2");
+        cl::Program prog = ctx.build("fiber/fiber_query.cl", ht::base_kernel_options());  // the render program's floating-point mode
         r.out = run_fiber_queries(ctx, prog, name, r.mats, r.qs);
         return true;
     } catch (const DeviceError& e) {
@@ -231,7 +231,7 @@ TEST(FiberKernel, FloatAfsMatchesReference) {
     std::vector<float> out(in.size());
     try {
         ClContext ctx;
-        cl::Program prog = ctx.build("fiber/fiber_query.cl", "-cl-std=CL1.2");
+        cl::Program prog = ctx.build("fiber/fiber_query.cl", ht::base_kernel_options());  // the render program's floating-point mode
         cl::Kernel k(prog, "fiber_afs");
         cl::Buffer bi(ctx.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, in.size() * sizeof(cl_float4), in.data());
         cl::Buffer bo(ctx.context(), CL_MEM_WRITE_ONLY, out.size() * sizeof(float));
