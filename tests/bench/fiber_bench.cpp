@@ -87,7 +87,10 @@ void BM_KernelEval(benchmark::State& st) {
     const bool sample = st.range(1) != 0;
     try {
         static ClContext ctx;
-        static cl::Program prog = ctx.build("fiber/fiber_query.cl", std::string("-cl-std=CL1.2 ") + (getenv("HT_BENCH_OPTS") ? getenv("HT_BENCH_OPTS") : ""));
+        // the render programs' options (their floating-point mode: denormals flushed), plus any
+        // extra ones to compare (HT_BENCH_OPTS)
+        static cl::Program prog = ctx.build("fiber/fiber_query.cl", std::string(base_kernel_options()) + " " +
+                                                                        (getenv("HT_BENCH_OPTS") ? getenv("HT_BENCH_OPTS") : ""));
         cl::Kernel k(prog, sample ? "fiber_sample" : "fiber_eval");
         const Inputs& in = inputs();
         std::vector<HtMaterial> mats(n, material((int)st.range(0)));
