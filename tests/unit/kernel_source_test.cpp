@@ -4,6 +4,9 @@
 
 #include <filesystem>
 #include <fstream>
+#include <string>
+
+#include <unistd.h>
 
 TEST(KernelSource, CompatIsEmbeddedWithLineMarkers) {
     std::string s = ht::assemble_kernel_source("types.h");
@@ -13,8 +16,11 @@ TEST(KernelSource, CompatIsEmbeddedWithLineMarkers) {
 }
 
 namespace {
+// One directory per process: ctest runs these tests in parallel processes, and a shared name let
+// one test's clean-up delete the directory another was writing into.
 struct TempKernelDir {
-    std::filesystem::path dir = std::filesystem::temp_directory_path() / "ht_kernel_source_test";
+    std::filesystem::path dir =
+        std::filesystem::temp_directory_path() / ("ht_kernel_source_test_" + std::to_string(::getpid()));
     TempKernelDir() {
         std::filesystem::remove_all(dir);
         std::filesystem::create_directories(dir);
