@@ -1,12 +1,11 @@
 #include "cl/kernel_source.h"
+#include "scene_test_util.h"
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
 #include <string>
-
-#include <unistd.h>
 
 TEST(KernelSource, CompatIsEmbeddedWithLineMarkers) {
     std::string s = ht::assemble_kernel_source("types.h");
@@ -16,20 +15,14 @@ TEST(KernelSource, CompatIsEmbeddedWithLineMarkers) {
 }
 
 namespace {
-// One directory per process: ctest runs these tests in parallel processes, and a shared name let
-// one test's clean-up delete the directory another was writing into.
+// A directory of its own (ctest runs these tests in parallel processes: a shared name let one
+// test's clean-up delete the directory another was writing into); the kernel directory is reset
+// before the directory goes.
 struct TempKernelDir {
-    std::filesystem::path dir =
-        std::filesystem::temp_directory_path() / ("ht_kernel_source_test_" + std::to_string(::getpid()));
-    TempKernelDir() {
-        std::filesystem::remove_all(dir);
-        std::filesystem::create_directories(dir);
-    }
-    void write(const std::string& name, const std::string& text) { std::ofstream(dir / name) << text; }
-    ~TempKernelDir() {
-        ht::set_kernel_dir("");
-        std::filesystem::remove_all(dir);
-    }
+    ht::test::TempDir tmp;
+    const std::string dir = tmp.file("");
+    void write(const std::string& name, const std::string& text) { std::ofstream(tmp.file(name)) << text; }
+    ~TempKernelDir() { ht::set_kernel_dir(""); }
 };
 }  // namespace
 
@@ -39,7 +32,7 @@ TEST(KernelSource, AHeaderFirstIncludedInsideAFalseBlockIsStillIncludedLater) {
     TempKernelDir k;
     k.write("value.h", "#ifndef VALUE_H\n#define VALUE_H\n#define ANSWER 42\n#endif\n");
     k.write("main.cl", "#if 0\n#include \"value.h\"\n#endif\n#include \"value.h\"\nint answer = ANSWER;\n");
-    ht::set_kernel_dir(k.dir.string());
+    ht::set_kernel_dir(k.dir);
     const std::string s = ht::assemble_kernel_source("main.cl");
     const size_t last_copy = s.rfind("#define ANSWER 42"), endif_of_if0 = s.find("#endif\n#line 3");
     ASSERT_NE(last_copy, std::string::npos);
@@ -52,7 +45,7 @@ TEST(KernelSource, UnconditionalIncludesAreInlinedOnceAndCyclesEnd) {
     k.write("a.h", "#ifndef A_H\n#define A_H\n#include \"b.h\"\nA\n#endif\n");
     k.write("b.h", "#ifndef B_H\n#define B_H\n#include \"a.h\"\nB\n#endif\n");
     k.write("main.cl", "#include \"a.h\"\n#include \"b.h\"\n#include \"a.h\"\n");
-    ht::set_kernel_dir(k.dir.string());
+    ht::set_kernel_dir(k.dir);
     const std::string s = ht::assemble_kernel_source("main.cl");
     size_t count = 0;
     for (size_t p = s.find("\nB\n"); p != std::string::npos; p = s.find("\nB\n", p + 1)) ++count;
