@@ -56,12 +56,22 @@
 /* Roulette decides the rays of bounce 4 on (the fourth vertex's continuation).  From bounce 3
  * on, as until session 19, pbrt's lock at depth 5 took 1.15x the time to pbrt's error: a path cut
  * two vertices before --max-depth saves little work, and its survivors' doubled weights cost
- * more.  At depth 20 and on the demo the two starts measured the same; no roulette at all at
- * depth 5 gained more on the lock (1.27x) but lost 8 % on the demo (docs/PERFORMANCE.md section 8
- * "Roulette from the fourth vertex"). */
+ * more (docs/PERFORMANCE.md section 8 "Roulette from the fourth vertex").
+ * The continuation into the last vertex (bounce + 2 == max_depth) is judged at
+ * HT_RR_LAST_VERTEX_SCALE times its throughput when the light threshold is on: that vertex's only
+ * light is its next-event estimate, which the light threshold's roulette (roulette.h
+ * ht_light_roulette) judges again after the BCSDF is evaluated towards the light.  A roulette on
+ * the ray before it, judged by the throughput alone, ends the estimates that meet a lobe's peak as
+ * often as the faint ones, and its survivors' weights grow; with no roulette there the faint last
+ * vertices are traced and shaded for nothing.  Measured with the scale 1 (as before), 2, 4, 8 and
+ * no roulette there (docs/PERFORMANCE.md section 8 "The roulette into the last vertex"): 4 took
+ * pbrt's lock at depth 5 to pbrt's error in 0.89x the time and made builtin:ball 1.08x as
+ * efficient, the demo and straight.hair 0.98x; no roulette gained as much on the lock but lost 7-10 %
+ * on the other two. */
 #ifndef HT_RR_START_BOUNCE
 #define HT_RR_START_BOUNCE 4u
 #endif
+#define HT_RR_LAST_VERTEX_SCALE 4.0f
 
 /* --clamp-indirect: light that scattered at two or more surfaces before reaching the camera (NEE
  * from bounce 1 on, environment hits from bounce 2 on) is capped at HT_CLAMP_INDIRECT in its
@@ -176,10 +186,15 @@ HT_FN int ht_continue_path(HtPathState* st, float3 nthr, float pdf, float3 o, fl
 }
 
 /* Russian roulette from HT_RR_START_BOUNCE on, for a continuation carrying `share` of its camera
- * sample. */
-HT_FN float3 ht_roulette_at(float3 nthr, float share, uint seed, uint pixel, uint sample, uint bounce) {
+ * sample; the continuation into the last vertex judged as above. */
+HT_FN float3 ht_roulette_at(float3 nthr, float share, uint seed, uint pixel, uint sample, uint bounce,
+                            uint max_depth) {
     if (bounce + 1u < HT_RR_START_BOUNCE) return nthr;
-    return ht_roulette(nthr, share, ht_sample(seed, pixel, sample, bounce, HT_DIM_RR));
+    float judged_share = share;
+#ifdef HT_LIGHT_THRESHOLD
+    if (bounce + 2u == max_depth) judged_share = share / HT_RR_LAST_VERTEX_SCALE;
+#endif
+    return ht_roulette(nthr, judged_share, ht_sample(seed, pixel, sample, bounce, HT_DIM_RR));
 }
 
 
@@ -395,7 +410,8 @@ __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM, HT_SCENE_PARA
 #endif
             if (extend && sampled) {
                 float3 nthr =
-                    ht_roulette_at(thr * weight * split_weight, share, seed, st.pixel, cont_sample, bounce);
+                    ht_roulette_at(thr * weight * split_weight, share, seed, st.pixel, cont_sample, bounce,
+                               max_depth);
                 HtRay next_ray;
                 if (ht_continue_path(cont, nthr, pdf, ht_point_spawn(&sp, wi), wi, &next_ray, counters)) {
                     stage_rays[k * continuations + j] = next_ray;
