@@ -65,7 +65,7 @@
  * often as the faint ones, and its survivors' weights grow; with no roulette there the faint last
  * vertices are traced and shaded for nothing.  Measured with the scale 1 (as before), 2, 4, 8 and
  * no roulette there (docs/PERFORMANCE.md section 8 "The roulette into the last vertex"): 4 took
- * pbrt's lock at depth 5 to pbrt's error in 0.89x the time and made builtin:ball 1.08x as
+ * pbrt's lock at depth 5 to pbrt's error in 0.89x the time and made builtin:ball 1.09x as
  * efficient, the demo and straight.hair 0.98x; no roulette gained as much on the lock but lost 7-10 %
  * on the other two. */
 #ifndef HT_RR_START_BOUNCE
@@ -410,8 +410,7 @@ __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM, HT_SCENE_PARA
 #endif
             if (extend && sampled) {
                 float3 nthr =
-                    ht_roulette_at(thr * weight * split_weight, share, seed, st.pixel, cont_sample, bounce,
-                               max_depth);
+                    ht_roulette_at(thr * weight * split_weight, share, seed, st.pixel, cont_sample, bounce, max_depth);
                 HtRay next_ray;
                 if (ht_continue_path(cont, nthr, pdf, ht_point_spawn(&sp, wi), wi, &next_ray, counters)) {
                     stage_rays[k * continuations + j] = next_ray;
