@@ -36,6 +36,8 @@
     S(HtBounce, 32) F(HtBounce, seed, 0) F(HtBounce, pad0, 4) F(HtBounce, bounce, 8)              \
         F(HtBounce, max_depth, 12) F(HtBounce, field_mode, 16) F(HtBounce, pixel_angle, 20)        \
         F(HtBounce, splits, 24) F(HtBounce, light_samples, 28)                                     \
+    S(HtLightVertices, 32) F(HtLightVertices, disc, 0) F(HtLightVertices, count, 16)              \
+        F(HtLightVertices, first_sample, 20)                                                       \
     S(HtCamera, 80) F(HtCamera, eye, 0) F(HtCamera, right, 16) F(HtCamera, up, 32)                \
         F(HtCamera, forward, 48) F(HtCamera, width, 64) F(HtCamera, height, 68)                    \
     S(HtShadowGrid, 64) F(HtShadowGrid, dir, 0) F(HtShadowGrid, u, 16) F(HtShadowGrid, v, 32)     \

@@ -21,6 +21,14 @@
  *                                                     with u3 for the azimuth, kernels/fiber/zinke.h)
  *   ROULETTE    RR (0), LIGHT_RR (1)                  Russian roulette of the path; of its
  *                                                     next-event estimate (--light-threshold)
+ *   LIGHT_VERTEX LV_PICK (0), LV_RR (1)               --light-vertices: which light vertex a
+ *                                                     vertex connects to; that connection's
+ *                                                     light-threshold roulette
+ *   LIGHT_RAY   LR_U (0), LR_V (1)                    --light-vertices: a light ray's start on
+ *                                                     its disc (pixel HT_LIGHT_RAY_PIXEL, bounce 0,
+ *                                                     sample index sample * count + ray)
+ * The last two groups came after the others; their Sobol' group numbers lie above every bounce's
+ * (HT_GROUP_EXTRA_BASE), so adding them left the numbers of the first five as they were.
  *
  * Every pair above is components 0/1 of its group: the first two Sobol' dimensions, a (0,2)-sequence
  * (tests/unit/sobol_test.cpp checks the nets).
@@ -53,6 +61,12 @@
 #define HT_DIM_BSDF_0 5u /* 5..8: the four uniforms of the fibre sampler */
 #define HT_DIM_RR 9u
 #define HT_DIM_LIGHT_RR 10u
+#define HT_DIM_LV_PICK 11u
+#define HT_DIM_LV_RR 12u
+#define HT_DIM_LR_U 13u
+#define HT_DIM_LR_V 14u
+/* the pixel number of light rays' draws (no camera pixel has it: images are < 2^32 pixels) */
+#define HT_LIGHT_RAY_PIXEL 0xFFFFFFFFu
 
 /* Sobol' groups inside one bounce */
 #define HT_GROUPS_PER_BOUNCE 5u
@@ -61,6 +75,10 @@
 #define HT_GROUP_BSDF_THETA 2u
 #define HT_GROUP_BSDF_PHI 3u
 #define HT_GROUP_ROULETTE 4u
+#define HT_GROUP_LIGHT_VERTEX 5u
+#define HT_GROUP_LIGHT_RAY 6u
+/* Sobol' group number of the groups past the first HT_GROUPS_PER_BOUNCE: above any bounce's */
+#define HT_GROUP_EXTRA_BASE 0x40000000u
 
 /* Independent sampler: uniform in [0, 1), the top 24 bits, exact in float and never 1. */
 HT_FN real ht_uniform(uint seed, uint pixel, uint sample, uint dim) {
@@ -85,15 +103,25 @@ HT_FN uint ht_slot_group(uint slot, uint* comp) {
     case HT_DIM_BSDF_0: *comp = 0u; return HT_GROUP_BSDF_PHI;
     case HT_DIM_BSDF_0 + 3u: *comp = 1u; return HT_GROUP_BSDF_PHI;
     case HT_DIM_LIGHT_RR: *comp = 1u; return HT_GROUP_ROULETTE;
+    case HT_DIM_LV_PICK: *comp = 0u; return HT_GROUP_LIGHT_VERTEX;
+    case HT_DIM_LV_RR: *comp = 1u; return HT_GROUP_LIGHT_VERTEX;
+    case HT_DIM_LR_U: *comp = 0u; return HT_GROUP_LIGHT_RAY;
+    case HT_DIM_LR_V: *comp = 1u; return HT_GROUP_LIGHT_RAY;
     default: *comp = 0u; return HT_GROUP_ROULETTE;
     }
+}
+
+/* The Sobol' group number of group `group` of `bounce`. */
+HT_FN uint ht_group_number(uint bounce, uint group) {
+    return group < HT_GROUPS_PER_BOUNCE ? bounce * HT_GROUPS_PER_BOUNCE + group
+                                        : HT_GROUP_EXTRA_BASE + (group - HT_GROUPS_PER_BOUNCE) * 0x10000u + bounce;
 }
 
 /* Owen-scrambled Sobol' sampler: the slot's component of its group's padded set. */
 HT_FN real ht_sobol_sample(uint seed, uint pixel, uint sample, uint bounce, uint slot) {
     uint comp;
     uint group = ht_slot_group(slot, &comp);
-    return ht_sobol_uniform(seed, pixel, bounce * HT_GROUPS_PER_BOUNCE + group, sample, comp);
+    return ht_sobol_uniform(seed, pixel, ht_group_number(bounce, group), sample, comp);
 }
 
 /* The sampler the kernels were built with. */
@@ -111,7 +139,7 @@ HT_FN real ht_sample(uint seed, uint pixel, uint sample, uint bounce, uint slot)
 HT_FN void ht_sobol_sample2(uint seed, uint pixel, uint sample, uint bounce, uint slot_a, real* a, real* b) {
     uint comp;
     const uint group = ht_slot_group(slot_a, &comp);
-    ht_sobol_uniform2(seed, pixel, bounce * HT_GROUPS_PER_BOUNCE + group, sample, a, b);
+    ht_sobol_uniform2(seed, pixel, ht_group_number(bounce, group), sample, a, b);
 }
 
 /* Slots a and b of one bounce drawn together; for sobol they must be components 0 and 1 of one

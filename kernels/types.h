@@ -126,6 +126,7 @@ typedef struct {
     float pad2;
 } HtPathState;
 #define HT_PATH_FROM_CAMERA 1u  /* the current ray is a camera ray: no MIS on what it sees */
+#define HT_PATH_FROM_FIBRE 2u   /* the current ray left a fibre (--light-vertices: the MIS partner of a connection) */
 
 /* Unoccluded contribution of a queued shadow ray, added to path `path` if the ray is clear. */
 typedef struct {
@@ -164,6 +165,16 @@ typedef struct {
     uint splits;        /* --first-hit-splits: continuations of each camera path after its first vertex */
     uint light_samples; /* --first-hit-light-samples: next-event estimates at that vertex */
 } HtBounce;
+
+/* --light-vertices N (kernels/integrator/light_vertices.h): each camera sample s of a pass owns
+ * `count` light rays, set s - first_sample of light_rays / light_hits, the lights taking turns;
+ * their first hits on fibres are the light vertices that the sample's fibre vertices connect to. */
+typedef struct {
+    float disc[4];     /* the scene's bounding sphere: centre (xyz) and radius (w) */
+    uint count;        /* light rays per camera sample */
+    uint first_sample; /* the pass's first camera sample */
+    uint pad0, pad1;
+} HtLightVertices;
 
 /* --first-hit-splits auto: the continuations per camera sample of its pilot render
  * (kernels/stages/split_pilot.cl, host/render/split_choice.h) */

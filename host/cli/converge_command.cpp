@@ -43,12 +43,12 @@ std::vector<std::string> split(const std::string& s, char sep) {
 // (model = --model, depth = --max-depth, indirect = --indirect, field = --fiber-field, sampler =
 // --sampler, splits = --first-hit-splits, light_samples = --first-hit-light-samples,
 // light_threshold = --light-threshold, a value or off, light_guiding = --light-guiding, a value,
-// auto or off, light_pick = --light-pick, empty_pixels = --empty-pixels, camera_rays = --camera-rays, shadow_rays = --shadow-rays, samples_per_pass =
+// auto or off, light_vertices = --light-vertices, a count or off, light_pick = --light-pick, empty_pixels = --empty-pixels, camera_rays = --camera-rays, shadow_rays = --shadow-rays, samples_per_pass =
 // --samples-per-pass), on top of the options given on the command line.
 std::vector<ConvergeConfig> parse_configs(const std::string& text, const ImageRequest& base) {
     static const std::vector<std::string> known = {"model",   "depth",  "indirect",     "field",
                                                    "sampler", "splits", "light_samples", "light_threshold", "light_guiding",
-                                                   "light_pick", "empty_pixels", "camera_rays", "shadow_rays",
+                                                   "light_vertices", "light_pick", "empty_pixels", "camera_rays", "shadow_rays",
                                                    "samples_per_pass"};
     std::vector<ConvergeConfig> out;
     for (auto& c : split(text, ';')) {
@@ -74,6 +74,9 @@ std::vector<ConvergeConfig> parse_configs(const std::string& text, const ImageRe
                 r.settings.light_threshold = v == "off" ? 0.0f : float(parse_double("--configs light_threshold", v, kMinLightThreshold, kMaxLightThreshold));
             if (k == "light_guiding")
                 r.settings.light_guiding = parse_light_guiding("--configs light_guiding", v);
+            if (k == "light_vertices")
+                r.settings.light_vertices =
+                    v == "off" ? 0u : uint32_t(parse_int("--configs light_vertices", v, 1, int(kMaxLightVertices)));
             if (k == "camera_rays")
                 r.settings.camera_lists = require_choice("--configs camera_rays", v, {"lists", "tree"}) == "lists";
             if (k == "shadow_rays")
@@ -201,7 +204,7 @@ int cmd_converge(const std::vector<std::string>& args) {
                             "a CSV of the measurements and a log-log plot.");
     p.group("convergence")
         .path("--reference", "REF", "linear reference image (EXR) of the same size", PathKind::Input)
-        .option("--configs", "LIST", "configurations separated by ';', each key=value pairs separated by ','; keys as the render options: model (--model), depth (--max-depth), indirect (--indirect), field (--fiber-field), sampler (--sampler), splits (--first-hit-splits), light_samples (--first-hit-light-samples), light_threshold (--light-threshold, a value or off), light_guiding (--light-guiding, a value, auto or off), light_pick (--light-pick), empty_pixels (--empty-pixels), camera_rays (--camera-rays), shadow_rays (--shadow-rays), samples_per_pass (--samples-per-pass)", "depth=1")
+        .option("--configs", "LIST", "configurations separated by ';', each key=value pairs separated by ','; keys as the render options: model (--model), depth (--max-depth), indirect (--indirect), field (--fiber-field), sampler (--sampler), splits (--first-hit-splits), light_samples (--first-hit-light-samples), light_threshold (--light-threshold, a value or off), light_guiding (--light-guiding, a value, auto or off), light_vertices (--light-vertices, a count or off), light_pick (--light-pick), empty_pixels (--empty-pixels), camera_rays (--camera-rays), shadow_rays (--shadow-rays), samples_per_pass (--samples-per-pass)", "depth=1")
         .option("--spp", "LIST", "increasing sample counts at which the error is measured", "1,2,4,8,16,32")
         .path("--csv", "FILE", "write config,spp,seconds,rmse,relmse,max_error,nonfinite,sparkle_share,cpu_seconds rows (sparkle_share: pixels whose error exceeds 10x the reference's 3x3 local standard deviation, as render --reference prints; cpu_seconds: the process's CPU time, all threads)", PathKind::Csv, "converge.csv")
         .path("--png", "FILE", "log-log plot of RMSE against render time", PathKind::Image, "converge.png")

@@ -400,6 +400,7 @@ ImageMetadata metadata_of(const PreparedRender& job, const RenderRequest& reques
     meta.floats["hairtrace:regularize_deg"] = job.settings.regularize_deg;
     meta.floats["hairtrace:light_threshold"] = job.settings.light_threshold;
     meta.floats["hairtrace:light_guiding"] = job.renderers.front()->stats().light_guiding;
+    if (job.settings.light_vertices > 0) meta.ints["hairtrace:light_vertices"] = int(job.settings.light_vertices);
     meta.floats["hairtrace:render_seconds"] = float(since(out.start));
     meta.text["hairtrace:device"] = device.name + " / " + device.platform + " " + device.driver;
     meta.text["hairtrace:version"] = HT_VERSION;

@@ -57,6 +57,7 @@ const OptionRow kOptions[] = {
     {"sampling", "--first-hit-light-samples", "M|auto", "at the first hit of every camera path, M next-event estimates (each 1/M of the weight, each picking a light from its own M-th of the choice) instead of one; auto: one per light that next-event estimation picks from (the lights and an environment map), so that every light is met once at the first hit (1 = one estimate, as with a single light; measured in docs/PERFORMANCE.md section 8)", "auto", Kind::Value, kBoth},
     {"sampling", "--light-threshold", "T|off", "from the second vertex of a path on, next-event estimates whose weight without the light (throughput x fibre scattering value, largest channel, for the whole camera sample) is below T trace their shadow ray only with probability weight / T and then count T / weight times: unbiased, fewer shadow rays for faint deep estimates at a little more noise (relative to the light, so the same T suits any light intensity; the default paid on every scene measured, docs/PERFORMANCE.md section 8); with it, Russian roulette judges the continuation into the last vertex (--max-depth) at 4x its throughput, since this roulette judges that vertex's estimate again", "0.1", Kind::Value, kBoth},
     {"sampling", "--light-guiding", "F|auto|off", "the share of the continuations from a path's first four fibre vertices drawn from a lobe about 18 degrees wide around the direction to a light (one of those that reach it, picked evenly; up to 16) instead of from the fibre's scattering function, each continuation weighted by the value over the mixture of both densities: unbiased, and the rare bright paths through a fibre lying between the path and a light become common (light through a lock), at one more scattering evaluation per continuation (later vertices are not guided: the weights' spread would multiply over hundreds of bounces); auto: 0.2 in a scene lit by its lights alone, off where an environment gives light too (it comes from every direction, and guided weights add noise there; measured in docs/PERFORMANCE.md section 8); off, and for scenes without lights or for surfaces, no guiding", "auto", Kind::Value, kBoth},
+    {"sampling", "--light-vertices", "N|off", "light-vertex next-event estimation: each camera sample also traces N light rays from the scene's point, spot and directional lights, which take turns (a point or spot light's uniform in the cone towards the scene's bounding sphere, a directional light's uniform over a disc across it that covers the scene), and every fibre vertex before the last connects to the first fibre hit of one of them, picked at random, with a shadow ray between the two fibres; the connection and the vertex's continuations share those paths by multiple importance sampling, so the sum stays unbiased and the light that reaches a fibre through a lit neighbour no longer arrives only as a rare bright sample, at one more shadow ray and two scattering evaluations per vertex; needs a point, spot or directional light, not with --indirect afs or dual or with --aovs; off at --max-depth 1; measured in docs/PERFORMANCE.md section 8 (not the default: it did not pay)", "off", Kind::Value, kBoth},
     {"sampling", "--light-pick", "importance|uniform", "how a next-event estimate that picks one light chooses it (every estimate after the first vertex; the first vertex's with --first-hit-light-samples 1): importance = half in proportion to what each light delivers to the shading point unshadowed (radiance over distance squared, a spot's falloff, a sphere's cone) times how squarely it faces the fibre or surface there, half evenly over the lights that reach the point, so no estimate is spent on a light that cannot reach it (unbiased); uniform = each light alike (A/B: the images of before). Scenes with one light or more than 16 always pick uniformly; an environment map keeps its uniform share (measured in docs/PERFORMANCE.md section 8)", "importance", Kind::Value, kBoth},
     {"sampling", "--camera-rays", "lists|tree", "how camera rays find their closest hit: lists = each pixel's candidates (the primitives whose projected bounds, widened by 1/64 pixel, overlap it), nearest first, tested in groups of eight through the tree's leaf test and stopping at the first group beyond the closest hit; a pixel with more than 1,024 candidates, and every pixel when the projection is unbounded (geometry reaching the eye's plane), traverses the tree; the lists are capped at 2^24 entries of 8 bytes (the per-pixel cap halves until they fit), and left out when the device holds the render only without them (stderr says so); the same hits as the tree, bit for bit; tree = every camera ray traverses the BVH (A/B; measured in docs/PERFORMANCE.md section 8)", "lists", Kind::Value, kBoth},
     {"sampling", "--shadow-rays", "auto|lists|tree", "how shadow rays toward a directional light find a blocker: auto = lists when spp times the pixels that see geometry reaches 4 per segment and directional light (below that they cost more to build than they save); lists = a grid across each directional light's direction (cells of 4 mean fibre radii, at most 4 cells per segment and 4096 a side; the first 4 such lights), each cell listing the primitives whose shadow covers it by how far towards the light they reach, and a shadow ray tests its cell's list from its origin on, stopping at the first blocker, instead of traversing the tree; a cell with more than 1,024 entries keeps the tree; left out, before the camera's lists, when the device holds the render only without them (stderr says so); the same answers as the tree; tree = every shadow ray traverses the BVH (A/B; measured in docs/PERFORMANCE.md section 8)", "auto", Kind::Value, kBoth},
@@ -179,6 +180,7 @@ ImageRequest parse_image_request(const ArgParser& p) {
     s.regularize_deg = float(p.get_double_or("--regularize", "off", 0.1, 90).value_or(0.0));
     s.light_threshold = float(p.get_double_or("--light-threshold", "off", kMinLightThreshold, kMaxLightThreshold).value_or(0.0));
     s.light_guiding = parse_light_guiding("--light-guiding", p.get("--light-guiding"));
+    s.light_vertices = uint32_t(p.get_int_or("--light-vertices", "off", 1, int(kMaxLightVertices)).value_or(0));
     s.bvh_oriented = float(p.get_double_or("--bvh-oriented", "off", 0.01, 1).value_or(0.0));
     if (p.get_choice("--spawn-offset", {"capsule", "pbrt"}) == "pbrt") s.spawn_offset = RenderSettings::SpawnOffset::Pbrt;
     if (p.get_choice("--sampler", {"sobol", "independent"}) == "independent") s.sampler = RenderSettings::Sampler::Independent;
@@ -281,6 +283,19 @@ void apply_scene_overrides(Scene& scene, const ImageRequest& r) {
     ensure_camera_and_light(scene, r.view);
 }
 
+// --light-vertices: what it needs and what it cannot be combined with; off where no vertex has a
+// connection to make (depth 1: the first vertex's continuation is not traced).
+void check_light_vertices(const Scene& scene, RenderSettings& s) {
+    if (s.light_vertices == 0) return;
+    if (s.indirect != RenderSettings::Indirect::Exact)
+        throw UsageError("--light-vertices connects path vertices to lit fibres; --indirect afs and dual stand for that "
+                         "light at the first hit instead: render without one of them");
+    if (s.aovs) throw UsageError("--aovs cannot split --light-vertices' connections by lobe or bounce; render without one of them");
+    if (std::none_of(scene.lights.begin(), scene.lights.end(), [](const Light& l) { return l.type != LightType::Sphere; }))
+        throw UsageError("--light-vertices starts light rays from point, spot and directional lights; the scene has none");
+    if (s.max_depth < 2) s.light_vertices = 0;
+}
+
 RenderSettings resolve_settings(const Scene& scene, const ImageRequest& r, std::string* why) {
     RenderSettings s = r.settings;
     // An explicit --model is taken literally unless --fiber-field says otherwise.
@@ -308,6 +323,7 @@ RenderSettings resolve_settings(const Scene& scene, const ImageRequest& r, std::
     s.first_hit_light_samples = r.light_samples.value_or(std::clamp(nee_lights, 1, kMaxFirstHitSplits));
     // the settings say what the render does: without a choice among lights the pick is uniform
     if (!light_pick_chooses(scene.lights.size())) s.light_pick = RenderSettings::LightPick::Uniform;
+    check_light_vertices(scene, s);
     return s;
 }
 

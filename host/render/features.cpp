@@ -201,7 +201,7 @@ std::string kernel_build_options(const KernelFeatures& f) {
 
 std::string estimator_build_options(float clamp_indirect, float regularize_deg, float light_threshold,
                                     bool spawn_offset_pbrt, bool sampler_sobol, bool light_pick_importance,
-                                    float light_guiding) {
+                                    float light_guiding, bool light_vertices) {
     auto float_define = [](const char* name, double v) {
         char def[80];
         std::snprintf(def, sizeof def, " -D%s=%.9ef", name, v);
@@ -215,6 +215,7 @@ std::string estimator_build_options(float clamp_indirect, float regularize_deg, 
     if (sampler_sobol) o += " -DHT_SAMPLER_SOBOL=1";
     if (light_pick_importance) o += " -DHT_LIGHT_PICK_IMPORTANCE=1";
     if (light_guiding > 0) o += float_define("HT_LIGHT_GUIDE", light_guiding);
+    if (light_vertices) o += " -DHT_LIGHT_VERTICES=1";
     return o;
 }
 

@@ -70,10 +70,10 @@ std::string kernel_build_options(const Scene& scene, uint32_t fiber_field = 0, b
 // The estimator's value defines (kernels/features.h): --clamp-indirect C (0: off), --regularize
 // DEG (0: off), --light-threshold T (0: off), --spawn-offset pbrt, --sampler sobol, --light-pick
 // importance (for a scene with 2..HT_LIGHT_PICK_MAX lights), --light-guiding F (0: off, and off for
-// a scene without lights); "" when everything is off.
+// a scene without lights), --light-vertices (on or off); "" when everything is off.
 std::string estimator_build_options(float clamp_indirect, float regularize_deg, float light_threshold,
                                     bool spawn_offset_pbrt, bool sampler_sobol, bool light_pick_importance = false,
-                                    float light_guiding = 0.0f);
+                                    float light_guiding = 0.0f, bool light_vertices = false);
 
 // One line per chosen feature, for --verbose.
 std::vector<std::string> describe_features(const KernelFeatures& f);

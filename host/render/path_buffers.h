@@ -31,6 +31,7 @@ enum class PathBuffer {
     DualRecords,               // --indirect dual: shade's HtDualRecord per shadow slot
     GroupSums,                 // compaction's per-work-group counts
     Aovs, ShadowAovs,          // --aovs: per-path records and per-shadow-slot shares (kernels/aovs.h)
+    ConnectRays, ConnectContrib, ConnectOccluded,  // --light-vertices: shade's connection per ray
     Count
 };
 
@@ -39,7 +40,7 @@ struct PathBufferSpec {
     const char* name;
     size_t element_bytes;
     size_t slots_per_element;  // 1, or kPathGroup for per-work-group records
-    enum Use { Always, IndirectAfs, IndirectDual, Aovs } use;  // allocated always, or only for that setting
+    enum Use { Always, IndirectAfs, IndirectDual, Aovs, LightVertices } use;  // allocated always, or only for that setting
 };
 
 constexpr PathBufferSpec kPathBuffers[] = {
@@ -59,6 +60,9 @@ constexpr PathBufferSpec kPathBuffers[] = {
     {PathBuffer::GroupSums, "group_sums", sizeof(uint32_t), kPathGroup, PathBufferSpec::Always},
     {PathBuffer::Aovs, "aovs", HT_AOV_STRIDE * sizeof(float), 1, PathBufferSpec::Aovs},
     {PathBuffer::ShadowAovs, "shadow_aovs", HT_SHADOW_AOV_STRIDE * sizeof(float), 1, PathBufferSpec::Aovs},
+    {PathBuffer::ConnectRays, "connect_rays", sizeof(HtRay), 1, PathBufferSpec::LightVertices},
+    {PathBuffer::ConnectContrib, "connect_contrib", sizeof(HtShadowContrib), 1, PathBufferSpec::LightVertices},
+    {PathBuffer::ConnectOccluded, "connect_occluded", sizeof(uint32_t), 1, PathBufferSpec::LightVertices},
 };
 static_assert(sizeof(kPathBuffers) / sizeof(kPathBuffers[0]) == size_t(PathBuffer::Count),
               "one kPathBuffers row per PathBuffer");
@@ -76,12 +80,14 @@ struct PathBufferSet {
     bool indirect_afs = false;
     bool indirect_dual = false;
     bool aovs = false;
+    bool light_vertices = false;
     size_t slots_per_pixel = 1;  // max(--first-hit-splits, --first-hit-light-samples)
 
     bool uses(const PathBufferSpec& b) const {
         return b.use == PathBufferSpec::Always || (b.use == PathBufferSpec::IndirectAfs && indirect_afs) ||
                (b.use == PathBufferSpec::IndirectDual && indirect_dual) ||
-               (b.use == PathBufferSpec::Aovs && aovs);
+               (b.use == PathBufferSpec::Aovs && aovs) ||
+               (b.use == PathBufferSpec::LightVertices && light_vertices);
     }
     // Slots allocated for a pass of `paths` paths: whole work-groups.
     static size_t slots(size_t paths) { return (paths + kPathGroup - 1) / kPathGroup * kPathGroup; }

@@ -53,7 +53,7 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& s, const R
                                                   s.sampler == RenderSettings::Sampler::Sobol,
                                                   s.light_pick == RenderSettings::LightPick::Importance &&
                                                       light_pick_chooses(scene.lights.size()),
-                                                  p.settings.light_guiding);
+                                                  p.settings.light_guiding, s.light_vertices > 0);
     if (recipe_ready) recipe_ready(p);
     BvhOptions bvh;
     bvh.obb_ratio = s.bvh_oriented;

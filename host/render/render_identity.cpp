@@ -110,6 +110,7 @@ uint64_t settings_digest(const RenderSettings& s, int chunk) {
     if (s.light_threshold > 0) d.add(s.light_threshold);
     if (s.light_guiding != 0) d.add(s.light_guiding).add(std::string("light_guiding"));
     if (s.light_pick != RenderSettings::LightPick::Uniform) d.add(s.light_pick);
+    if (s.light_vertices > 0) d.add(s.light_vertices).add(std::string("light_vertices"));
     return d.h;
 }
 

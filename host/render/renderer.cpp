@@ -140,6 +140,13 @@ struct Renderer::Impl {
     cl::Kernel k_compact_count, k_compact_scan, k_compact_scatter;
     cl::Kernel k_shadow_afs, k_resolve_afs, k_shadow_dual;
     cl::Kernel k_pilot_record, k_pilot_accumulate;  // --first-hit-splits auto's pilot
+    // --light-vertices (kernels/integrator/light_vertices.h): the bounding sphere and count; the
+    // pass's light rays and their hits (grown to count x samples of the largest pass)
+    bool light_vertices = false;
+    HtLightVertices lv{};
+    cl::Buffer light_rays, light_hits;
+    size_t light_ray_capacity = 0;
+    cl::Kernel k_generate_light;
     RenderStats stats;
     cl::Buffer film_buf, film_aov;  // film_aov: --aovs only
     cl::Buffer film_even;           // --target-error: the even samples' half film (core/film.h)
@@ -204,6 +211,9 @@ struct Renderer::Impl {
         const bool dual = s.indirect == RenderSettings::Indirect::Dual;
         buffer_set.indirect_dual = dual;
         buffer_set.aovs = s.aovs;
+        light_vertices = s.light_vertices > 0 && s.max_depth >= 2;
+        buffer_set.light_vertices = light_vertices;
+        if (light_vertices) place_light_vertices(p);
         seed = s.seed;
         can_split = s.max_depth > 1 || p.environment.header.enabled;
         splits_pending = can_split && s.first_hit_splits == kAutoFirstHitSplits;
@@ -241,6 +251,7 @@ struct Renderer::Impl {
         k_compact_count = cl::Kernel(trace_program, "compact_count");
         k_compact_scan = cl::Kernel(trace_program, "compact_scan");
         k_compact_scatter = cl::Kernel(trace_program, "compact_scatter");
+        if (light_vertices) k_generate_light = cl::Kernel(trace_program, "generate_light_rays");
         if (splits_pending) {
             k_pilot_record = cl::Kernel(trace_program, "pilot_record_first_vertex");
             k_pilot_accumulate = cl::Kernel(trace_program, "pilot_accumulate");
@@ -417,6 +428,7 @@ struct Renderer::Impl {
         const RenderSettings& s = settings;
         const size_t pixels = selected_pixels(selected);
         const size_t pixels_per_pass = std::max<size_t>(camera_paths_per_pass / samples, 1);
+        if (light_vertices) trace_light_vertices(first, samples);
         for (size_t offset = 0; offset < pixels; offset += pixels_per_pass) {
             const uint32_t pass_pixels = uint32_t(std::min(pixels_per_pass, pixels - offset));
             const uint32_t count = pass_pixels * samples;  // camera paths
@@ -449,6 +461,12 @@ struct Renderer::Impl {
                     intersect_shadow(shadow_slots);
                     if (dump) dump->shadow(cl.queue(), buffer(PathBuffer::ShadowRays), buffer(PathBuffer::Occluded), shadow_slots, bounce);
                     resolve_shadows(shadow_slots);
+                    // the connections to light vertices, one slot per shaded ray, after the
+                    // estimates' slots (a path may have one of each)
+                    if (light_vertices && bounce + 1 < vertices) {
+                        intersect_shadow(buffer(PathBuffer::ConnectRays), buffer(PathBuffer::ConnectOccluded), n, false);
+                        resolve_shadows(buffer(PathBuffer::ConnectContrib), buffer(PathBuffer::ConnectOccluded), n);
+                    }
                 }
                 if (pilot && bounce == 0) pilot_record_first_vertex(count);
                 const uint32_t staged = bounce == 0 ? n * splits : n;
@@ -474,6 +492,49 @@ struct Renderer::Impl {
                 accumulate(film_buf, pass_pixels, samples);
         }
         cl.queue().finish();
+    }
+
+    // --light-vertices: the sphere around every point of the geometry (strands and triangles,
+    // inflated by their radii) that the light rays aim at.
+    void place_light_vertices(const PreparedScene& p) {
+        if (std::none_of(p.lights.begin(), p.lights.end(), [](const HtLight& l) { return l.type != HT_LIGHT_SPHERE; }))
+            throw std::invalid_argument("--light-vertices starts light rays from point, spot and directional lights; the scene has none");
+        float lo[3] = {HUGE_VALF, HUGE_VALF, HUGE_VALF}, hi[3] = {-HUGE_VALF, -HUGE_VALF, -HUGE_VALF};
+        for (const HtPoint& q : p.geometry.points) {
+            const float c[3] = {q.x, q.y, q.z};
+            for (int a = 0; a < 3; ++a) {
+                lo[a] = std::min(lo[a], c[a] - q.r);
+                hi[a] = std::max(hi[a], c[a] + q.r);
+            }
+        }
+        double r2 = 0;
+        for (int a = 0; a < 3; ++a) {
+            lv.disc[a] = 0.5f * (lo[a] + hi[a]);
+            r2 += 0.25 * double(hi[a] - lo[a]) * double(hi[a] - lo[a]);
+        }
+        lv.disc[3] = float(std::sqrt(r2) * 1.001 + 1e-6);
+        lv.count = settings.light_vertices;
+    }
+
+    // The light rays of samples first .. first + samples - 1 and their first hits.
+    void trace_light_vertices(uint32_t first, uint32_t samples) {
+        const size_t n = size_t(lv.count) * samples;
+        if (n > light_ray_capacity) {
+            light_rays = cl::Buffer(cl.context(), CL_MEM_READ_WRITE, n * sizeof(HtRay));
+            light_hits = cl::Buffer(cl.context(), CL_MEM_READ_WRITE, n * sizeof(HtHit));
+            light_ray_capacity = n;
+        }
+        lv.first_sample = first;
+        cl_uint a = 0;
+        k_generate_light.setArg(a++, lv);
+        k_generate_light.setArg(a++, scene.lights);
+        k_generate_light.setArg(a++, scene.light_count);
+        k_generate_light.setArg(a++, seed);
+        k_generate_light.setArg(a++, cl_uint(n));
+        k_generate_light.setArg(a++, light_rays);
+        launch(k_generate_light, n);
+        intersect_closest(light_rays, light_hits, uint32_t(n));
+        stats.light_rays += n;
     }
 
     // ---- stages ---------------------------------------------------------------------------
@@ -502,10 +563,12 @@ struct Renderer::Impl {
         launch(k_generate, count);
     }
 
-    void intersect_closest(int q, uint32_t count) {
+    void intersect_closest(int q, uint32_t count) { intersect_closest(queue_rays(q), buffer(PathBuffer::Hits), count); }
+
+    void intersect_closest(const cl::Buffer& rays, const cl::Buffer& hits, uint32_t count) {
         cl_uint a = set_geometry_args(k_closest);
-        k_closest.setArg(a++, queue_rays(q));
-        k_closest.setArg(a++, buffer(PathBuffer::Hits));
+        k_closest.setArg(a++, rays);
+        k_closest.setArg(a++, hits);
         k_closest.setArg(a++, count);
         launch(k_closest, count);
     }
@@ -547,6 +610,13 @@ struct Renderer::Impl {
             k_shade.setArg(a++, buffer(PathBuffer::ShadowAovs));
         }
         if (settings.indirect == RenderSettings::Indirect::Dual) k_shade.setArg(a++, buffer(PathBuffer::DualRecords));
+        if (light_vertices) {
+            k_shade.setArg(a++, light_rays);
+            k_shade.setArg(a++, light_hits);
+            k_shade.setArg(a++, lv);
+            k_shade.setArg(a++, buffer(PathBuffer::ConnectRays));
+            k_shade.setArg(a++, buffer(PathBuffer::ConnectContrib));
+        }
         launch(k_shade, count);
     }
 
@@ -582,12 +652,18 @@ struct Renderer::Impl {
 
     // With shadow lists, intersect_shadow_lists: intersect_shadow's arguments, then the lists.
     void intersect_shadow(uint32_t count) {
-        cl::Kernel& k = shadow_lists.grid_count > 0 ? k_shadow_lists : k_shadow;
+        intersect_shadow(buffer(PathBuffer::ShadowRays), buffer(PathBuffer::Occluded), count, true);
+    }
+
+    // Any rays (the lists serve only rays towards a directional light: `lists` says these are).
+    void intersect_shadow(const cl::Buffer& rays, const cl::Buffer& occluded, uint32_t count, bool lists) {
+        const bool use_lists = lists && shadow_lists.grid_count > 0;
+        cl::Kernel& k = use_lists ? k_shadow_lists : k_shadow;
         cl_uint a = set_geometry_args(k);
-        k.setArg(a++, buffer(PathBuffer::ShadowRays));
-        k.setArg(a++, buffer(PathBuffer::Occluded));
+        k.setArg(a++, rays);
+        k.setArg(a++, occluded);
         k.setArg(a++, count);
-        if (shadow_lists.grid_count > 0) {
+        if (use_lists) {
             k.setArg(a++, shadow_lists.grid_count);
             k.setArg(a++, shadow_lists.grids);
             k.setArg(a++, shadow_lists.start);
@@ -643,8 +719,12 @@ struct Renderer::Impl {
     }
 
     void resolve_shadows(uint32_t count) {
-        k_resolve.setArg(0, buffer(PathBuffer::ShadowContrib));
-        k_resolve.setArg(1, buffer(PathBuffer::Occluded));
+        resolve_shadows(buffer(PathBuffer::ShadowContrib), buffer(PathBuffer::Occluded), count);
+    }
+
+    void resolve_shadows(const cl::Buffer& contrib, const cl::Buffer& occluded, uint32_t count) {
+        k_resolve.setArg(0, contrib);
+        k_resolve.setArg(1, occluded);
         k_resolve.setArg(2, count);
         k_resolve.setArg(3, buffer(PathBuffer::Paths));
         set_resolve_aov_args(k_resolve, 4);
@@ -934,6 +1014,7 @@ void RenderStats::add(const RenderStats& o) {
     paths += o.paths;
     extension_rays += o.extension_rays;
     shadow_rays += o.shadow_rays;
+    light_rays += o.light_rays;
     nonfinite_caught += o.nonfinite_caught;
     cut_paths += o.cut_paths;
     build_ms += o.build_ms;

@@ -29,6 +29,9 @@ struct RenderStats {
     double seconds = 0, build_ms = 0;
     bool build_cached = false;
     uint64_t camera_rays = 0, extension_rays = 0, shadow_rays = 0;
+    // --light-vertices: light rays traced (the connections to their hits are shadow rays, counted
+    // in shadow_rays)
+    uint64_t light_rays = 0;
     // pixel samples given the background's value without a camera ray: the pixels that see no
     // geometry (RenderSettings::skip_empty_pixels), once per sample
     uint64_t background_samples = 0;

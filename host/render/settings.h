@@ -26,6 +26,10 @@ constexpr double kMinLightThreshold = 1e-6, kMaxLightThreshold = 1;
 // --light-guiding's range (kernels/integrator/light_guide.h): the share of a fibre vertex's
 // continuations drawn towards the lights; 1 would leave directions no light lies in unsampled.
 constexpr double kMinLightGuiding = 1e-3, kMaxLightGuiding = 0.9;
+
+// --light-vertices' range: light rays per camera sample (their Sobol' indices, sample x count,
+// must stay below 2^32 for a million samples).
+constexpr uint32_t kMaxLightVertices = 4096;
 // RenderSettings::light_guiding for --light-guiding auto, and the share auto takes.
 constexpr float kAutoLightGuiding = -1.0f, kDefaultLightGuiding = 0.2f;
 
@@ -82,6 +86,10 @@ struct RenderSettings {
     // (kernels/integrator/light_guide.h); 0 here (off), the command line's default is chosen by
     // measurement (docs/PERFORMANCE.md §8).  kAutoLightGuiding: effective_light_guiding decides.
     float light_guiding = 0.0f;
+    // --light-vertices N: light rays per camera sample from the scene's first directional light,
+    // whose first fibre hits each fibre vertex below the last connects to, sharing those paths with
+    // its continuations by MIS (kernels/integrator/light_vertices.h); 0: none.
+    uint32_t light_vertices = 0;
     // How a single next-event estimate chooses among two or more lights: uniformly (here), or half
     // by what each light delivers unshadowed at the shading point times how squarely it faces the
     // fibre or surface there, half evenly over the lights that reach it (kernels/lights.h

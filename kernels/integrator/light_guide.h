@@ -30,6 +30,7 @@
 #include "../types.h"
 #include "../lights.h"
 #include "shading_point.h"
+#include "../geometry/basis.h"
 
 /* The guide lobe's concentration: about 1/sqrt(kappa) = 18 degrees of spread, the order of a
  * forward lobe's width after a bounce or two of roughness; measured flat between 5 and 30 on pbrt's
@@ -59,12 +60,8 @@ HT_FN real3 ht_vmf_sample(real3 mu, real u1, real u2) {
     const real s = sqrt(ht_max(HT_R(0), HT_R(1) - c * c));
     real sin_a, cos_a;
     ht_sincos(HT_TWO_PI * u2, &sin_a, &cos_a);
-    /* an orthonormal basis around mu without a branch on its direction (Duff et al. 2017) */
-    const real sign = mu.z >= HT_R(0) ? HT_R(1) : HT_R(-1);
-    const real a = HT_R(-1) / (sign + mu.z);
-    const real b = mu.x * mu.y * a;
-    const real3 t = make_real3(HT_R(1) + sign * mu.x * mu.x * a, sign * b, -sign * mu.x);
-    const real3 bt = make_real3(b, sign + mu.y * mu.y * a, -mu.y);
+    real3 t, bt;
+    ht_basis_around(mu, &t, &bt);
     return t * (s * cos_a) + bt * (s * sin_a) + mu * c;
 }
 

@@ -49,6 +49,9 @@
 #ifdef HT_LIGHT_GUIDE
 #include "../integrator/light_guide.h"
 #endif
+#ifdef HT_LIGHT_VERTICES
+#include "../integrator/light_vertices.h"
+#endif
 #include "../integrator/aov_record.h"
 #include "../integrator/aov_lobes.h"
 #include "stage_args.h"
@@ -114,7 +117,7 @@ HT_FN int ht_nee_sample(__global const HtLight* lights, uint light_count, const 
                         __global const float* env_texels, __global const float* env_marginal,
                         __global const float* env_conditional, uint nee_count, uint seed,
                         uint pixel, uint sample, uint bounce, uint stratum, uint strata,
-                        const HtShadingPoint* sp, HtLightSample* ls, float* inv_pick) {
+                        const HtShadingPoint* sp, HtLightSample* ls, float* inv_pick, uint* picked) {
     const float3 p = sp->p;
     /* Draws only where they decide something (a Sobol' draw is not free, and no other draw depends
      * on whether one was made): the pick among two or more, the direction for a sphere light or
@@ -141,6 +144,7 @@ HT_FN int ht_nee_sample(__global const HtLight* lights, uint light_count, const 
     } else
 #endif
         li = min((uint)(ul * (float)nee_count), nee_count - 1u);
+    *picked = li;
     float u = 0.5f, v = 0.5f;
 #if HT_FEATURE_LIGHT_SPHERE
     if (li >= light_count || lights[li].type == HT_LIGHT_SPHERE) {
@@ -168,8 +172,8 @@ HT_FN int ht_nee_sample(__global const HtLight* lights, uint light_count, const 
 /* The path goes on with throughput nthr along the sampled direction w from origin o: fills the
  * extension ray and the path state.  Returns 0 (path ends) for a zero or non-finite throughput,
  * counting the latter. */
-HT_FN int ht_continue_path(HtPathState* st, float3 nthr, float pdf, float3 o, float3 w, HtRay* next_ray,
-                           volatile __global uint* counters) {
+HT_FN int ht_continue_path(HtPathState* st, float3 nthr, float pdf, float3 o, float3 w, int from_fibre,
+                           HtRay* next_ray, volatile __global uint* counters) {
     if (!ht_finite3(nthr)) {
         atomic_inc(&counters[HT_COUNTER_NAN]);
         return 0;
@@ -181,7 +185,7 @@ HT_FN int ht_continue_path(HtPathState* st, float3 nthr, float pdf, float3 o, fl
     next_ray->tmax = 1e30f;
     st->throughput[0] = nthr.x; st->throughput[1] = nthr.y; st->throughput[2] = nthr.z;
     st->last_pdf = pdf;
-    st->flags &= ~HT_PATH_FROM_CAMERA;
+    st->flags = (st->flags & ~(HT_PATH_FROM_CAMERA | HT_PATH_FROM_FIBRE)) | (from_fibre ? HT_PATH_FROM_FIBRE : 0u);
     return 1;
 }
 
@@ -202,17 +206,22 @@ HT_FN float3 ht_roulette_at(float3 nthr, float share, uint seed, uint pixel, uin
  * index `sample`: a light picked (ht_nee_sample, from stratum `stratum` of `strata`), the BCSDF
  * evaluated towards it, MIS where BCSDF sampling can find that light too.  Fills the shadow ray
  * and its unoccluded contribution (and the light's direction, for --aovs, and the light sample's
- * weight before the BCSDF and MIS, for --indirect dual); returns 0 when there is no ray to trace. */
+ * weight before the BCSDF and MIS, for --indirect dual); returns 0 when there is no ray to trace.
+ * With --light-vertices, p_cont >= 0 is the density with which the path's continuation found this
+ * fibre (kernels/integrator/light_vertices.h): an estimate of a light that starts light vertices
+ * then takes the continuation's balance weight against the connections to them (p_cont < 0: none). */
 HT_FN int ht_next_event(__global const HtLight* lights, uint light_count, const HtEnvironment* env,
                         __global const float* env_texels, __global const float* env_marginal,
                         __global const float* env_conditional, uint nee_count, uint seed, uint pixel,
                         uint sample, uint bounce, uint stratum, uint strata, const HtShadingPoint* sp,
-                        float3 thr, float share, volatile __global uint* counters, HtRay* shadow_ray,
-                        float3* contrib, float3* wi, float3* light_weight) {
+                        float3 thr, float share, const HtLightVertices* lv, float p_cont,
+                        volatile __global uint* counters, HtRay* shadow_ray, float3* contrib, float3* wi,
+                        float3* light_weight) {
     HtLightSample ls;
     float inv_pick;
+    uint picked;
     if (!ht_nee_sample(lights, light_count, env, env_texels, env_marginal, env_conditional, nee_count, seed,
-                       pixel, sample, bounce, stratum, strata, sp, &ls, &inv_pick))
+                       pixel, sample, bounce, stratum, strata, sp, &ls, &inv_pick, &picked))
         return 0;
     float3 value;
     float pdf_bsdf = 0.0f;
@@ -224,6 +233,13 @@ HT_FN int ht_next_event(__global const HtLight* lights, uint light_count, const 
     if (ls.pdf > 0.0f) pdf_bsdf = ht_guided_pdf(sp, lights, light_count, HT_LIGHT_GUIDE, bounce, ls.wi, pdf_bsdf);
 #endif
     float w = ls.pdf > 0.0f ? ht_mis_power(ls.pdf / inv_pick, pdf_bsdf) : 1.0f;
+#ifdef HT_LIGHT_VERTICES
+    if (p_cont >= 0.0f && picked < light_count) {
+        const HtLight light = lights[picked];
+        w *= ht_light_vertex_mis_continuation(
+            p_cont, ht_light_vertex_density(lv, &light, picked, light_count, sp->axis_point, sp->tangent));
+    }
+#endif
     float3 c = thr * value * ls.li_over_pdf * (inv_pick * w);
     if (!ht_finite3(c)) {
         atomic_inc(&counters[HT_COUNTER_NAN]);
@@ -254,8 +270,95 @@ HT_FN int ht_next_event(__global const HtLight* lights, uint light_count, const 
     return shadow_ray->tmax > 0.0f;
 }
 
+#ifdef HT_LIGHT_VERTICES
+/* --light-vertices: fibre vertex sp (a vertex of `bounce`, throughput thr, carrying `share` of its
+ * camera sample) connects to one light vertex of its camera sample `sample`, picked uniformly
+ * (kernels/integrator/light_vertices.h has the estimator and its weights).  Fills the connection's
+ * shadow ray -- from where a ray towards y leaves x to where one leaving y towards x would start,
+ * stopped short of y's fibre by its radius over the foreshortening -- and its unoccluded
+ * contribution; returns 0 when there is none. */
+HT_FN int ht_connect_light_vertex(HT_SEGS_PARAM, HT_POINTS_PARAM, __global const uint* strand_material,
+                                  __global const HtMaterial* materials, __global const HtLight* lights,
+                                  uint light_count, __global const HtHit* light_hits, const HtLightVertices* lv,
+                                  uint seed, uint pixel, uint sample, uint vertex_sample, uint bounce,
+                                  uint field_mode, float pixel_angle, float n_a, float share,
+                                  const HtShadingPoint* sp, float3 thr, volatile __global uint* counters,
+                                  HtRay* ray, float3* contrib) {
+    const float u = ht_sample(seed, pixel, vertex_sample, bounce, HT_DIM_LV_PICK);
+    const uint j = min((uint)(u * (float)lv->count), lv->count - 1u);
+    const uint l = ht_light_vertex_light(j, light_count);
+    const HtLight light = lights[l];
+    if (light.type == HT_LIGHT_SPHERE) return 0; /* starts no light rays */
+    const HtHit lh = light_hits[(sample - lv->first_sample) * lv->count + j];
+    if (lh.segment == HT_NO_HIT) return 0;
+    const HtSegment seg = HT_SEG(lh.segment);
+#if HT_FEATURE_MESHES
+    if (seg.flags & HT_SEG_TRIANGLE) return 0;
+#endif
+    const HtPoint a = HT_POINT(seg.point), b = HT_POINT(seg.point + 1u);
+    const float3 pa = (float3)(a.x, a.y, a.z), pb = (float3)(b.x, b.y, b.z);
+    const float3 y = pa + (pb - pa) * lh.u, ty = (float3)(lh.tx, lh.ty, lh.tz);
+    float3 d = y - sp->axis_point;
+    float dd = dot(d, d);
+    if (!(dd > 0.0f)) return 0;
+    const float3 o = ht_point_spawn(sp, d * rsqrt(dd));
+    d = y - o;
+    dd = dot(d, d);
+    if (!(dd > 0.0f)) return 0;
+    const float r = sqrt(dd);
+    const float3 w = d / r;
+    const float cos_y = ht_fibre_facing(ty, w);
+    const float reach = r - lh.radius * 1.01f / max(cos_y, 0.05f);
+    if (!(reach > 0.0f)) return 0;
+    float3 value_x;
+    float pdf_x = 0.0f;
+    ht_point_eval(sp, w, &value_x, &pdf_x);
+#ifdef HT_LIGHT_GUIDE
+    pdf_x = ht_guided_pdf(sp, lights, light_count, HT_LIGHT_GUIDE, bounce, w, pdf_x);
+#endif
+    if (!(value_x.x + value_x.y + value_x.z > 0.0f)) return 0;
+    /* y as the ray from x would find it: from o along w, at the light ray's offset h */
+    HtRay to_y = {o.x, o.y, o.z, 0.0f, w.x, w.y, w.z, r};
+    HtHit at_y = lh;
+    at_y.t = r;
+    HtShadingPoint spy;
+    ht_fibre_point(materials[strand_material[seg.strand]], a, b, &to_y, &at_y, HT_PATH_FROM_FIBRE, bounce + 1u,
+                   field_mode, pixel_angle, &spy);
+    /* the light at y, as y's own estimate of this light would find it unshadowed */
+    HtLightSample ls;
+    if (!ht_sample_light(&light, y, 0.5f, 0.5f, &ls)) return 0;
+    float3 value_y;
+    ht_point_eval(&spy, ls.wi, &value_y, 0);
+    const float p_light = ht_light_vertex_density(lv, &light, l, light_count, y, ty);
+    const float p_cont = n_a * pdf_x * cos_y / dd;
+    if (!(p_cont + p_light > 0.0f)) return 0;
+    const float3 weight = thr * value_x * value_y * (cos_y / (dd * (p_cont + p_light)));
+    float3 c = weight * ls.li_over_pdf;
+    if (!ht_finite3(c)) {
+        atomic_inc(&counters[HT_COUNTER_NAN]);
+        return 0;
+    }
+#ifdef HT_LIGHT_THRESHOLD
+    /* judged as a next-event estimate is (ht_next_event), by its weight without the light */
+    {
+        const float q = ht_max_channel(weight) / share;
+        if (q < HT_LIGHT_THRESHOLD)
+            c = ht_light_roulette(c, q, HT_LIGHT_THRESHOLD, ht_sample(seed, pixel, vertex_sample, bounce, HT_DIM_LV_RR));
+    }
+#endif
+    c = ht_clamp_indirect(c, bounce + 2u, share);
+    if (!(c.x + c.y + c.z > 0.0f)) return 0;
+    ray->ox = o.x; ray->oy = o.y; ray->oz = o.z;
+    ray->dx = w.x; ray->dy = w.y; ray->dz = w.z;
+    ray->tmin = 0.0f;
+    ray->tmax = reach;
+    *contrib = c;
+    return 1;
+}
+#endif
+
 __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM, HT_SCENE_PARAMS, HT_SHADE_QUEUE_PARAMS,
-                    HtBounce b HT_SHADE_AOV_PARAMS HT_SHADE_DUAL_PARAMS) {
+                    HtBounce b HT_SHADE_AOV_PARAMS HT_SHADE_DUAL_PARAMS HT_SHADE_LV_PARAMS) {
     const uint seed = b.seed, bounce = b.bounce, max_depth = b.max_depth;
     const uint field_mode = b.field_mode;
     const float pixel_angle = b.pixel_angle;
@@ -341,6 +444,16 @@ __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM, HT_SCENE_PARA
          * slots of a bounce add to one path.  Every shadow slot of the ray is written; an empty
          * one has tmax < 0. */
         const float light_weight = bounce == 0u ? 1.0f / (float)light_samples : 1.0f;
+        /* --light-vertices: a fibre that a continuation from a fibre found shares its estimate of
+         * the light vertices' light with the connection from that fibre (light_vertices.h) */
+        float p_cont = -1.0f;
+#ifdef HT_LIGHT_VERTICES
+        if (scatters && !sp.is_surface && (st.flags & HT_PATH_FROM_FIBRE))
+            p_cont = ht_continuation_density(bounce == 1u ? (float)splits : 1.0f, st.last_pdf,
+                                             (float3)(ray.ox, ray.oy, ray.oz), sp.axis_point, sp.tangent);
+#else
+        const HtLightVertices lv = {{0.0f, 0.0f, 0.0f, 0.0f}, 0u, 0u, 0u, 0u};
+#endif
         const HtRay no_shadow_ray = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f, -1.0f};
         for (uint j = 0u; j < lights_here; ++j) {
             HtRay shadow_ray = no_shadow_ray;
@@ -351,7 +464,8 @@ __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM, HT_SCENE_PARA
                     bounce == 0u ? ht_continuation_sample(sample, light_samples, j) : vertex_sample;
                 queued = ht_next_event(lights, light_count, &env, env_texels, env_marginal, env_conditional,
                                        nee_count, seed, st.pixel, nee_sample, bounce, j, lights_here, &sp,
-                                       thr * light_weight, share, counters, &shadow_ray, &contrib, &wl, &lw);
+                                       thr * light_weight, share, &lv, p_cont, counters, &shadow_ray,
+                                       &contrib, &wl, &lw);
             }
             if (!queued) shadow_ray = no_shadow_ray;
             const uint slot = k * lights_here + j;
@@ -383,6 +497,29 @@ __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM, HT_SCENE_PARA
             shadows += (uint)queued;
         }
 
+#ifdef HT_LIGHT_VERTICES
+        /* the connection to a light vertex, in slot k of its own queue (resolved after the
+         * next-event estimates' slots, so that no two slots of one launch add to a path) */
+        {
+            HtRay connect_ray = no_shadow_ray;
+            float3 cc = (float3)(0.0f);
+            int connected = 0;
+            if (scatters && !sp.is_surface && bounce + 1u < max_depth)
+                connected = ht_connect_light_vertex(HT_SEGS_ARG, HT_POINTS_ARG, strand_material, materials, lights,
+                                                    light_count, light_hits, &lv, seed, st.pixel, sample,
+                                                    vertex_sample, bounce, field_mode, pixel_angle,
+                                                    bounce == 0u ? (float)splits : 1.0f, bounce == 0u ? 1.0f : share,
+                                                    &sp, thr, counters, &connect_ray, &cc);
+            if (!connected) connect_ray = no_shadow_ray;
+            connect_rays[k] = connect_ray;
+            HtShadowContrib sc;
+            sc.contrib[0] = cc.x; sc.contrib[1] = cc.y; sc.contrib[2] = cc.z;
+            sc.path = p;
+            connect_contrib[k] = sc;
+            shadows += (uint)connected;
+        }
+#endif
+
         /* extension rays: continuation 0 goes on in the path's own state, continuations 1..
          * in copies that start without radiance (with --aovs, continuation 0's sample at the
          * camera vertex is also its albedo estimate) */
@@ -390,6 +527,13 @@ __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM, HT_SCENE_PARA
         const int want_sample = scatters && (extend || bounce == 0u);
 #else
         const int want_sample = scatters && extend;
+#endif
+        /* the full mixture's density (not one lobe's) where a continuation has an MIS partner: an
+         * environment map, or with --light-vertices the connection */
+#ifdef HT_LIGHT_VERTICES
+        const int mixture = 1;
+#else
+        const int mixture = (int)ht_env_in_nee(&env);
 #endif
         for (uint j = 0u; want_sample && j < continuations; ++j) {
             HtPathState fork = st;
@@ -403,16 +547,16 @@ __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM, HT_SCENE_PARA
             float pdf;
 #ifdef HT_LIGHT_GUIDE
             const int sampled = ht_point_sample_guided(&sp, lights, light_count, HT_LIGHT_GUIDE, seed, st.pixel,
-                                                       cont_sample, bounce, ht_env_in_nee(&env), &wi, &weight, &pdf);
+                                                       cont_sample, bounce, mixture, &wi, &weight, &pdf);
 #else
             const int sampled =
-                ht_point_sample(&sp, seed, st.pixel, cont_sample, bounce, ht_env_in_nee(&env), &wi, &weight, &pdf);
+                ht_point_sample(&sp, seed, st.pixel, cont_sample, bounce, mixture, &wi, &weight, &pdf);
 #endif
             if (extend && sampled) {
                 float3 nthr =
                     ht_roulette_at(thr * weight * split_weight, share, seed, st.pixel, cont_sample, bounce, max_depth);
                 HtRay next_ray;
-                if (ht_continue_path(cont, nthr, pdf, ht_point_spawn(&sp, wi), wi, &next_ray, counters)) {
+                if (ht_continue_path(cont, nthr, pdf, ht_point_spawn(&sp, wi), wi, !sp.is_surface, &next_ray, counters)) {
                     stage_rays[k * continuations + j] = next_ray;
                     stage_path[k * continuations + j] = p + j;
                     if (j > 0u) paths[p + j] = fork;

@@ -43,4 +43,14 @@
 #define HT_SHADE_DUAL_PARAMS
 #endif
 
+/* --light-vertices (kernels/integrator/light_vertices.h): the pass's light rays and their hits in,
+ * shade's connection per ray (shadow ray and contribution) out */
+#ifdef HT_LIGHT_VERTICES
+#define HT_SHADE_LV_PARAMS                                                                         \
+    , __global const HtRay *light_rays, __global const HtHit *light_hits, HtLightVertices lv,      \
+        __global HtRay *connect_rays, __global HtShadowContrib *connect_contrib
+#else
+#define HT_SHADE_LV_PARAMS
+#endif
+
 #endif /* HT_STAGE_ARGS_H */

@@ -43,7 +43,7 @@ TEST(KernelFeatures, EveryEmittedDefineIsReadByAKernel) {
     for (bool& on : all.on) on = true;
     all.paging.pages = 4;
     all.paging.page_log2 = 10;
-    const std::string options = kernel_build_options(all) + estimator_build_options(2.0f, 10.0f, 0.05f, true, true, true, 0.2f);
+    const std::string options = kernel_build_options(all) + estimator_build_options(2.0f, 10.0f, 0.05f, true, true, true, 0.2f, true);
     const std::set<std::string> names = defined_names(options);
     EXPECT_GE(names.size(), kFeatureCount + 7);
     const std::string src = render_program_source();
@@ -83,4 +83,5 @@ TEST(KernelFeatures, EstimatorOptionsAreEmptyWhenOff) {
     EXPECT_NE(estimator_build_options(3, 0, 0, false, false).find("HT_CLAMP_INDIRECT"), std::string::npos);
     EXPECT_NE(estimator_build_options(0, 0, 0.05f, false, false).find("HT_LIGHT_THRESHOLD"), std::string::npos);
     EXPECT_NE(estimator_build_options(0, 0, 0, false, false, false, 0.2f).find("HT_LIGHT_GUIDE"), std::string::npos);
+    EXPECT_NE(estimator_build_options(0, 0, 0, false, false, false, 0, true).find("HT_LIGHT_VERTICES"), std::string::npos);
 }
