@@ -307,6 +307,9 @@ void report(const PreparedRender& job, const RenderRequest& request, const RunOu
     std::fprintf(stderr, "done: %d spp in %.2f s; %llu camera + %llu extension + %llu shadow rays; kernel build %.0f ms%s\n",
                  done, out.render_seconds, (unsigned long long)st.camera_rays, (unsigned long long)st.extension_rays,
                  (unsigned long long)st.shadow_rays, st.build_ms, st.build_cached ? " (cached)" : "");
+    if (st.light_rays)
+        std::fprintf(stderr, "light vertices: %llu light rays traced (their connections are among the shadow rays)\n",
+                     (unsigned long long)st.light_rays);
     if (st.background_samples)
         std::fprintf(stderr, "%zu of %d pixels see no geometry (found in %.0f ms): %llu of their samples are the background's, not traced\n",
                      st.empty_pixels, job.settings.width * job.settings.height, st.footprint_ms,

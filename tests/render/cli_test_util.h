@@ -133,6 +133,22 @@ inline void expect_option_default(const TempDir& d, const std::string& render, c
     EXPECT_NE(image(d / "default.exr"), image(d / "other.exr")) << other;
     for (const std::string& b : bad) EXPECT_EQ(rendered(" " + b, "x.exr"), 2) << b;
 }
+
+// `render` (8 samples, a command without -o) in chunks of 2 gives the same bits on one thread, on
+// two devices and as two render-farm parts merged.  Images go to d; the chunked one is c2.exr.
+inline void expect_same_bits_in_chunks_threads_devices_and_parts(const TempDir& d, const std::string& render) {
+    ASSERT_EQ(run(render + " --chunk 2 -o " + (d / "c2.exr")), 0);
+    ASSERT_EQ(run("POCL_MAX_PTHREAD_COUNT=1 " + render + " --chunk 2 -o " + (d / "c2t1.exr")), 0);
+    EXPECT_EQ(image(d / "c2.exr"), image(d / "c2t1.exr")) << "one thread";
+    ASSERT_EQ(run("POCL_DEVICES='pthread basic' " + render + " --chunk 2 --device 0,1 -o " + (d / "c2d2.exr")), 0);
+    EXPECT_EQ(image(d / "c2.exr"), image(d / "c2d2.exr")) << "two devices";
+    ASSERT_EQ(run(render + " --chunk 2 --sample-range 0:6 -o " + (d / "p0.exr")), 0);
+    ASSERT_EQ(run(render + " --chunk 2 --sample-range 6:8 -o " + (d / "p1.exr")), 0);
+    ASSERT_EQ(run(std::string(HT_BINARY) + " merge " + (d / "p1.exr") + " " + (d / "p0.exr") + " -o " +
+                  (d / "merged.exr") + " --quiet"),
+              0);
+    EXPECT_EQ(image(d / "c2.exr"), image(d / "merged.exr")) << "two parts merged";
+}
 #endif
 
 }  // namespace clitest

@@ -133,16 +133,7 @@ TEST(FirstHitSplitsCli, ChunksThreadsPartsAndCheckpointsGiveTheSameBits) {
     ASSERT_EQ(run(split + " --chunk 16 -o " + (d / "again.exr")), 0);
     EXPECT_EQ(whole, image(d / "again.exr"));
     // chunks of 2 (another order of the same sums), on one thread, on two devices, in two parts
-    ASSERT_EQ(run(split + " --chunk 2 -o " + (d / "c2.exr")), 0);
-    ASSERT_EQ(run("POCL_MAX_PTHREAD_COUNT=1 " + split + " --chunk 2 -o " + (d / "c2t1.exr")), 0);
-    EXPECT_EQ(image(d / "c2.exr"), image(d / "c2t1.exr"));
-    ASSERT_EQ(run("POCL_DEVICES='pthread basic' " + split + " --chunk 2 --device 0,1 -o " + (d / "c2d2.exr")), 0);
-    EXPECT_EQ(image(d / "c2.exr"), image(d / "c2d2.exr"));
-    ASSERT_EQ(run(split + " --chunk 2 --sample-range 0:6 -o " + (d / "p0.exr")), 0);
-    ASSERT_EQ(run(split + " --chunk 2 --sample-range 6:8 -o " + (d / "p1.exr")), 0);
-    ASSERT_EQ(run(std::string(HT_BINARY) + " merge " + (d / "p1.exr") + " " + (d / "p0.exr") + " -o " +
-                  (d / "merged.exr") + " --quiet"), 0);
-    EXPECT_EQ(image(d / "c2.exr"), image(d / "merged.exr"));
+    clitest::expect_same_bits_in_chunks_threads_devices_and_parts(d, split);
     // a checkpoint resumes with the same splits and light samples only
     const std::string start = " --spp 2 --chunk 16 --checkpoint " + (d / "c.ckpt") + " -o " + (d / "a.exr");
     ASSERT_EQ(run(kRender + " --first-hit-light-samples 2 --first-hit-splits 3" + start), 0);

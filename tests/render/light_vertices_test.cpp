@@ -119,4 +119,23 @@ TEST(LightVerticesCli, OffByDefaultTheRangeAndTheCombinationsAreChecked) {
         EXPECT_NE(clitest::slurp(err).find("--light-vertices"), std::string::npos) << clitest::slurp(err);
     }
 }
+
+TEST(LightVerticesCli, ChunksThreadsDevicesPartsAndCheckpointsGiveTheSameBits) {
+    // the light rays are a pure function of (seed, sample, ray), like every other draw
+    clitest::TempDir d("ht_light_vertices_bits_");
+    using clitest::image;
+    using clitest::run;
+    const std::string lv = clitest::kSmallStrandRender + " --light-vertices 64 --spp 8";
+    clitest::expect_same_bits_in_chunks_threads_devices_and_parts(d, lv);
+    // a checkpoint resumes with the same light vertices only
+    ASSERT_EQ(run(lv + " --chunk 16 -o " + (d / "whole.exr")), 0);
+    ASSERT_EQ(run(clitest::kSmallStrandRender + " --light-vertices 64 --spp 2 --chunk 16 --checkpoint " +
+                  (d / "c.ckpt") + " -o " + (d / "a.exr")),
+              0);
+    const std::string resume = " --spp 8 --chunk 16 --resume " + (d / "c.ckpt") + " -o " + (d / "b.exr") + " 2>/dev/null";
+    EXPECT_EQ(run(clitest::kSmallStrandRender + " --light-vertices 32" + resume), 2);
+    EXPECT_EQ(run(clitest::kSmallStrandRender + resume), 2);
+    ASSERT_EQ(run(lv + " --chunk 16 --resume " + (d / "c.ckpt") + " -o " + (d / "resumed.exr")), 0);
+    EXPECT_EQ(image(d / "whole.exr"), image(d / "resumed.exr"));
+}
 #endif
