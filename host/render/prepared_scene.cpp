@@ -8,6 +8,7 @@
 #include "render/scene_upload.h"
 
 #include <algorithm>
+#include <stdexcept>
 #include <chrono>
 #include <cmath>
 
@@ -43,6 +44,11 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& s, const R
     PreparedScene p;
     p.settings = s;
     p.settings.light_guiding = effective_light_guiding(s.light_guiding, !scene.lights.empty(), scene.environment.enabled());
+    // before anything starts (the recipe's callback may start compiling): the light rays of
+    // --light-vertices leave point, spot and directional lights (kernels/integrator/light_vertices.h)
+    if (s.light_vertices > 0 && std::none_of(scene.lights.begin(), scene.lights.end(),
+                                             [](const Light& l) { return l.type != LightType::Sphere; }))
+        throw std::invalid_argument("--light-vertices starts light rays from point, spot and directional lights; the scene has none");
     const bool afs = s.indirect == RenderSettings::Indirect::Afs;
     // The lobe bounds are a quadrature per material: once per render, not per device.
     p.features = scene_features(scene, s.fiber_field, afs, s.features);

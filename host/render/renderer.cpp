@@ -495,10 +495,9 @@ struct Renderer::Impl {
     }
 
     // --light-vertices: the sphere around every point of the geometry (strands and triangles,
-    // inflated by their radii) that the light rays aim at.
+    // inflated by their radii) that the light rays aim at (prepare_scene has checked that a light
+    // starts them).
     void place_light_vertices(const PreparedScene& p) {
-        if (std::none_of(p.lights.begin(), p.lights.end(), [](const HtLight& l) { return l.type != HT_LIGHT_SPHERE; }))
-            throw std::invalid_argument("--light-vertices starts light rays from point, spot and directional lights; the scene has none");
         float lo[3] = {HUGE_VALF, HUGE_VALF, HUGE_VALF}, hi[3] = {-HUGE_VALF, -HUGE_VALF, -HUGE_VALF};
         for (const HtPoint& q : p.geometry.points) {
             const float c[3] = {q.x, q.y, q.z};
