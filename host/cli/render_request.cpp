@@ -7,6 +7,7 @@
 #include "render/depth_choice.h"
 #include "render/aovs.h"
 #include "render/memory_plan.h"
+#include "render/prepared_scene.h"
 
 #include <algorithm>
 #include <sstream>
@@ -283,17 +284,13 @@ void apply_scene_overrides(Scene& scene, const ImageRequest& r) {
     ensure_camera_and_light(scene, r.view);
 }
 
-// --light-vertices: what it needs and what it cannot be combined with; off where no vertex has a
-// connection to make (depth 1: the first vertex's continuation is not traced).
+// --light-vertices: what it needs and what it cannot be combined with, as usage errors
+// (render/prepared_scene.h); off where no vertex has a connection to make (the settings say what
+// the render does).
 void check_light_vertices(const Scene& scene, RenderSettings& s) {
-    if (s.light_vertices == 0) return;
-    if (s.indirect != RenderSettings::Indirect::Exact)
-        throw UsageError("--light-vertices connects path vertices to lit fibres; --indirect afs and dual stand for that "
-                         "light at the first hit instead: render without one of them");
-    if (s.aovs) throw UsageError("--aovs cannot split --light-vertices' connections by lobe or bounce; render without one of them");
-    if (std::none_of(scene.lights.begin(), scene.lights.end(), [](const Light& l) { return l.type != LightType::Sphere; }))
-        throw UsageError("--light-vertices starts light rays from point, spot and directional lights; the scene has none");
-    if (s.max_depth < 2) s.light_vertices = 0;
+    const std::string refusal = light_vertices_refusal(scene, s);
+    if (!refusal.empty()) throw UsageError(refusal);
+    s.light_vertices = effective_light_vertices(s.light_vertices, s.max_depth);
 }
 
 RenderSettings resolve_settings(const Scene& scene, const ImageRequest& r, std::string* why) {

@@ -40,15 +40,50 @@ bool wants_shadow_lists(const RenderSettings& s, const PreparedScene& p) {
 
 }  // namespace
 
+namespace {
+
+// PreparedScene::light_vertices for `count` light rays per camera sample.
+HtLightVertices light_vertex_sphere(const SceneGeometry& geometry, uint32_t count) {
+    float lo[3] = {HUGE_VALF, HUGE_VALF, HUGE_VALF}, hi[3] = {-HUGE_VALF, -HUGE_VALF, -HUGE_VALF};
+    for (const HtPoint& q : geometry.points) {
+        const float c[3] = {q.x, q.y, q.z};
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = std::min(lo[a], c[a] - q.r);
+            hi[a] = std::max(hi[a], c[a] + q.r);
+        }
+    }
+    HtLightVertices lv{};
+    double r2 = 0;
+    for (int a = 0; a < 3; ++a) {
+        lv.disc[a] = 0.5f * (lo[a] + hi[a]);
+        r2 += 0.25 * double(hi[a] - lo[a]) * double(hi[a] - lo[a]);
+    }
+    lv.disc[3] = float(std::sqrt(r2) * 1.001 + 1e-6);
+    lv.count = count;
+    return lv;
+}
+
+}  // namespace
+
+std::string light_vertices_refusal(const Scene& scene, const RenderSettings& s) {
+    if (s.light_vertices == 0) return "";
+    if (s.indirect != RenderSettings::Indirect::Exact)
+        return "--light-vertices connects path vertices to lit fibres; --indirect afs and dual stand for that light at "
+               "the first hit instead: render without one of them";
+    if (s.aovs) return "--aovs cannot split --light-vertices' connections by lobe or bounce; render without one of them";
+    if (std::none_of(scene.lights.begin(), scene.lights.end(), [](const Light& l) { return l.type != LightType::Sphere; }))
+        return "--light-vertices starts light rays from point, spot and directional lights; the scene has none";
+    return "";
+}
+
 PreparedScene prepare_scene(const Scene& scene, const RenderSettings& s, const RecipeReady& recipe_ready) {
     PreparedScene p;
     p.settings = s;
     p.settings.light_guiding = effective_light_guiding(s.light_guiding, !scene.lights.empty(), scene.environment.enabled());
-    // before anything starts (the recipe's callback may start compiling): the light rays of
-    // --light-vertices leave point, spot and directional lights (kernels/integrator/light_vertices.h)
-    if (s.light_vertices > 0 && std::none_of(scene.lights.begin(), scene.lights.end(),
-                                             [](const Light& l) { return l.type != LightType::Sphere; }))
-        throw std::invalid_argument("--light-vertices starts light rays from point, spot and directional lights; the scene has none");
+    // before anything starts (the recipe's callback may start compiling)
+    const std::string refusal = light_vertices_refusal(scene, s);
+    if (!refusal.empty()) throw std::invalid_argument(refusal);
+    p.settings.light_vertices = effective_light_vertices(s.light_vertices, s.max_depth);
     const bool afs = s.indirect == RenderSettings::Indirect::Afs;
     // The lobe bounds are a quadrature per material: once per render, not per device.
     p.features = scene_features(scene, s.fiber_field, afs, s.features);
@@ -59,7 +94,7 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& s, const R
                                                   s.sampler == RenderSettings::Sampler::Sobol,
                                                   s.light_pick == RenderSettings::LightPick::Importance &&
                                                       light_pick_chooses(scene.lights.size()),
-                                                  p.settings.light_guiding, s.light_vertices > 0);
+                                                  p.settings.light_guiding, p.settings.light_vertices > 0);
     if (recipe_ready) recipe_ready(p);
     BvhOptions bvh;
     bvh.obb_ratio = s.bvh_oriented;
@@ -73,6 +108,7 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& s, const R
     p.texture_headers = make_kernel_textures(scene.textures);
     p.textures = &scene.textures;
     p.texel_bytes = texel_buffer_size(scene.textures) * sizeof(uint32_t);
+    if (p.settings.light_vertices > 0) p.light_vertices = light_vertex_sphere(p.geometry, p.settings.light_vertices);
     const HtEnvironment& env = p.environment.header;
     const bool skip_empty = s.skip_empty_pixels && !s.aovs && !(env.enabled && env.has_map);
     // which primitive begins at each point: made once for the camera's projection and the

@@ -49,10 +49,21 @@ struct PreparedScene {
     ShadowLists shadow_lists;
     double shadow_lists_ms = 0;
     std::string estimator_options;           // the estimator's -D values (clamp, sampler, ...)
+    // --light-vertices (settings.light_vertices > 0): the sphere around every point of the geometry
+    // (strands and triangles, inflated by their radii) that the light rays aim at, and their count
+    // per camera sample; first_sample is the renderer's to set.
+    HtLightVertices light_vertices{};
 
     // Device bytes of everything but the geometry (textures, environment tables, candidate lists).
     uint64_t extra_scene_bytes() const;
 };
+
+// Why --light-vertices (settings.light_vertices > 0) cannot render `scene` with these settings, or
+// "" when it can: it needs a light that starts light rays (a point, spot or directional light;
+// kernels/integrator/light_vertices.h ht_light_ray), and neither --indirect afs or dual (their
+// last bounce stands for that light already) nor --aovs (a connection is not split by lobe or
+// bounce).  The command line reports it as a usage error, prepare_scene throws it.
+std::string light_vertices_refusal(const Scene& scene, const RenderSettings& settings);
 
 // Called once the kernels' recipe (features, estimator_options) is known and before the BVH is
 // built, which takes most of the preparation: program builds started there overlap it

@@ -140,8 +140,9 @@ struct Renderer::Impl {
     cl::Kernel k_compact_count, k_compact_scan, k_compact_scatter;
     cl::Kernel k_shadow_afs, k_resolve_afs, k_shadow_dual;
     cl::Kernel k_pilot_record, k_pilot_accumulate;  // --first-hit-splits auto's pilot
-    // --light-vertices (kernels/integrator/light_vertices.h): the bounding sphere and count; the
-    // pass's light rays and their hits (grown to count x samples of the largest pass)
+    // --light-vertices (kernels/integrator/light_vertices.h): PreparedScene::light_vertices with the
+    // pass's first sample; the pass's light rays and their hits (grown to count x samples of the
+    // largest pass)
     bool light_vertices = false;
     HtLightVertices lv{};
     cl::Buffer light_rays, light_hits;
@@ -211,9 +212,9 @@ struct Renderer::Impl {
         const bool dual = s.indirect == RenderSettings::Indirect::Dual;
         buffer_set.indirect_dual = dual;
         buffer_set.aovs = s.aovs;
-        light_vertices = s.light_vertices > 0 && s.max_depth >= 2;
+        light_vertices = s.light_vertices > 0;  // prepare_scene left it on only where it connects
         buffer_set.light_vertices = light_vertices;
-        if (light_vertices) place_light_vertices(p);
+        lv = p.light_vertices;
         seed = s.seed;
         can_split = s.max_depth > 1 || p.environment.header.enabled;
         splits_pending = can_split && s.first_hit_splits == kAutoFirstHitSplits;
@@ -492,27 +493,6 @@ struct Renderer::Impl {
                 accumulate(film_buf, pass_pixels, samples);
         }
         cl.queue().finish();
-    }
-
-    // --light-vertices: the sphere around every point of the geometry (strands and triangles,
-    // inflated by their radii) that the light rays aim at (prepare_scene has checked that a light
-    // starts them).
-    void place_light_vertices(const PreparedScene& p) {
-        float lo[3] = {HUGE_VALF, HUGE_VALF, HUGE_VALF}, hi[3] = {-HUGE_VALF, -HUGE_VALF, -HUGE_VALF};
-        for (const HtPoint& q : p.geometry.points) {
-            const float c[3] = {q.x, q.y, q.z};
-            for (int a = 0; a < 3; ++a) {
-                lo[a] = std::min(lo[a], c[a] - q.r);
-                hi[a] = std::max(hi[a], c[a] + q.r);
-            }
-        }
-        double r2 = 0;
-        for (int a = 0; a < 3; ++a) {
-            lv.disc[a] = 0.5f * (lo[a] + hi[a]);
-            r2 += 0.25 * double(hi[a] - lo[a]) * double(hi[a] - lo[a]);
-        }
-        lv.disc[3] = float(std::sqrt(r2) * 1.001 + 1e-6);
-        lv.count = settings.light_vertices;
     }
 
     // The light rays of samples first .. first + samples - 1 and their first hits.

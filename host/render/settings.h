@@ -30,6 +30,9 @@ constexpr double kMinLightGuiding = 1e-3, kMaxLightGuiding = 0.9;
 // --light-vertices' range: light rays per camera sample (their Sobol' indices, sample x count,
 // must stay below 2^32 for a million samples).
 constexpr uint32_t kMaxLightVertices = 4096;
+// The light rays per camera sample in effect: none where no vertex has a connection to make
+// (depth 1: the first vertex's continuation is not traced).
+inline uint32_t effective_light_vertices(uint32_t setting, int max_depth) { return max_depth >= 2 ? setting : 0u; }
 // RenderSettings::light_guiding for --light-guiding auto, and the share auto takes.
 constexpr float kAutoLightGuiding = -1.0f, kDefaultLightGuiding = 0.2f;
 

@@ -61,7 +61,7 @@ HT_FN real3 ht_vmf_sample(real3 mu, real u1, real u2) {
     real sin_a, cos_a;
     ht_sincos(HT_TWO_PI * u2, &sin_a, &cos_a);
     real3 t, bt;
-    ht_basis_around(mu, &t, &bt);
+    ht_onb(mu, &t, &bt);
     return t * (s * cos_a) + bt * (s * sin_a) + mu * c;
 }
 

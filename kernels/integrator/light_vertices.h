@@ -77,7 +77,7 @@ HT_FN HtRay ht_light_ray(const HtLightVertices* lv, const HtLight* light, uint s
     real3 o, w, e1, e2;
     if (light->type == HT_LIGHT_DIRECTIONAL) {
         w = make_real3(light->direction[0], light->direction[1], light->direction[2]);
-        ht_basis_around(w, &e1, &e2);
+        ht_onb(w, &e1, &e2);
         const real radius = lv->disc[3], rho = radius * sqrt(u);
         o = make_real3(lv->disc[0], lv->disc[1], lv->disc[2]) - w * (radius * HT_R(1.01)) + e1 * (rho * cos_a) +
             e2 * (rho * sin_a);
@@ -87,7 +87,7 @@ HT_FN HtRay ht_light_ray(const HtLightVertices* lv, const HtLight* light, uint s
         const real cos_max = ht_light_cone(lv, o, &axis);
         const real c = HT_R(1) - u * (HT_R(1) - cos_max);
         const real s = ht_safe_sqrt(HT_R(1) - c * c);
-        ht_basis_around(axis, &e1, &e2);
+        ht_onb(axis, &e1, &e2);
         w = e1 * (s * cos_a) + e2 * (s * sin_a) + axis * c;
     }
     HtRay r;

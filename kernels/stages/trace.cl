@@ -1,6 +1,6 @@
 /* The render program's stages around shade (stages/shade.cl, built as a program of its own):
- * camera rays (and --light-vertices' light rays), traversal, shadow resolution, compaction and accumulation (and the
- * --first-hit-splits auto pilot's accumulation).  They read few of the
+ * camera rays (and --light-vertices' light rays), traversal, shadow resolution, compaction and
+ * accumulation (and the --first-hit-splits auto pilot's accumulation).  They read few of the
  * scene features, so one build of them serves most scenes (host/render/renderer.cpp); the
  * translucent shadow stage of --indirect afs, which needs the fibre's lobes, is a program of its
  * own (stages/intersect_shadow_afs.cl). */

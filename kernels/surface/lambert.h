@@ -12,15 +12,7 @@
 #define HT_SURFACE_LAMBERT_H
 
 #include "../compat.h"
-
-/* Orthonormal basis around unit n (Duff et al. 2017, "Building an orthonormal basis, revisited"). */
-HT_FN void ht_onb(real3 n, real3* t, real3* b) {
-    const real s = n.z >= HT_R(0) ? HT_R(1) : HT_R(-1);
-    const real a = HT_R(-1) / (s + n.z);
-    const real c = n.x * n.y * a;
-    *t = make_real3(HT_R(1) + s * n.x * n.x * a, s * c, -s * n.x);
-    *b = make_real3(c, s + n.y * n.y * a, -n.y);
-}
+#include "../geometry/basis.h"
 
 /* Both normals must already face wo (ht_lambert_face_forward).  Returns f * cos(ns, wi) per
  * unit albedo, i.e. cos / pi, and the sampling pdf of wi in *pdf (solid angle). */

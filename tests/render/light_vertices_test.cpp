@@ -5,6 +5,7 @@
 // heuristic, so the image converges to the one without them; the densities the weights are made of
 // are checked against the rays that make the vertices in tests/unit/light_vertices_test.cpp.  The
 // library (and the command line) leaves it off: it did not pay (docs/PERFORMANCE.md section 8).
+#include "render/prepared_scene.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
 
@@ -89,6 +90,14 @@ TEST(LightVertices, TheImageIsAPureFunctionOfSeedPixelAndSample) {
         r.download_film(c);
     }
     EXPECT_NE(a.rgba, c.rgba) << "the connections changed the image";
+}
+
+TEST(LightVertices, OffAtDepthOne) {
+    // no vertex has a connection to make: the settings say so and the image is the one without
+    const Scene scene = thick_strand();
+    RenderSettings with = settings(64, 2, 1, 1);
+    EXPECT_EQ(prepare_scene(scene, with).settings.light_vertices, 0u);
+    EXPECT_EQ(render(scene, with).rgba, render(scene, settings(0, 2, 1, 1)).rgba);
 }
 
 TEST(LightVertices, NeedsALightThatStartsRays) {
