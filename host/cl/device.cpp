@@ -167,6 +167,21 @@ void ClContext::prefetch(const std::string& main_file, const std::string& option
     prefetched_[key] = std::async(std::launch::async, [this, main_file, options] { return compile(main_file, options); });
 }
 
+void ClContext::drop_prefetches() {
+    std::map<std::string, std::future<ProgramBuild>> pending;
+    {
+        std::lock_guard<std::mutex> lock(prefetch_mutex_);
+        pending.swap(prefetched_);
+    }
+    for (auto& entry : pending)
+        if (entry.second.valid()) entry.second.wait();  // its failure, if any, is nobody's to report
+}
+
+size_t ClContext::pending_prefetches() {
+    std::lock_guard<std::mutex> lock(prefetch_mutex_);
+    return prefetched_.size();
+}
+
 cl::Program ClContext::build(const std::string& main_file, const std::string& options) {
     std::future<ProgramBuild> pending;
     {

@@ -61,6 +61,14 @@ public:
     // dropped with the context.
     void prefetch(const std::string& main_file, const std::string& options);
 
+    // Waits for every prefetch no build() has collected and discards it.  Whoever started one and
+    // then failed calls this, so the wait happens while the process runs: a context that lives in
+    // a static is otherwise destroyed after PoCL's own teardown at exit, with its compile still
+    // running, and the process crashed there (tests/render/program_build_test.cpp).
+    void drop_prefetches();
+    // Prefetches started and not yet collected or dropped.
+    size_t pending_prefetches();
+
     // Programs this context has compiled or loaded from the cache, prefetched ones included
     // (a prefetch that build() collects counts once).
     int compiles() const { return compiles_; }

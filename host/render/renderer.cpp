@@ -809,13 +809,18 @@ Renderer::Renderer(ClContext& cl, const PreparedScene& prepared) {
 }
 
 Renderer::Renderer(ClContext& cl, const Scene& scene, const RenderSettings& settings) {
-    auto own = std::make_unique<PreparedScene>(prepare_scene(
-        scene, settings, [&](const PreparedScene& recipe) { prefetch_render_program(cl, recipe, scene); }));
-    const PreparedScene& p = *own;
     try {
-        impl_ = new Impl(cl, std::move(own), p);
-    } catch (const cl::Error& e) {
-        throw DeviceError(std::string("OpenCL setup failed in ") + e.what() + ": " + cl_error_name(e.err()));
+        auto own = std::make_unique<PreparedScene>(prepare_scene(
+            scene, settings, [&](const PreparedScene& recipe) { prefetch_render_program(cl, recipe, scene); }));
+        const PreparedScene& p = *own;
+        try {
+            impl_ = new Impl(cl, std::move(own), p);
+        } catch (const cl::Error& e) {
+            throw DeviceError(std::string("OpenCL setup failed in ") + e.what() + ": " + cl_error_name(e.err()));
+        }
+    } catch (...) {
+        cl.drop_prefetches();  // the compile this started is waited for now, not at the context's end
+        throw;
     }
 }
 Renderer::~Renderer() { delete impl_; }

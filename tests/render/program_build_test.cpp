@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include "cl/device.h"
+#include "render/renderer.h"
+#include "scene/scene.h"
 
 #include "cli_test_util.h"
 
@@ -24,6 +26,24 @@ TEST(ProgramBuild, AFailedBackgroundBuildIsReportedByTheBuildThatCollectsIt) {
     cl.prefetch("stages/trace.cl", bad);
     EXPECT_THROW(cl.build("stages/trace.cl", bad), DeviceError);
     EXPECT_EQ(cl.compiles(), 1);
+}
+
+// A Renderer that fails after starting its program's compile in the background (here: the
+// environment map, read after the recipe is known, does not exist) must not leave that compile
+// running: a static context would wait for it only in its destructor, after PoCL's own teardown at
+// exit, and the test process crashed there.
+TEST(ProgramBuild, ARendererThatFailsLeavesNoBackgroundCompileBehind) {
+    static ClContext cl;
+    Scene scene = load_scene("builtin:strand?hairs=40&segments=8");
+    scene.environment.map_path = "/nonexistent/hairtrace_env.exr";
+    RenderSettings s;
+    s.width = s.height = 32;
+    s.spp = 1;
+    s.max_depth = 2;
+    const int before = cl.compiles();
+    EXPECT_THROW(Renderer(cl, scene, s), SceneError);
+    EXPECT_GT(cl.compiles(), before);  // the compiles did start: the case this test is about
+    EXPECT_EQ(cl.pending_prefetches(), 0u);
 }
 
 TEST(ProgramBuild, ImageFromTheBinaryCacheWithAnEmptyPoclCacheHasTheSameBits) {
