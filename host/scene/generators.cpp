@@ -11,8 +11,14 @@
 //                   handedness) around an axis tilted randomly from the surface normal, axial
 //                   length 19.2..28.8, the curl growing in over the first 15 %.
 //                   10,000 hairs x 30 segments.
+//   builtin:slab    a planar layer of straight, parallel hairs hanging along -y: roots uniform
+//                   over x in [-20, 20], z in [-10, 0], length 40; 8,000 hairs x 20 segments,
+//                   about 32 fibres across its depth.  Seen straight on from +z (the middle
+//                   20 x 20, away from the edges), lit by a distant light 30 degrees off that
+//                   axis: the geometry where multiple scattering is one-dimensional, as dual
+//                   scattering pictures it (docs/MODEL.md §13).
 //
-// Both use fibre radius 0.1 (1/1000 of the ~100-unit scene) and blond_hair_material().
+// All use fibre radius 0.1 (1/1000 of the ~100-unit scene) and blond_hair_material().
 // Parameters: "NAME?hairs=N&segments=N&seed=N&radius=R" (documented at make_builtin in scene.h).
 #include <algorithm>
 #include <cerrno>
@@ -81,8 +87,10 @@ std::string parse_spec(const std::string& spec, BuiltinParams& params) {
         params.hairs = 2500, params.segments = 100, params.seed = 20040001;
     } else if (name == "ball") {
         params.hairs = 10000, params.segments = 30, params.seed = 20040002;
+    } else if (name == "slab") {
+        params.hairs = 8000, params.segments = 20, params.seed = 20080001;
     } else {
-        scene_fail("builtin:" + spec, "unknown builtin scene '", name, "' (known: strand, ball)");
+        scene_fail("builtin:" + spec, "unknown builtin scene '", name, "' (known: strand, ball, slab)");
     }
     if (q == std::string::npos) return name;
     std::string rest = spec.substr(q + 1);
@@ -208,6 +216,26 @@ void make_ball(Scene& scene, const BuiltinParams& p) {
     scene.lights.push_back(key);
 }
 
+void make_slab(Scene& scene, const BuiltinParams& p) {
+    const double half_width = 20.0, depth = 10.0, length = 40.0;
+    const uint64_t segments = p.segments;
+    generate(scene.strands, p, [&](Pcg32& rng, Vec3f* out) {
+        const double x = rng.uniform(-half_width, half_width), z = rng.uniform(-depth, 0.0);
+        for (uint64_t k = 0; k <= segments; ++k)
+            out[k] = to_vec3f({x, 0.5 * length - length * double(k) / double(segments), z});
+    });
+    scene.has_camera = true;
+    scene.camera.eye = {0.0f, 0.0f, 100.0f};
+    scene.camera.target = {0.0f, 0.0f, 0.0f};
+    scene.camera.up = {0.0f, 1.0f, 0.0f};
+    scene.camera.yfov_deg = 11.4f;  // 2 atan(10 / 100): the middle 20 x 20 of the front face
+    Light sun;
+    sun.type = LightType::Directional;
+    sun.direction = to_vec3f(glm::normalize(glm::dvec3(-0.5, 0.0, -std::sqrt(0.75))));  // 30 degrees off -z
+    sun.intensity = 1.0f;
+    scene.lights.push_back(sun);
+}
+
 }  // namespace
 
 Scene make_builtin(const std::string& spec, const LoadOptions& opt) {
@@ -221,8 +249,10 @@ Scene make_builtin(const std::string& spec, const LoadOptions& opt) {
     scene.materials.push_back(blond_hair_material());
     if (name == "strand")
         make_strand(scene, params);
-    else
+    else if (name == "ball")
         make_ball(scene, params);
+    else
+        make_slab(scene, params);
     add_hygiene_warnings(scene, source, sanitize_strands(scene.strands, source));
     return scene;
 }

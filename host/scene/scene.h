@@ -154,11 +154,12 @@ Scene load_gltf(const std::string& path, const LoadOptions& opt);
 Scene load_ply_file(const std::string& path, const LoadOptions& opt);
 Scene load_obj_file(const std::string& path, const LoadOptions& opt);
 Scene load_pbrt_file(const std::string& path, const LoadOptions& opt);
-// Built-in procedural scenes: "strand" (the paper's Fig. 5 blond lock, 2,500 x 100 segments)
-// and "ball" (curly hair ball, 10,000 x 30), optionally with parameters after '?':
-//   hairs=N      number of strands (default 2500 / 10000)
-//   segments=N   segments per strand (default 100 / 30)
-//   seed=N       RNG seed (default 20040001 / 20040002)
+// Built-in procedural scenes: "strand" (the paper's Fig. 5 blond lock, 2,500 x 100 segments),
+// "ball" (curly hair ball, 10,000 x 30) and "slab" (a planar layer of straight hairs, 8,000 x 20),
+// optionally with parameters after '?':
+//   hairs=N      number of strands (default 2500 / 10000 / 8000)
+//   segments=N   segments per strand (default 100 / 30 / 20)
+//   seed=N       RNG seed (default 20040001 / 20040002 / 20080001)
 //   radius=R     fibre radius (default 0.1)
 // e.g. "strand?hairs=100&segments=10".  Deterministic: same spec, same bytes.
 Scene make_builtin(const std::string& spec, const LoadOptions& opt = {});

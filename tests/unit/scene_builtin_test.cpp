@@ -44,6 +44,31 @@ TEST(SceneBuiltin, BallCountsAndDeterminism) {
     EXPECT_GT(b.lo[0], -55.0f);
 }
 
+TEST(SceneBuiltin, SlabCountsBoundsAndDeterminism) {
+    const Scene a = load_scene("builtin:slab");
+    EXPECT_EQ(a.strands.strand_count(), 8000u);
+    EXPECT_EQ(a.strands.segment_count(), 160000u);
+    EXPECT_TRUE(a.warnings.empty());
+    EXPECT_EQ(strands_content_hash(a.strands), strands_content_hash(make_builtin("slab").strands));
+    // straight hairs along -y, roots over the 40 x 10 footprint at y = 20
+    for (size_t s = 0; s < a.strands.strand_count(); s += 401) {
+        const uint32_t first = a.strands.first_point[s], last = a.strands.first_point[s + 1] - 1;
+        const Vec3f &root = a.strands.points[first], &tip = a.strands.points[last];
+        EXPECT_FLOAT_EQ(root[1], 20.0f);
+        EXPECT_FLOAT_EQ(tip[1], -20.0f);
+        EXPECT_EQ(root[0], tip[0]);
+        EXPECT_EQ(root[2], tip[2]);
+        EXPECT_LE(std::fabs(root[0]), 20.0f);
+        EXPECT_LE(root[2], 0.0f);
+        EXPECT_GE(root[2], -10.0f);
+    }
+    ASSERT_EQ(a.lights.size(), 1u);
+    EXPECT_EQ(a.lights[0].type, LightType::Directional);
+    EXPECT_NEAR(a.lights[0].direction[2], -std::sqrt(0.75f), 1e-6f);  // 30 degrees off the view axis
+    EXPECT_EQ(a.lights[0].direction[1], 0.0f);                      // square to every fibre
+    EXPECT_TRUE(a.has_camera);
+}
+
 TEST(SceneBuiltin, HairsDoNotDependOnHairCount) {
     // Each hair has its own random stream: the first 10 hairs of 20 equal the hairs of 10.
     const Scene small = make_builtin("ball?hairs=10&segments=8");
