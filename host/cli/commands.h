@@ -18,6 +18,8 @@ int cmd_converge(const std::vector<std::string>& args);
 int cmd_merge(const std::vector<std::string>& args);
 int cmd_tonemap(const std::vector<std::string>& args);
 
+// The SCENE argument of every command that reads a scene, with its help.
+void add_scene_argument(ArgParser& p);
 // Scene-loading options shared by every command that reads a scene.
 void add_scene_options(ArgParser& p);
 LoadOptions scene_load_options(const ArgParser& p);

@@ -23,7 +23,7 @@ const char* wrap_name(TextureWrap w) {
 
 int cmd_info(const std::vector<std::string>& args) {
     ArgParser p("info", "Strands, points, segments, bounds, materials, textures, lights and BVH statistics of a scene.");
-    p.positional("SCENE", "scene file (.gltf/.glb, .hair, .data) or builtin:NAME");
+    add_scene_argument(p);
     add_scene_options(p);
     p.flag("--json", "machine-readable output");
     p.parse(args);

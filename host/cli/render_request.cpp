@@ -148,7 +148,7 @@ const std::vector<std::string>& indirect_mode_names() {
 }
 
 void add_render_options(ArgParser& p, RenderCommand command) {
-    p.positional("SCENE", "scene file (.gltf/.glb, .hair, .data) or builtin:NAME");
+    add_scene_argument(p);
     const int use = command == RenderCommand::Render ? kRender : kConverge;
     for (const OptionRow& row : kOptions)
         if (row.uses & use) declare(p, row);

@@ -9,6 +9,14 @@
 
 namespace ht {
 
+void add_scene_argument(ArgParser& p) {
+    p.positional("SCENE",
+                 "scene file (.gltf/.glb, .hair, .data, .ply, .obj, .pbrt/.pbrt.gz) or a built-in scene: "
+                 "builtin:strand (the paper's blond lock), builtin:ball (a curly hair ball) or builtin:slab (a planar "
+                 "layer of straight hairs), each with optional ?hairs=N&segments=N&seed=N&radius=R (docs/CLI.md "
+                 "\"Scenes\")");
+}
+
 void add_scene_options(ArgParser& p) {
     p.option("--thickness", "radius|diameter", ".hair files: whether the thickness array is the radius or the diameter", "radius");
     p.option("--radius", "R", "default fibre radius for files that store none (.data, glTF without _RADIUS)");
