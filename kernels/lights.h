@@ -11,6 +11,7 @@
 
 /* light types a scene lacks are compiled out (HT_FEATURE_LIGHT_*, kernels/features.h) */
 #include "features.h"
+#include "geometry/facing.h"
 
 typedef struct {
     real3 wi;          /* unit direction from the shading point towards the light */
@@ -112,8 +113,7 @@ HT_FN real ht_delivered(const HtLightSample* s) {
  * and lights it hardly at all. */
 #define HT_LIGHT_FACING_MIN HT_R(0.1)
 HT_FN real ht_facing(real3 w, real3 axis, int axis_is_normal) {
-    const real c = dot(axis, w);
-    const real facing = axis_is_normal ? fabs(c) : ht_safe_sqrt(HT_R(1) - c * c);
+    const real facing = axis_is_normal ? fabs(dot(axis, w)) : ht_fibre_facing(axis, w);
     return ht_max(facing, HT_LIGHT_FACING_MIN);
 }
 

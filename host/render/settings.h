@@ -89,9 +89,9 @@ struct RenderSettings {
     // (kernels/integrator/light_guide.h); 0 here (off), the command line's default is chosen by
     // measurement (docs/PERFORMANCE.md §8).  kAutoLightGuiding: effective_light_guiding decides.
     float light_guiding = 0.0f;
-    // --light-vertices N: light rays per camera sample from the scene's first directional light,
-    // whose first fibre hits each fibre vertex below the last connects to, sharing those paths with
-    // its continuations by MIS (kernels/integrator/light_vertices.h); 0: none.
+    // --light-vertices N: light rays per camera sample from the scene's point, spot and directional
+    // lights, taking turns, whose first fibre hits each fibre vertex below the last connects to,
+    // sharing those paths with its continuations by MIS (kernels/integrator/light_vertices.h); 0: none.
     uint32_t light_vertices = 0;
     // How a single next-event estimate chooses among two or more lights: uniformly (here), or half
     // by what each light delivers unshadowed at the shading point times how squarely it faces the

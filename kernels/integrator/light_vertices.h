@@ -42,6 +42,7 @@
 #include "../rng.h"
 #include "../fiber/math.h"
 #include "../geometry/basis.h"
+#include "../geometry/facing.h"
 
 /* The light of light ray j (0 .. count - 1 within its set): the lights take turns, so light l
  * starts the share n_l / count of them, n_l = the j with j mod light_count = l. */
@@ -96,13 +97,6 @@ HT_FN HtRay ht_light_ray(const HtLightVertices* lv, const HtLight* light, uint s
     r.tmin = 0.0f;
     r.tmax = light->type == HT_LIGHT_SPHERE ? -1.0f : 1e30f;
     return r;
-}
-
-/* The foreshortening of a fibre with unit tangent t seen along unit w: cos of w's inclination to
- * the fibre's normal plane. */
-HT_FN real ht_fibre_facing(real3 t, real3 w) {
-    const real c = dot(t, w);
-    return ht_safe_sqrt(HT_R(1) - c * c);
 }
 
 /* p_light of the header for the vertices of `light` (share and all) at the fibre through y with

@@ -11,6 +11,7 @@
 #include "fiber/material.h"
 #include "kernels/fiber/bcsdf.h"
 #include "kernels/fiber/dual.h"
+#include "scene/rng.h"
 #include "scene/scene.h"
 
 using namespace ht;
@@ -220,13 +221,8 @@ namespace {
 // depth) in [z, z + 1) for z = 0 .. bins - 1, per unit of light entering along the normal.
 std::vector<double> collision_density(const HtMaterial& m, int channel, int planar, int walks, int bins) {
     std::vector<double> density(bins, 0.0);
-    uint64_t state = 0x9e3779b97f4a7c15ull;
-    const auto uniform = [&state] {  // splitmix64: the same numbers on every platform
-        uint64_t z = (state += 0x9e3779b97f4a7c15ull);
-        z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-        z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-        return double((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
-    };
+    Pcg32 rng(20080001, uint64_t(planar));  // the same numbers on every platform (scene/rng.h)
+    const auto uniform = [&rng] { return rng.uniform(); };
     for (int i = 0; i < walks; ++i) {
         double depth = 0.0, angle = 0.0, w = 1.0;  // angle from the inward normal
         while (w > 1e-6) {
