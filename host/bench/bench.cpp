@@ -446,7 +446,8 @@ void declare_bench_options(ArgParser& p) {
         .option("--lanes", "N", "the SAH charges --cisect per group of N capsules of a leaf (1: per capsule)", std::to_string(d.leaf_lanes))
         .option("--split", "R", "early split clipping: split a segment's box while its halves' area is below R x its own (0: off)", "0")
         .option("--split-depth", "N", "early split clipping: levels of halving", std::to_string(d.split_depth))
-        .option("--obb", "R", "oriented nodes where their children's weighted box area is below R x the axis-aligned one (0: off, the default; 0.8 measured in host/bvh/NOTES.md)", "");
+        .option("--obb", "R", "oriented nodes where their children's weighted box area is below R x the axis-aligned one (0: off, the default; 0.8 measured in host/bvh/NOTES.md)", "")
+        .option("--obb-split", "R", "with --obb: also bin each node of >= 16 segments in its segments' dominant frame and split there where that split's weighted area is below R x the axis-aligned best (0: off)", "0");
     p.group("devices")
         .option("--device", "I", "OpenCL device index (default: first CPU/GPU)")
         .option("--options", "\"...\"", "OpenCL build options for the trace kernels", DeviceTracer::default_options());
@@ -475,6 +476,7 @@ BenchRequest parse_bench_request(const ArgParser& p) {
     if (p.has("--split")) r.bvh.split_ratio = float(p.get_double("--split", 0, 1e6));
     if (p.has("--split-depth")) r.bvh.split_depth = p.get_int("--split-depth", 0, 16);
     if (p.has("--obb")) r.bvh.obb_ratio = float(p.get_double("--obb", 0, 1e6));
+    if (p.has("--obb-split")) r.bvh.obb_split = float(p.get_double("--obb-split", 0, 1e6));
     if (p.has("--device")) r.device = p.get_int("--device", 0, 1000);
     r.options = p.get("--options");
     return r;
@@ -538,13 +540,15 @@ int bench_main(const std::vector<std::string>& args, const SceneSource& source_i
                      {"sah_cost", st.sah_cost}, {"bytes_per_segment", st.bytes_per_segment},
                      {"max_leaf", bopt.max_leaf}, {"c_isect", bopt.c_isect}, {"leaf_lanes", bopt.leaf_lanes},
                      {"split_ratio", bopt.split_ratio}, {"split_depth", bopt.split_depth},
-                     {"oriented", st.oriented}, {"obb_ratio", bopt.obb_ratio}};
+                     {"oriented", st.oriented}, {"obb_ratio", bopt.obb_ratio},
+                     {"oriented_splits", st.oriented_splits}, {"obb_split", bopt.obb_split}};
         if (!json_out)
             std::printf("\nscene %s: %zu segments, %zu points\n  BVH build %.1f ms (median of 5), "
-                        "%zu nodes (%zu oriented), %zu leaves, depth %zu, %zu refs, SAH %.2f, %.1f bytes/segment\n",
+                        "%zu nodes (%zu oriented), %zu leaves, depth %zu, %zu refs, SAH %.2f, %.1f bytes/segment%s\n",
                         sa.name.c_str(), geo.segment_count, geo.points.size(), median(build_ms),
                         st.nodes, st.oriented, st.leaves, st.max_depth, st.references, st.sah_cost,
-                        st.bytes_per_segment);
+                        st.bytes_per_segment,
+                        bopt.obb_split > 0 ? (", " + std::to_string(st.oriented_splits) + " oriented splits").c_str() : "");
 
         std::unique_ptr<EmbreeTracer> embree;
         if (with_embree) {

@@ -297,330 +297,6 @@ double leaf_groups(uint32_t n, const BvhOptions& opt) {
     return (double)((n + lanes - 1) / lanes);
 }
 
-class Builder {
-public:
-    Builder(BuildArray<Ref>& refs, const BvhOptions& opt)
-        : refs_(refs), opt_(opt), bins_(std::clamp(opt.bins, 4, Bins::kMax)),
-          lanes_((uint32_t)std::max(1, opt.leaf_lanes)), lane_shift_(-1) {
-        for (int k = 0; k < 31; ++k)
-            if (lanes_ == 1u << k) lane_shift_ = k;
-        unsigned t = opt.threads ? opt.threads : std::max(1u, std::thread::hardware_concurrency());
-        tokens_ = (int)t - 1;
-        // A binary tree over n references has at most n - 1 inner nodes (+1 for a leaf root).
-        // Left uninitialised (place() constructs each node): a build uses about n / 5 of them
-        // (leaves hold up to max_leaf references), and pages never written are never faulted
-        // in; constructing all n (96 bytes each with 4-lane boxes) took a tenth of the build.
-        storage_.reserve(std::max<size_t>(refs.size(), 1));
-        mask_.reset(new uint64_t[refs.size() / 32 + 2]);  // see partition
-        slots_ = storage_.data();
-    }
-
-    // Returns the intermediate root node index.
-    uint32_t run() {
-        if (refs_.empty()) return place(alloc(), BNode());  // both slots empty
-        Box bounds, cbounds;
-        bounds_of(0, (uint32_t)refs_.size(), bounds, cbounds);
-        Slot top = build(0, (uint32_t)refs_.size(), bounds, cbounds, 1);
-        if (top.count == 0) return top.child;
-        BNode node;  // the whole scene is one leaf: root with one used slot
-        node.box[0] = top.box;
-        node.child[0] = top.child;
-        node.count[0] = top.count;
-        node.end = top.count;
-        return place(alloc(), node);
-    }
-
-    // The nodes alloc() handed out: [0, used()).
-    BNode* nodes() const { return std::launder(reinterpret_cast<BNode*>(slots_)); }
-    uint32_t used() const { return used_.load(); }
-
-private:
-    struct NodeStorage {
-        alignas(BNode) unsigned char bytes[sizeof(BNode)];
-    };
-    static_assert(std::is_trivially_destructible<BNode>::value, "nodes are never destroyed");
-
-    // A node's index is taken before its subtrees are built and the node is written once, by
-    // place(), when they are done: constructing it in alloc() as well wrote each node twice, the
-    // first time into a fresh cache line (~4 % of Builder::build in perf).
-    uint32_t alloc() { return used_.fetch_add(1); }
-    uint32_t place(uint32_t id, const BNode& node) {
-        new (slots_ + id) BNode(node);
-        return id;
-    }
-
-    void bounds_of(uint32_t b, uint32_t e, Box& bounds, Box& cbounds) const {
-        for (uint32_t i = b; i < e; ++i) {
-            bounds.grow(refs_[i].lo4(), refs_[i].hi4());
-            cbounds.grow_centroid(refs_[i].center4());
-        }
-    }
-
-    // The permutation std::partition gave (libstdc++'s Hoare loop: the next reference from the
-    // left that goes right swaps with the next from the right that goes left), so the tree is the
-    // same, without its branch per reference: on a strand's run of references the sides alternate
-    // too irregularly for the branch predictor, and the mispredictions were most of its time in
-    // perf.  Hoare's k-th swap pairs the k-th reference of [b, mid) that goes right with the k-th
-    // of [mid, e), counted from the end, that goes left; a first pass writes each reference's side
-    // to a bit mask, the second swaps the pairs the mask names.  The first pass also grows each
-    // side's centroid bounds, with the centroid or NaN (min4(x, NaN) and max4(x, NaN) are x, as
-    // minps and maxps return their second operand, here x, when either is NaN): that saves the
-    // children's two centroid passes.  Min and max in another order than those passes' can differ
-    // from theirs only in the sign of a zero, which no bin index or scale sees (see Box).
-    //
-    // A reference goes left if its centroid's bin on axis A, computed as bin_ref does but not
-    // clamped, is below split (1 <= split <= nb - 1): clamping changes no side, as bins below 0
-    // clamp to 0 < split, bins above nb - 1 to nb - 1 >= split, and cvttps2dq's 0x80000000 for
-    // a value out of range is below split as its clamp to 0 is.
-    template <int A>
-    uint32_t partition(uint32_t b, uint32_t e, const Box& cbounds, const float* scale, int split, Box& cl,
-                       Box& cr) {
-        // Up to 64 references need one word, on the stack; a longer range [b, e) owns the words
-        // of mask_ from b / 32 on: ceil(n / 64) of them fit below the next range's first word
-        // for n >= 32, so the two threads' ranges never share a word.
-        const uint32_t n = e - b;
-        uint64_t one_word;
-        uint64_t* const w = n <= 64 ? &one_word : mask_.get() + b / 32;
-        const Ref* const r = refs_.data() + b;
-        const F4 clo = load4(cbounds.lo), sc = load4(scale);
-        F4 llo = load4(cl.lo), lhi = load4(cl.hi), rlo = load4(cr.lo), rhi = load4(cr.hi);
-        uint32_t m = 0;  // references that go left
-        for (uint32_t k0 = 0; k0 < n; k0 += 64) {
-            const uint32_t k1 = std::min(n, k0 + 64);
-            uint64_t word = 0;
-            for (uint32_t k = k0; k < k1; ++k) {
-                const F4 c = r[k].center4();
-                const F4 left = below4<A>(mul4(sub4(c, clo), sc), split);
-                const uint32_t bit = bit0(left);
-                word |= uint64_t(bit) << (k - k0);
-                m += bit;
-                const F4 cl4 = or4(c, not4(left)), cr4 = or4(c, left);
-                llo = min4(llo, cl4);
-                lhi = max4(lhi, cl4);
-                rlo = min4(rlo, cr4);
-                rhi = max4(rhi, cr4);
-            }
-            w[k0 >> 6] = word;
-        }
-        store4(cl.lo, llo);
-        store4(cl.hi, lhi);
-        store4(cr.lo, rlo);
-        store4(cr.hi, rhi);
-
-        if (m == 0 || m == n) return b + m;
-        // Bits of word j: positions below m that go right, and positions from m on that go left.
-        auto wrong_left = [&](uint32_t j) {
-            const uint64_t go_right = ~w[j];
-            return (j + 1) * 64 <= m ? go_right : go_right & ((uint64_t(1) << (m - j * 64)) - 1);
-        };
-        auto wrong_right = [&](uint32_t j) {
-            return j * 64 >= m ? w[j] : w[j] & ~((uint64_t(1) << (m - j * 64)) - 1);
-        };
-        Ref* const out = refs_.data() + b;
-        const uint32_t left_words = (m + 63) / 64;
-        uint32_t jl = 0, jr = (n - 1) / 64;
-        uint64_t bl = wrong_left(jl), br = wrong_right(jr);
-        for (;;) {
-            while (bl == 0) {
-                if (++jl == left_words) return b + m;
-                bl = wrong_left(jl);
-            }
-            while (br == 0) br = wrong_right(--jr);  // as many wrong on the right as on the left
-            const uint32_t i = jl * 64 + (uint32_t)__builtin_ctzll(bl);
-            bl &= bl - 1;
-            const int top = 63 - __builtin_clzll(br);
-            br &= ~(uint64_t(1) << top);
-            std::swap(out[i], out[jr * 64 + (uint32_t)top]);
-        }
-    }
-
-    // scale: 4 lanes, the last 0.  The bin of each axis is clamp((int)((c - lo) * scale)) of
-    // the centroid c as in the partition's predicate, for the three axes at once.
-    static void bin_ref(const Ref& r, F4 clo, F4 scale, int nb, Bins& out) {
-        alignas(16) int32_t k[4];
-        clamp_to_int4(mul4(sub4(r.center4(), clo), scale), nb - 1, k);
-        const F4 lo = nan_w(load4(r.box.lo)), hi = r.hi4();
-        for (int a = 0; a < 3; ++a) Bins::add(out.box[a][k[a]], lo, hi, 1);
-    }
-
-    // Consecutive references of a strand mostly fall in the same bins, so one pass is a chain
-    // of load, min/max, store on the same bin boxes, each waiting for the previous store.  Two
-    // contiguous halves binned in one loop into separate bins are two independent chains, and
-    // merged in order they give the same boxes bit for bit: min/max that keep the first of equal
-    // values (-0 and +0, see min4) give the first occurrence of the extreme whatever the
-    // grouping of contiguous runs (the same holds for the two threads' halves in build()).
-    void bin_range(uint32_t b, uint32_t e, const Box& cb, const float* scale, int nb,
-                   Bins& out) const {
-        const F4 clo = load4(cb.lo), sc = load4(scale);
-        const uint32_t half = (e - b) / 2;
-        if (half < kTwoChainsFrom) {
-            for (uint32_t i = b; i < e; ++i) bin_ref(refs_[i], clo, sc, nb, out);
-            return;
-        }
-        thread_local Bins second_half;
-        second_half.reset(nb);
-        const uint32_t mid = b + half;
-        for (uint32_t i = b; i < mid; ++i) {
-            bin_ref(refs_[i], clo, sc, nb, out);
-            bin_ref(refs_[i + half], clo, sc, nb, second_half);
-        }
-        if (mid + half < e) bin_ref(refs_[e - 1], clo, sc, nb, second_half);
-        out.merge(second_half, nb);
-    }
-    static constexpr uint32_t kTwoChainsFrom = 64;  // references per half
-
-    bool take_token() {
-        int t = tokens_.load();
-        while (t > 0)
-            if (tokens_.compare_exchange_weak(t, t - 1)) return true;
-        return false;
-    }
-    void give_token() { tokens_.fetch_add(1); }
-
-    Slot leaf(uint32_t b, uint32_t e, const Box& bounds) {
-        Slot s;
-        s.box = bounds;
-        s.child = b;
-        s.count = e - b;
-        return s;
-    }
-
-    // leaf_groups without its division: the sweep asks for two group counts per candidate plane,
-    // and a 32-bit div per count was a visible share of Builder::build in perf.
-    double groups(uint32_t n) const {
-        return lane_shift_ >= 0 ? (double)((n + lanes_ - 1) >> lane_shift_) : leaf_groups(n, opt_);
-    }
-
-    Slot build(uint32_t b, uint32_t e, const Box& bounds, const Box& cbounds, int depth) {
-        const uint32_t n = e - b;
-        const double leaf_cost = opt_.c_isect * groups(n);
-        if (n == 1 || depth >= kMaxBvhDepth) return leaf(b, e, bounds);
-        // Every split costs at least c_trav (areas and groups are not negative), so when a leaf
-        // costs no more, the leaf test after the sweep takes the leaf: the compact() preset's
-        // nodes of up to max_leaf need no binning.
-        if (n <= (uint32_t)opt_.max_leaf && opt_.c_isect >= 0 && leaf_cost <= opt_.c_trav) return leaf(b, e, bounds);
-
-        // ---- binning (two threads for the big top-level ranges)
-        // Small nodes get fewer bins: the SAH sweep is O(bins) per axis and dominated the
-        // build for the ~N/2 nodes near the leaves, where n bins resolve as much as 16.
-        const int nb = std::min(bins_, std::max(4, (int)n));
-        alignas(16) float scale[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-        for (int a = 0; a < 3; ++a) {
-            const float ext = cbounds.hi[a] - cbounds.lo[a];
-            scale[a] = ext > 0 ? (float)nb * (1.0f - 1e-6f) / ext : 0.0f;
-        }
-        thread_local Bins scratch;
-        Bins& bins = scratch;
-        bins.reset(nb);
-        if (n >= 65536 && take_token()) {
-            std::unique_ptr<Bins> other_ptr(new Bins);
-            Bins& other = *other_ptr;
-            other.reset(nb);
-            const uint32_t mid = b + n / 2;
-            std::thread th([&] { bin_range(mid, e, cbounds, scale, nb, other); });
-            bin_range(b, mid, cbounds, scale, nb, bins);
-            th.join();
-            give_token();
-            bins.merge(other, nb);
-        } else {
-            bin_range(b, e, cbounds, scale, nb, bins);
-        }
-
-        // ---- best SAH plane over all axes
-        const double inv_area = 1.0 / std::max(bounds.half_area(), 1e-30);
-        const double isect_per_area = opt_.c_isect * inv_area;
-        double best_cost = INFINITY;
-        int best_axis = -1, best_split = 0;
-        Box best_l, best_r;
-        for (int a = 0; a < 3; ++a) {
-            if (scale[a] == 0.0f) continue;
-            // The right side's area x groups per plane, as the cost below would compute it.
-            double* right_cost = bins.right_cost;
-            uint32_t* right_n = bins.right_n;
-            Box acc;
-            uint32_t cnt = 0;
-            for (int i = nb - 1; i > 0; --i) {
-                acc.grow(bins.box[a][i]);
-                cnt += bins.n(a, i);
-                right_cost[i] = acc.half_area() * groups(cnt);
-                right_n[i] = cnt;
-            }
-            Box left;
-            uint32_t ln = 0;
-            for (int i = 1; i < nb; ++i) {
-                left.grow(bins.box[a][i - 1]);
-                ln += bins.n(a, i - 1);
-                if (ln == 0 || right_n[i] == 0) continue;
-                const double cost = opt_.c_trav + isect_per_area * (left.half_area() * groups(ln) + right_cost[i]);
-                if (cost < best_cost) {
-                    best_cost = cost;
-                    best_axis = a;
-                    best_split = i;
-                }
-            }
-        }
-        // The winner's boxes, grown in the sweeps' order: copying them at each better plane was a
-        // store of two boxes per improvement in the sweep.
-        if (best_axis >= 0) {
-            for (int i = 0; i < best_split; ++i) best_l.grow(bins.box[best_axis][i]);
-            for (int i = nb - 1; i >= best_split; --i) best_r.grow(bins.box[best_axis][i]);
-        }
-
-        if (n <= (uint32_t)opt_.max_leaf && leaf_cost <= best_cost) return leaf(b, e, bounds);
-
-        uint32_t mid;
-        Box cl, cr;
-        if (best_axis >= 0) {
-            mid = best_axis == 0 ? partition<0>(b, e, cbounds, scale, best_split, cl, cr)
-                : best_axis == 1 ? partition<1>(b, e, cbounds, scale, best_split, cl, cr)
-                                 : partition<2>(b, e, cbounds, scale, best_split, cl, cr);
-        } else {
-            // All centroids coincide (duplicated or split pieces): halve the range.
-            mid = b + n / 2;
-            best_l = Box();
-            best_r = Box();
-            bounds_of(b, mid, best_l, cl);
-            bounds_of(mid, e, best_r, cr);
-        }
-
-        const uint32_t id = alloc();
-        Slot left, right;
-        if (n >= 4096 && take_token()) {
-            // A token is a thread free to take a subtree.  Each side hands its token back as soon
-            // as its own subtree is done, not at the join: the subtrees of an uneven split
-            // finish apart, and the one still running can split off work to the idle thread.
-            std::thread th([&] {
-                left = build(b, mid, best_l, cl, depth + 1);
-                give_token();
-            });
-            right = build(mid, e, best_r, cr, depth + 1);
-            give_token();
-            th.join();
-            tokens_.fetch_sub(1);  // this thread runs on (the other one has given its token back)
-        } else {
-            left = build(b, mid, best_l, cl, depth + 1);
-            right = build(mid, e, best_r, cr, depth + 1);
-        }
-        place(id, BNode{{left.box, right.box}, {left.child, right.child}, {left.count, right.count}, b, e});
-        Slot s;
-        s.box = bounds;
-        s.child = id;
-        s.count = 0;
-        return s;
-    }
-
-    BuildArray<Ref>& refs_;
-    BuildArray<NodeStorage> storage_;  // reserved, never resized: alloc() hands out its slots
-    std::unique_ptr<uint64_t[]> mask_;  // partition's side bits
-    NodeStorage* slots_ = nullptr;     // storage_.data()
-    BvhOptions opt_;
-    int bins_;
-    uint32_t lanes_;   // max(1, opt_.leaf_lanes)
-    int lane_shift_;   // log2(lanes_) if a power of two, else -1
-    std::atomic<int> tokens_{0};
-    std::atomic<uint32_t> used_{0};
-};
-
 // What an oriented box must hold for one reference: a capsule (two end points, radius r) or a
 // triangle (three vertices, r = 0); the whole segment even for a split reference's piece.
 struct Prim {
@@ -727,6 +403,451 @@ bool dominant_frame(const Moments& mo, const Box& bounds, Frame& f) {
     }
     return true;
 }
+
+// A reference's capsule for oriented splits: end points a and b, a[3] the radius.
+struct alignas(16) RefEnds {
+    float a[4], b[4];
+};
+
+class Builder {
+public:
+    // ends: null, or each reference's capsule (RefEnds) in the order of refs, for oriented splits;
+    // the builder permutes it with refs.
+    Builder(BuildArray<Ref>& refs, const BvhOptions& opt, RefEnds* ends)
+        : refs_(refs), ends_(ends), opt_(opt), bins_(std::clamp(opt.bins, 4, Bins::kMax)),
+          lanes_((uint32_t)std::max(1, opt.leaf_lanes)), lane_shift_(-1) {
+        for (int k = 0; k < 31; ++k)
+            if (lanes_ == 1u << k) lane_shift_ = k;
+        unsigned t = opt.threads ? opt.threads : std::max(1u, std::thread::hardware_concurrency());
+        tokens_ = (int)t - 1;
+        // A binary tree over n references has at most n - 1 inner nodes (+1 for a leaf root).
+        // Left uninitialised (place() constructs each node): a build uses about n / 5 of them
+        // (leaves hold up to max_leaf references), and pages never written are never faulted
+        // in; constructing all n (96 bytes each with 4-lane boxes) took a tenth of the build.
+        storage_.reserve(std::max<size_t>(refs.size(), 1));
+        mask_.reset(new uint64_t[refs.size() / 32 + 2]);  // see partition
+        slots_ = storage_.data();
+    }
+
+    // Returns the intermediate root node index.
+    uint32_t run() {
+        if (refs_.empty()) return place(alloc(), BNode());  // both slots empty
+        Box bounds, cbounds;
+        bounds_of(0, (uint32_t)refs_.size(), bounds, cbounds);
+        Slot top = build(0, (uint32_t)refs_.size(), bounds, cbounds, 1);
+        if (top.count == 0) return top.child;
+        BNode node;  // the whole scene is one leaf: root with one used slot
+        node.box[0] = top.box;
+        node.child[0] = top.child;
+        node.count[0] = top.count;
+        node.end = top.count;
+        return place(alloc(), node);
+    }
+
+    // The nodes alloc() handed out: [0, used()).
+    BNode* nodes() const { return std::launder(reinterpret_cast<BNode*>(slots_)); }
+    uint32_t used() const { return used_.load(); }
+    size_t oriented_splits() const { return oriented_splits_.load(); }
+
+private:
+    struct NodeStorage {
+        alignas(BNode) unsigned char bytes[sizeof(BNode)];
+    };
+    static_assert(std::is_trivially_destructible<BNode>::value, "nodes are never destroyed");
+
+    // A node's index is taken before its subtrees are built and the node is written once, by
+    // place(), when they are done: constructing it in alloc() as well wrote each node twice, the
+    // first time into a fresh cache line (~4 % of Builder::build in perf).
+    uint32_t alloc() { return used_.fetch_add(1); }
+    uint32_t place(uint32_t id, const BNode& node) {
+        new (slots_ + id) BNode(node);
+        return id;
+    }
+
+    void bounds_of(uint32_t b, uint32_t e, Box& bounds, Box& cbounds) const {
+        for (uint32_t i = b; i < e; ++i) {
+            bounds.grow(refs_[i].lo4(), refs_[i].hi4());
+            cbounds.grow_centroid(refs_[i].center4());
+        }
+    }
+
+    // The permutation std::partition gave (libstdc++'s Hoare loop: the next reference from the
+    // left that goes right swaps with the next from the right that goes left), so the tree is the
+    // same, without its branch per reference: on a strand's run of references the sides alternate
+    // too irregularly for the branch predictor, and the mispredictions were most of its time in
+    // perf.  Hoare's k-th swap pairs the k-th reference of [b, mid) that goes right with the k-th
+    // of [mid, e), counted from the end, that goes left; a first pass writes each reference's side
+    // to a bit mask, the second swaps the pairs the mask names.  The first pass also grows each
+    // side's centroid bounds, with the centroid or NaN (min4(x, NaN) and max4(x, NaN) are x, as
+    // minps and maxps return their second operand, here x, when either is NaN): that saves the
+    // children's two centroid passes.  Min and max in another order than those passes' can differ
+    // from theirs only in the sign of a zero, which no bin index or scale sees (see Box).
+    //
+    // A reference goes left if its centroid's bin on axis A, computed as bin_ref does but not
+    // clamped, is below split (1 <= split <= nb - 1): clamping changes no side, as bins below 0
+    // clamp to 0 < split, bins above nb - 1 to nb - 1 >= split, and cvttps2dq's 0x80000000 for
+    // a value out of range is below split as its clamp to 0 is.
+    template <int A>
+    uint32_t partition(uint32_t b, uint32_t e, const Box& cbounds, const float* scale, int split, Box& cl,
+                       Box& cr) {
+        // Up to 64 references need one word, on the stack; a longer range [b, e) owns the words
+        // of mask_ from b / 32 on: ceil(n / 64) of them fit below the next range's first word
+        // for n >= 32, so the two threads' ranges never share a word.
+        const uint32_t n = e - b;
+        uint64_t one_word;
+        uint64_t* const w = n <= 64 ? &one_word : mask_.get() + b / 32;
+        const Ref* const r = refs_.data() + b;
+        const F4 clo = load4(cbounds.lo), sc = load4(scale);
+        F4 llo = load4(cl.lo), lhi = load4(cl.hi), rlo = load4(cr.lo), rhi = load4(cr.hi);
+        uint32_t m = 0;  // references that go left
+        for (uint32_t k0 = 0; k0 < n; k0 += 64) {
+            const uint32_t k1 = std::min(n, k0 + 64);
+            uint64_t word = 0;
+            for (uint32_t k = k0; k < k1; ++k) {
+                const F4 c = r[k].center4();
+                const F4 left = below4<A>(mul4(sub4(c, clo), sc), split);
+                const uint32_t bit = bit0(left);
+                word |= uint64_t(bit) << (k - k0);
+                m += bit;
+                const F4 cl4 = or4(c, not4(left)), cr4 = or4(c, left);
+                llo = min4(llo, cl4);
+                lhi = max4(lhi, cl4);
+                rlo = min4(rlo, cr4);
+                rhi = max4(rhi, cr4);
+            }
+            w[k0 >> 6] = word;
+        }
+        store4(cl.lo, llo);
+        store4(cl.hi, lhi);
+        store4(cr.lo, rlo);
+        store4(cr.hi, rhi);
+        return swap_by_mask(b, n, w, m);
+    }
+
+    // The second half of the partition: w's bit k says reference b + k goes left, m of them do;
+    // swaps Hoare's pairs.  Returns the first reference of the right side.
+    uint32_t swap_by_mask(uint32_t b, uint32_t n, const uint64_t* w, uint32_t m) {
+        if (m == 0 || m == n) return b + m;
+        // Bits of word j: positions below m that go right, and positions from m on that go left.
+        auto wrong_left = [&](uint32_t j) {
+            const uint64_t go_right = ~w[j];
+            return (j + 1) * 64 <= m ? go_right : go_right & ((uint64_t(1) << (m - j * 64)) - 1);
+        };
+        auto wrong_right = [&](uint32_t j) {
+            return j * 64 >= m ? w[j] : w[j] & ~((uint64_t(1) << (m - j * 64)) - 1);
+        };
+        Ref* const out = refs_.data() + b;
+        const uint32_t left_words = (m + 63) / 64;
+        uint32_t jl = 0, jr = (n - 1) / 64;
+        uint64_t bl = wrong_left(jl), br = wrong_right(jr);
+        for (;;) {
+            while (bl == 0) {
+                if (++jl == left_words) return b + m;
+                bl = wrong_left(jl);
+            }
+            while (br == 0) br = wrong_right(--jr);  // as many wrong on the right as on the left
+            const uint32_t i = jl * 64 + (uint32_t)__builtin_ctzll(bl);
+            bl &= bl - 1;
+            const int top = 63 - __builtin_clzll(br);
+            br &= ~(uint64_t(1) << top);
+            std::swap(out[i], out[jr * 64 + (uint32_t)top]);
+            if (ends_) std::swap(ends_[b + i], ends_[b + jr * 64 + (uint32_t)top]);
+        }
+    }
+
+    // scale: 4 lanes, the last 0.  The bin of each axis is clamp((int)((c - lo) * scale)) of
+    // the centroid c as in the partition's predicate, for the three axes at once.
+    static void bin_ref(const Ref& r, F4 clo, F4 scale, int nb, Bins& out) {
+        alignas(16) int32_t k[4];
+        clamp_to_int4(mul4(sub4(r.center4(), clo), scale), nb - 1, k);
+        const F4 lo = nan_w(load4(r.box.lo)), hi = r.hi4();
+        for (int a = 0; a < 3; ++a) Bins::add(out.box[a][k[a]], lo, hi, 1);
+    }
+
+    // Consecutive references of a strand mostly fall in the same bins, so one pass is a chain
+    // of load, min/max, store on the same bin boxes, each waiting for the previous store.  Two
+    // contiguous halves binned in one loop into separate bins are two independent chains, and
+    // merged in order they give the same boxes bit for bit: min/max that keep the first of equal
+    // values (-0 and +0, see min4) give the first occurrence of the extreme whatever the
+    // grouping of contiguous runs (the same holds for the two threads' halves in build()).
+    void bin_range(uint32_t b, uint32_t e, const Box& cb, const float* scale, int nb,
+                   Bins& out) const {
+        const F4 clo = load4(cb.lo), sc = load4(scale);
+        const uint32_t half = (e - b) / 2;
+        if (half < kTwoChainsFrom) {
+            for (uint32_t i = b; i < e; ++i) bin_ref(refs_[i], clo, sc, nb, out);
+            return;
+        }
+        thread_local Bins second_half;
+        second_half.reset(nb);
+        const uint32_t mid = b + half;
+        for (uint32_t i = b; i < mid; ++i) {
+            bin_ref(refs_[i], clo, sc, nb, out);
+            bin_ref(refs_[i + half], clo, sc, nb, second_half);
+        }
+        if (mid + half < e) bin_ref(refs_[e - 1], clo, sc, nb, second_half);
+        out.merge(second_half, nb);
+    }
+    static constexpr uint32_t kTwoChainsFrom = 64;  // references per half
+
+    bool take_token() {
+        int t = tokens_.load();
+        while (t > 0)
+            if (tokens_.compare_exchange_weak(t, t - 1)) return true;
+        return false;
+    }
+    void give_token() { tokens_.fetch_add(1); }
+
+    Slot leaf(uint32_t b, uint32_t e, const Box& bounds) {
+        Slot s;
+        s.box = bounds;
+        s.child = b;
+        s.count = e - b;
+        return s;
+    }
+
+    // leaf_groups without its division: the sweep asks for two group counts per candidate plane,
+    // and a 32-bit div per count was a visible share of Builder::build in perf.
+    double groups(uint32_t n) const {
+        return lane_shift_ >= 0 ? (double)((n + lanes_ - 1) >> lane_shift_) : leaf_groups(n, opt_);
+    }
+
+    struct Split {
+        double cost = INFINITY;
+        int axis = -1, split = 0;  // left: the bins below `split` on `axis`
+    };
+
+    // The best SAH plane of binned references: axes with scale 0 (no centroid extent) are skipped.
+    void sweep(Bins& bins, int nb, const float* scale, double isect_per_area, Split& best) const {
+        for (int a = 0; a < 3; ++a) {
+            if (scale[a] == 0.0f) continue;
+            // The right side's area x groups per plane, as the cost below would compute it.
+            double* right_cost = bins.right_cost;
+            uint32_t* right_n = bins.right_n;
+            Box acc;
+            uint32_t cnt = 0;
+            for (int i = nb - 1; i > 0; --i) {
+                acc.grow(bins.box[a][i]);
+                cnt += bins.n(a, i);
+                right_cost[i] = acc.half_area() * groups(cnt);
+                right_n[i] = cnt;
+            }
+            Box left;
+            uint32_t ln = 0;
+            for (int i = 1; i < nb; ++i) {
+                left.grow(bins.box[a][i - 1]);
+                ln += bins.n(a, i - 1);
+                if (ln == 0 || right_n[i] == 0) continue;
+                const double cost = opt_.c_trav + isect_per_area * (left.half_area() * groups(ln) + right_cost[i]);
+                if (cost < best.cost) {
+                    best.cost = cost;
+                    best.axis = a;
+                    best.split = i;
+                }
+            }
+        }
+    }
+
+    // Oriented split (BvhOptions::obb_split): the references binned again in the frame of their
+    // dominant direction (dominant_frame), their boxes there being what an oriented node would
+    // test.  Where that split's area x groups is below obb_split x the axis-aligned best's, the
+    // range is partitioned by it and true is returned with the first right reference in `mid`.
+    // Bundles of parallel fibres across the axes are then cut along and across the fibres, not
+    // into diagonal slices (Woop et al. 2014's unaligned splits; Embree's hair builder).
+    bool oriented_split(uint32_t b, uint32_t e, const Box& bounds, int nb, double isect_per_area,
+                        double aligned_cost, uint32_t& mid) {
+        const uint32_t n = e - b;
+        // The frame from at most ~256 references spread over the range: a direction is all it
+        // needs, and reading every reference's end points twice cost a quarter of the build.
+        Moments mo;
+        const uint32_t stride = std::max(1u, n / 256);
+        for (uint32_t i = b; i < e; i += stride) {
+            const RefEnds& q = ends_[i];
+            double d[3];
+            for (int k = 0; k < 3; ++k) d[k] = (double)q.b[k] - (double)q.a[k];
+            for (int j = 0; j < 3; ++j)
+                for (int k = 0; k < 3; ++k) mo.m[j][k] += d[j] * d[k];
+        }
+        Frame f;
+        if (!dominant_frame(mo, bounds, f)) return false;
+        float row[3][3], c[3];
+        for (int j = 0; j < 3; ++j) {
+            c[j] = (float)f.c[j];
+            for (int k = 0; k < 3; ++k) row[j][k] = (float)f.row[j][k];
+        }
+        thread_local std::vector<Ref> fbox;  // a Ref for its lane-3-free centroid
+        fbox.resize(n);
+        Box cb;
+        for (uint32_t i = 0; i < n; ++i) {
+            const RefEnds& q = ends_[b + i];
+            F4 x[2];
+            for (int v = 0; v < 2; ++v) {
+                const float* e = v ? q.b : q.a;
+                const float p[3] = {e[0] - c[0], e[1] - c[1], e[2] - c[2]};
+                x[v] = set4(row[0][0] * p[0] + row[0][1] * p[1] + row[0][2] * p[2],
+                            row[1][0] * p[0] + row[1][1] * p[1] + row[1][2] * p[2],
+                            row[2][0] * p[0] + row[2][1] * p[1] + row[2][2] * p[2], 0.0f);
+            }
+            // In registers, stored once: growing the stored box lane by lane and reading it back
+            // as a vector stalled on the stores.
+            const float r = q.a[3];
+            const F4 rr = set4(r, r, r, 0.0f);
+            const F4 lo = sub4(min4(x[0], x[1]), rr), hi = add4(max4(x[0], x[1]), rr);
+            store4(fbox[i].box.lo, lo);
+            store4(fbox[i].box.hi, hi);
+            const F4 centre = mul4(set4(0.5f, 0.5f, 0.5f, 0.5f), add4(lo, hi));
+            cb.grow(centre, centre);
+        }
+        alignas(16) float scale[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+        for (int a = 0; a < 3; ++a) {
+            const float ext = cb.hi[a] - cb.lo[a];
+            scale[a] = ext > 0 ? (float)nb * (1.0f - 1e-6f) / ext : 0.0f;
+        }
+        const F4 clo = load4(cb.lo), sc = load4(scale);
+        thread_local Bins obins;
+        obins.reset(nb);
+        alignas(16) int32_t k[4];
+        for (uint32_t i = 0; i < n; ++i) {
+            clamp_to_int4(mul4(sub4(fbox[i].center4(), clo), sc), nb - 1, k);
+            const F4 lo = nan_w(load4(fbox[i].box.lo)), hi = fbox[i].hi4();
+            for (int a = 0; a < 3; ++a) Bins::add(obins.box[a][k[a]], lo, hi, 1);
+        }
+        Split os;
+        sweep(obins, nb, scale, isect_per_area, os);
+        if (os.axis < 0 || !(os.cost - opt_.c_trav < opt_.obb_split * (aligned_cost - opt_.c_trav))) return false;
+        uint64_t one_word;
+        uint64_t* const w = n <= 64 ? &one_word : mask_.get() + b / 32;
+        uint32_t m = 0;
+        for (uint32_t k0 = 0; k0 < n; k0 += 64) {
+            uint64_t word = 0;
+            for (uint32_t i = k0; i < std::min(n, k0 + 64); ++i) {
+                clamp_to_int4(mul4(sub4(fbox[i].center4(), clo), sc), nb - 1, k);
+                const uint32_t bit = k[os.axis] < os.split ? 1u : 0u;
+                word |= uint64_t(bit) << (i - k0);
+                m += bit;
+            }
+            w[k0 >> 6] = word;
+        }
+        mid = swap_by_mask(b, n, w, m);
+        oriented_splits_.fetch_add(1, std::memory_order_relaxed);
+        return true;  // the sweep only takes planes with references on both sides
+    }
+
+    Slot build(uint32_t b, uint32_t e, const Box& bounds, const Box& cbounds, int depth) {
+        const uint32_t n = e - b;
+        const double leaf_cost = opt_.c_isect * groups(n);
+        if (n == 1 || depth >= kMaxBvhDepth) return leaf(b, e, bounds);
+        // Every split costs at least c_trav (areas and groups are not negative), so when a leaf
+        // costs no more, the leaf test after the sweep takes the leaf: the compact() preset's
+        // nodes of up to max_leaf need no binning.
+        if (n <= (uint32_t)opt_.max_leaf && opt_.c_isect >= 0 && leaf_cost <= opt_.c_trav) return leaf(b, e, bounds);
+
+        // ---- binning (two threads for the big top-level ranges)
+        // Small nodes get fewer bins: the SAH sweep is O(bins) per axis and dominated the
+        // build for the ~N/2 nodes near the leaves, where n bins resolve as much as 16.
+        const int nb = std::min(bins_, std::max(4, (int)n));
+        alignas(16) float scale[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+        for (int a = 0; a < 3; ++a) {
+            const float ext = cbounds.hi[a] - cbounds.lo[a];
+            scale[a] = ext > 0 ? (float)nb * (1.0f - 1e-6f) / ext : 0.0f;
+        }
+        thread_local Bins scratch;
+        Bins& bins = scratch;
+        bins.reset(nb);
+        if (n >= 65536 && take_token()) {
+            std::unique_ptr<Bins> other_ptr(new Bins);
+            Bins& other = *other_ptr;
+            other.reset(nb);
+            const uint32_t mid = b + n / 2;
+            std::thread th([&] { bin_range(mid, e, cbounds, scale, nb, other); });
+            bin_range(b, mid, cbounds, scale, nb, bins);
+            th.join();
+            give_token();
+            bins.merge(other, nb);
+        } else {
+            bin_range(b, e, cbounds, scale, nb, bins);
+        }
+
+        // ---- best SAH plane over all axes
+        const double inv_area = 1.0 / std::max(bounds.half_area(), 1e-30);
+        const double isect_per_area = opt_.c_isect * inv_area;
+        Split best;
+        sweep(bins, nb, scale, isect_per_area, best);
+        const double best_cost = best.cost;
+        const int best_axis = best.axis, best_split = best.split;
+        Box best_l, best_r;
+        // The winner's boxes, grown in the sweeps' order: copying them at each better plane was a
+        // store of two boxes per improvement in the sweep.
+        if (best_axis >= 0) {
+            for (int i = 0; i < best_split; ++i) best_l.grow(bins.box[best_axis][i]);
+            for (int i = nb - 1; i >= best_split; --i) best_r.grow(bins.box[best_axis][i]);
+        }
+
+        if (n <= (uint32_t)opt_.max_leaf && leaf_cost <= best_cost) return leaf(b, e, bounds);
+
+        uint32_t mid;
+        Box cl, cr;
+        if (ends_ && best_axis >= 0 && n >= kOrientedSplitFrom &&
+            oriented_split(b, e, bounds, nb, isect_per_area, best_cost, mid)) {
+            best_l = Box();
+            best_r = Box();
+            bounds_of(b, mid, best_l, cl);
+            bounds_of(mid, e, best_r, cr);
+        } else if (best_axis >= 0) {
+            mid = best_axis == 0 ? partition<0>(b, e, cbounds, scale, best_split, cl, cr)
+                : best_axis == 1 ? partition<1>(b, e, cbounds, scale, best_split, cl, cr)
+                                 : partition<2>(b, e, cbounds, scale, best_split, cl, cr);
+        } else {
+            // All centroids coincide (duplicated or split pieces): halve the range.
+            mid = b + n / 2;
+            best_l = Box();
+            best_r = Box();
+            bounds_of(b, mid, best_l, cl);
+            bounds_of(mid, e, best_r, cr);
+        }
+
+        const uint32_t id = alloc();
+        Slot left, right;
+        if (n >= 4096 && take_token()) {
+            // A token is a thread free to take a subtree.  Each side hands its token back as soon
+            // as its own subtree is done, not at the join: the subtrees of an uneven split
+            // finish apart, and the one still running can split off work to the idle thread.
+            std::thread th([&] {
+                left = build(b, mid, best_l, cl, depth + 1);
+                give_token();
+            });
+            right = build(mid, e, best_r, cr, depth + 1);
+            give_token();
+            th.join();
+            tokens_.fetch_sub(1);  // this thread runs on (the other one has given its token back)
+        } else {
+            left = build(b, mid, best_l, cl, depth + 1);
+            right = build(mid, e, best_r, cr, depth + 1);
+        }
+        place(id, BNode{{left.box, right.box}, {left.child, right.child}, {left.count, right.count}, b, e});
+        Slot s;
+        s.box = bounds;
+        s.child = id;
+        s.count = 0;
+        return s;
+    }
+
+    // Nodes this small are split axis-aligned only: an oriented split pays for a whole subtree.
+    static constexpr uint32_t kOrientedSplitFrom = 16;
+
+    BuildArray<Ref>& refs_;
+    RefEnds* ends_ = nullptr;  // per reference, permuted with refs_ (oriented_split), or null
+    BuildArray<NodeStorage> storage_;  // reserved, never resized: alloc() hands out its slots
+    std::unique_ptr<uint64_t[]> mask_;  // partition's side bits
+    NodeStorage* slots_ = nullptr;     // storage_.data()
+    BvhOptions opt_;
+    int bins_;
+    uint32_t lanes_;   // max(1, opt_.leaf_lanes)
+    int lane_shift_;   // log2(lanes_) if a power of two, else -1
+    std::atomic<int> tokens_{0};
+    std::atomic<uint32_t> used_{0};
+    std::atomic<size_t> oriented_splits_{0};
+};
 
 // Box of references [b, e) in frame f: a capsule's extent along a unit axis is its end points'
 // extent widened by r.
@@ -1019,22 +1140,37 @@ void build_bvh_from(const BuildArray<HtSegment>& base, SceneGeometry& geo, const
         add_refs(refs, i, p0, p1, 0.5f * (a.r + b.r), 0.0f, 1.0f, 0, opt);
     }
 
-    Builder builder(refs, opt);
+    auto prim_of = [&](const HtSegment& s) {
+        Prim q;
+        q.points = s.flags & HT_SEG_TRIANGLE ? 3 : 2;
+        for (int v = 0; v < q.points; ++v) {
+            const HtPoint& p = geo.points[s.point + v];
+            q.p[v][0] = p.x, q.p[v][1] = p.y, q.p[v][2] = p.z;
+        }
+        q.r = q.points == 2 ? 0.5 * ((double)geo.points[s.point].r + (double)geo.points[s.point + 1].r) : 0.0;
+        return q;
+    };
+    // Oriented splits read each reference's end points, in the references' order so that the
+    // reads stream (by segment id they were a quarter of the build, cache misses); hair only: a
+    // triangle has no direction to bin along.
+    BuildArray<RefEnds> ends;
+    if (opt.obb_split > 0 && opt.obb_ratio > 0 && geo.triangle_count == 0) {
+        ends.resize(refs.size());
+        for (size_t i = 0; i < refs.size(); ++i) {
+            const HtSegment& s = base[refs[i].seg()];
+            const HtPoint& a = geo.points[s.point];
+            const HtPoint& b = geo.points[s.point + 1];
+            ends[i] = RefEnds{{a.x, a.y, a.z, 0.5f * (a.r + b.r)}, {b.x, b.y, b.z, 0.0f}};
+        }
+    }
+
+    Builder builder(refs, opt, ends.empty() ? nullptr : ends.data());
     const uint32_t root = builder.run();
 
     std::vector<Prim> prims;
     if (opt.obb_ratio > 0) {
         prims.resize(refs.size());
-        for (size_t i = 0; i < refs.size(); ++i) {
-            const HtSegment& s = base[refs[i].seg()];
-            Prim& q = prims[i];
-            q.points = s.flags & HT_SEG_TRIANGLE ? 3 : 2;
-            for (int v = 0; v < q.points; ++v) {
-                const HtPoint& p = geo.points[s.point + v];
-                q.p[v][0] = p.x, q.p[v][1] = p.y, q.p[v][2] = p.z;
-            }
-            q.r = q.points == 2 ? 0.5 * ((double)geo.points[s.point].r + (double)geo.points[s.point + 1].r) : 0.0;
-        }
+        for (size_t i = 0; i < refs.size(); ++i) prims[i] = prim_of(base[refs[i].seg()]);
     }
 
     geo.nodes.clear();
@@ -1061,6 +1197,7 @@ void build_bvh_from(const BuildArray<HtSegment>& base, SceneGeometry& geo, const
     BvhStats& st = geo.stats;
     st.nodes = geo.nodes.size();
     st.oriented = fl.oriented;
+    st.oriented_splits = builder.oriented_splits();
     st.leaves = fl.leaves;
     st.max_depth = fl.max_depth;
     st.references = refs.size();

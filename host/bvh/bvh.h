@@ -43,6 +43,12 @@ struct BvhOptions {
     // renders measured no faster with them and their build costs more (NOTES.md "Oriented nodes");
     // 0.8 is the value measured there (`bench --obb 0.8`).
     float obb_ratio = 0.0f;
+    // Oriented splits (host/bvh/NOTES.md "Oriented splits"): with obb_ratio > 0, each binary node
+    // of 16 or more references is also binned in the frame of its segments' dominant direction,
+    // and split there when that split's count-weighted area is below obb_split x the best
+    // axis-aligned one's.  0 = off (hair-only scenes; a scene with triangles is split
+    // axis-aligned).
+    float obb_split = 0.0f;
 
     // The defaults: ~7.6 segments per leaf and 41 bytes/segment on the strand anchor, measured
     // faster than scalar leaves of ~1.3 (host/bvh/NOTES.md "Leaves tested four / eight at a time").
@@ -59,6 +65,7 @@ struct BvhOptions {
 struct BvhStats {
     size_t nodes = 0;       // HtBvhNode records (8-wide inner nodes + one frame per oriented node)
     size_t oriented = 0;    // oriented nodes among them
+    size_t oriented_splits = 0;  // binary nodes split in their segments' frame (BvhOptions::obb_split)
     size_t leaves = 0;
     size_t max_depth = 0;
     size_t references = 0;  // leaf entries (= segments unless split_ratio > 0)

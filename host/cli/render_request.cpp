@@ -81,6 +81,7 @@ const OptionRow kOptions[] = {
     {"devices", "--device", "I|I,J,..|all", "OpenCL device index from `hairtrace devices` (default: first CPU/GPU); several devices split the chunks between them (one host thread each, work stealing), with the same image", "", Kind::Value, kBoth},
     {"devices", "--max-memory", "SIZE", "upper bound for host memory while loading and for device memory while rendering, e.g. 512M or 8G; inputs that need more are refused before allocating, with the size named", "", Kind::Value, kBoth},
     {"devices", "--bvh-oriented", "R|off", "oriented-box BVH nodes where their children's count-weighted box area is below R x the axis-aligned one (0.8 measured): each child box along its segments' dominant direction. Pays on long, curved strands in long renders (the 3.2M-segment head: path rays 1.3-1.4x, render time 1.11x less, build ~2 s longer), not on locks of short segments (the anchor strand: no faster); +2-4 bytes/segment; docs/PERFORMANCE.md section 1", "off", Kind::Value, kBoth},
+    {"devices", "--bvh-oriented-splits", "R|off", "with --bvh-oriented: the builder also bins each node of 16 or more segments in the frame of its segments' dominant direction and splits there where that split's count-weighted box area is below R x the best axis-aligned split's (1 measured), so bundles of fibres across the axes are cut along and across the fibres; hits are the same. Pays in long renders of large heads (the 3.2M-segment head at 128 spp: render 0.95x, path rays 1.08-1.21x faster than --bvh-oriented alone), not on the anchor strand or straight.hair; the build takes 1.5x as long; docs/PERFORMANCE.md section 1", "off", Kind::Value, kBoth},
     {"devices", "--kernel-dir", "DIR", "load kernel sources from DIR instead of the embedded copies", "", Kind::InputFolder, kBoth},
 
     {"reporting", "--reference", "REF", "linear image to compare with: prints RMSE, relMSE, max error, NaN count and the share of sparkles (pixels off by more than 10x the reference's 3x3 local standard deviation, docs/PERFORMANCE.md)", "", Kind::InputFile, kRender},
@@ -183,6 +184,9 @@ ImageRequest parse_image_request(const ArgParser& p) {
     s.light_guiding = parse_light_guiding("--light-guiding", p.get("--light-guiding"));
     s.light_vertices = uint32_t(p.get_int_or("--light-vertices", "off", 1, int(kMaxLightVertices)).value_or(0));
     s.bvh_oriented = float(p.get_double_or("--bvh-oriented", "off", 0.01, 1).value_or(0.0));
+    s.bvh_oriented_splits = float(p.get_double_or("--bvh-oriented-splits", "off", 0.01, 2).value_or(0.0));
+    if (s.bvh_oriented_splits > 0 && s.bvh_oriented == 0)
+        throw p.error("--bvh-oriented-splits", "only applies with --bvh-oriented: the splits serve oriented boxes");
     if (p.get_choice("--spawn-offset", {"capsule", "pbrt"}) == "pbrt") s.spawn_offset = RenderSettings::SpawnOffset::Pbrt;
     if (p.get_choice("--sampler", {"sobol", "independent"}) == "independent") s.sampler = RenderSettings::Sampler::Independent;
     s.skip_empty_pixels = p.get_choice("--empty-pixels", {"skip", "trace"}) == "skip";

@@ -98,6 +98,7 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& s, const R
     if (recipe_ready) recipe_ready(p);
     BvhOptions bvh;
     bvh.obb_ratio = s.bvh_oriented;
+    bvh.obb_split = s.bvh_oriented_splits;
     p.geometry = build_geometry(scene, bvh);
     p.strand_material.assign(scene.strands.material.begin(), scene.strands.material.end());
     p.materials = make_kernel_materials(scene.materials);

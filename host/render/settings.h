@@ -139,6 +139,9 @@ struct RenderSettings {
     // --bvh-oriented: BvhOptions::obb_ratio of the scene's BVH (0: axis-aligned nodes only).  Hits
     // are the same but for the segment taken at exactly equal t (a joint), so it is identity.
     float bvh_oriented = 0.0f;
+    // --bvh-oriented-splits: BvhOptions::obb_split (0: axis-aligned splits only); needs
+    // bvh_oriented.  Identity for the same reason.
+    float bvh_oriented_splits = 0.0f;
 };
 
 }  // namespace ht

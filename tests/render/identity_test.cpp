@@ -74,6 +74,10 @@ TEST(RenderIdentity, EachPartFollowsItsInputs) {
     RenderSettings oriented = rs;
     oriented.bvh_oriented = 0.8f;
     only(render_identity(s, oriented, 16), RenderIdentity::Settings);
+    RenderSettings oriented_splits = oriented;
+    oriented_splits.bvh_oriented_splits = 1.0f;
+    only(render_identity(s, oriented_splits, 16), RenderIdentity::Settings);
+    EXPECT_NE(render_identity(s, oriented_splits, 16), render_identity(s, oriented, 16));
     RenderSettings afs = rs, dual = rs;
     afs.indirect = RenderSettings::Indirect::Afs;
     dual.indirect = RenderSettings::Indirect::Dual;

@@ -116,13 +116,20 @@ TEST(Render, OrientedBvhNodesGiveTheSameImage) {
     RenderSettings rs = small_settings();
     rs.max_depth = 3;
     const Film aligned = render(scene, rs);
+    // The image with `tree`'s BVH options, after checking (by `built`) that they reached the builder.
+    auto expect_same_image = [&](const RenderSettings& tree, size_t BvhStats::*built) {
+        const PreparedScene prepared = prepare_scene(scene, tree);
+        EXPECT_GT(prepared.geometry.stats.*built, 0u) << "the option must reach the BVH builder";
+        Renderer r(test_context(), prepared);
+        Film film;
+        r.render(film);
+        EXPECT_EQ(aligned.rgba, film.rgba);
+    };
     rs.bvh_oriented = 0.8f;
-    const PreparedScene prepared = prepare_scene(scene, rs);
-    EXPECT_GT(prepared.geometry.stats.oriented, 0u) << "the option must reach the BVH builder";
-    Renderer r(test_context(), prepared);
-    Film oriented;
-    r.render(oriented);
-    EXPECT_EQ(aligned.rgba, oriented.rgba);
+    expect_same_image(rs, &BvhStats::oriented);
+    // --bvh-oriented-splits: another tree again, the same hits (ties go to the higher id in any tree)
+    rs.bvh_oriented_splits = 1.0f;
+    expect_same_image(rs, &BvhStats::oriented_splits);
 }
 
 TEST(Render, IndirectBouncesAddLight) {

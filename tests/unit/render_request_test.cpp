@@ -33,6 +33,7 @@ TEST(RenderRequest, RenderAndConvergeResolveTheSameWordsAlike) {
         {"--indirect", "none"},
         {"--indirect", "afs", "--max-depth", "4", "--clamp-indirect", "2.5", "--regularize", "10", "--seed", "7"},
         {"--bvh-oriented", "0.8"},
+        {"--bvh-oriented", "0.8", "--bvh-oriented-splits", "1"},
     };
     for (const auto& args : cases) {
         const ht::RenderSettings r = settings(RenderCommand::Render, args), c = settings(RenderCommand::Converge, args);
@@ -42,7 +43,21 @@ TEST(RenderRequest, RenderAndConvergeResolveTheSameWordsAlike) {
         EXPECT_EQ(r.clamp_indirect, c.clamp_indirect) << args[1];
         EXPECT_EQ(r.regularize_deg, c.regularize_deg) << args[1];
         EXPECT_EQ(r.bvh_oriented, c.bvh_oriented) << args[1];
+        EXPECT_EQ(r.bvh_oriented_splits, c.bvh_oriented_splits) << args[1];
         EXPECT_EQ(r.seed, c.seed) << args[1];
+    }
+}
+
+TEST(RenderRequest, OrientedSplitsNeedOrientedNodes) {
+    using ht::RenderCommand;
+    EXPECT_FLOAT_EQ(settings(RenderCommand::Render, {"--bvh-oriented", "0.8", "--bvh-oriented-splits", "1"})
+                        .bvh_oriented_splits,
+                    1.0f);
+    EXPECT_EQ(settings(RenderCommand::Render, {"--bvh-oriented", "0.8"}).bvh_oriented_splits, 0.0f);
+    for (RenderCommand c : {RenderCommand::Render, RenderCommand::Converge}) {
+        EXPECT_THROW(image_request(c, {"--bvh-oriented-splits", "1"}), ht::UsageError);
+        EXPECT_THROW(image_request(c, {"--bvh-oriented", "0.8", "--bvh-oriented-splits", "0"}), ht::UsageError);
+        EXPECT_THROW(image_request(c, {"--bvh-oriented", "0.8", "--bvh-oriented-splits", "3"}), ht::UsageError);
     }
 }
 
