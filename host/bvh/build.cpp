@@ -345,6 +345,13 @@ struct Moments {
             for (int k = 0; k < 3; ++k) m[j][k] += o.m[j][k];
         triangles += o.triangles;
     }
+    // Adds d d^T of the segment from p0 to p1.
+    void add_segment(const float* p0, const float* p1) {
+        double d[3];
+        for (int k = 0; k < 3; ++k) d[k] = (double)p1[k] - (double)p0[k];
+        for (int j = 0; j < 3; ++j)
+            for (int k = 0; k < 3; ++k) m[j][k] += d[j] * d[k];
+    }
 };
 
 Moments range_moments(const std::vector<Prim>& prims, uint32_t b, uint32_t e) {
@@ -355,10 +362,7 @@ Moments range_moments(const std::vector<Prim>& prims, uint32_t b, uint32_t e) {
             ++mo.triangles;
             continue;
         }
-        double d[3];
-        for (int k = 0; k < 3; ++k) d[k] = (double)q.p[1][k] - (double)q.p[0][k];
-        for (int j = 0; j < 3; ++j)
-            for (int k = 0; k < 3; ++k) mo.m[j][k] += d[j] * d[k];
+        mo.add_segment(q.p[0], q.p[1]);
     }
     return mo;
 }
@@ -653,21 +657,15 @@ private:
     // test.  Where that split's area x groups is below obb_split x the axis-aligned best's, the
     // range is partitioned by it and true is returned with the first right reference in `mid`.
     // Bundles of parallel fibres across the axes are then cut along and across the fibres, not
-    // into diagonal slices (Woop et al. 2014's unaligned splits; Embree's hair builder).
+    // into diagonal slices (host/bvh/NOTES.md "Oriented splits").
     bool oriented_split(uint32_t b, uint32_t e, const Box& bounds, int nb, double isect_per_area,
                         double aligned_cost, uint32_t& mid) {
         const uint32_t n = e - b;
-        // The frame from at most ~256 references spread over the range: a direction is all it
-        // needs, and reading every reference's end points twice cost a quarter of the build.
+        // The frame from at most 511 references spread evenly over the range: a direction is all
+        // it needs, and reading every reference's end points twice cost a quarter of the build.
         Moments mo;
         const uint32_t stride = std::max(1u, n / 256);
-        for (uint32_t i = b; i < e; i += stride) {
-            const RefEnds& q = ends_[i];
-            double d[3];
-            for (int k = 0; k < 3; ++k) d[k] = (double)q.b[k] - (double)q.a[k];
-            for (int j = 0; j < 3; ++j)
-                for (int k = 0; k < 3; ++k) mo.m[j][k] += d[j] * d[k];
-        }
+        for (uint32_t i = b; i < e; i += stride) mo.add_segment(ends_[i].a, ends_[i].b);
         Frame f;
         if (!dominant_frame(mo, bounds, f)) return false;
         float row[3][3], c[3];
