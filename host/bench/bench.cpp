@@ -477,6 +477,8 @@ BenchRequest parse_bench_request(const ArgParser& p) {
     if (p.has("--split-depth")) r.bvh.split_depth = p.get_int("--split-depth", 0, 16);
     if (p.has("--obb")) r.bvh.obb_ratio = float(p.get_double("--obb", 0, 1e6));
     if (p.has("--obb-split")) r.bvh.obb_split = float(p.get_double("--obb-split", 0, 1e6));
+    if (r.bvh.obb_split > 0 && !(r.bvh.obb_ratio > 0))
+        throw p.error("--obb-split", "only applies with --obb: the splits serve oriented boxes");
     if (p.has("--device")) r.device = p.get_int("--device", 0, 1000);
     r.options = p.get("--options");
     return r;

@@ -71,6 +71,8 @@ TEST(Cli, BadValuesExit2NamingTheOption) {
         {" bench --reps 0", "--reps"},
         {" bench --cisect x", "--cisect"},
         {" bench --rays a.rays", "--rays"},
+        {" bench --obb-split 1", "--obb-split"},
+        {" render builtin:strand -o " + (d / "x.png") + " --bvh-oriented-splits 1", "--bvh-oriented-splits"},
         {" fiber eval --precision half", "--precision"},
         {" fiber furnace --model chiang --nh many", "--nh"},
         {" render builtin:strand -o " + (d / "x.png") + " --max-depth deep", "--max-depth"},
