@@ -673,7 +673,9 @@ private:
             c[j] = (float)f.c[j];
             for (int k = 0; k < 3; ++k) row[j][k] = (float)f.row[j][k];
         }
-        thread_local std::vector<Ref> fbox;  // a Ref for its lane-3-free centroid
+        // A Ref for its lane-3-free centroid; its spare lane keeps the centroid's three bins
+        // (below), which the partition reads back instead of computing them again.
+        thread_local std::vector<Ref> fbox;
         fbox.resize(n);
         Box cb;
         for (uint32_t i = 0; i < n; ++i) {
@@ -694,7 +696,7 @@ private:
             store4(fbox[i].box.lo, lo);
             store4(fbox[i].box.hi, hi);
             const F4 centre = mul4(set4(0.5f, 0.5f, 0.5f, 0.5f), add4(lo, hi));
-            cb.grow(centre, centre);
+            cb.grow_centroid(centre);
         }
         alignas(16) float scale[4] = {0.0f, 0.0f, 0.0f, 0.0f};
         for (int a = 0; a < 3; ++a) {
@@ -709,6 +711,8 @@ private:
             clamp_to_int4(mul4(sub4(fbox[i].center4(), clo), sc), nb - 1, k);
             const F4 lo = nan_w(load4(fbox[i].box.lo)), hi = fbox[i].hi4();
             for (int a = 0; a < 3; ++a) Bins::add(obins.box[a][k[a]], lo, hi, 1);
+            static_assert(Bins::kMax <= 256, "a bin index fits 8 bits");
+            fbox[i].set_seg(uint32_t(k[0]) | uint32_t(k[1]) << 8 | uint32_t(k[2]) << 16);
         }
         Split os;
         sweep(obins, nb, scale, isect_per_area, os);
@@ -719,8 +723,8 @@ private:
         for (uint32_t k0 = 0; k0 < n; k0 += 64) {
             uint64_t word = 0;
             for (uint32_t i = k0; i < std::min(n, k0 + 64); ++i) {
-                clamp_to_int4(mul4(sub4(fbox[i].center4(), clo), sc), nb - 1, k);
-                const uint32_t bit = k[os.axis] < os.split ? 1u : 0u;
+                const int bin = int(fbox[i].seg() >> (8 * os.axis) & 255u);
+                const uint32_t bit = bin < os.split ? 1u : 0u;
                 word |= uint64_t(bit) << (i - k0);
                 m += bit;
             }
@@ -1138,16 +1142,6 @@ void build_bvh_from(const BuildArray<HtSegment>& base, SceneGeometry& geo, const
         add_refs(refs, i, p0, p1, 0.5f * (a.r + b.r), 0.0f, 1.0f, 0, opt);
     }
 
-    auto prim_of = [&](const HtSegment& s) {
-        Prim q;
-        q.points = s.flags & HT_SEG_TRIANGLE ? 3 : 2;
-        for (int v = 0; v < q.points; ++v) {
-            const HtPoint& p = geo.points[s.point + v];
-            q.p[v][0] = p.x, q.p[v][1] = p.y, q.p[v][2] = p.z;
-        }
-        q.r = q.points == 2 ? 0.5 * ((double)geo.points[s.point].r + (double)geo.points[s.point + 1].r) : 0.0;
-        return q;
-    };
     // Oriented splits read each reference's end points, in the references' order so that the
     // reads stream (by segment id they were a quarter of the build, cache misses); hair only: a
     // triangle has no direction to bin along.
@@ -1168,7 +1162,16 @@ void build_bvh_from(const BuildArray<HtSegment>& base, SceneGeometry& geo, const
     std::vector<Prim> prims;
     if (opt.obb_ratio > 0) {
         prims.resize(refs.size());
-        for (size_t i = 0; i < refs.size(); ++i) prims[i] = prim_of(base[refs[i].seg()]);
+        for (size_t i = 0; i < refs.size(); ++i) {
+            const HtSegment& s = base[refs[i].seg()];
+            Prim& q = prims[i];
+            q.points = s.flags & HT_SEG_TRIANGLE ? 3 : 2;
+            for (int v = 0; v < q.points; ++v) {
+                const HtPoint& p = geo.points[s.point + v];
+                q.p[v][0] = p.x, q.p[v][1] = p.y, q.p[v][2] = p.z;
+            }
+            q.r = q.points == 2 ? 0.5 * ((double)geo.points[s.point].r + (double)geo.points[s.point + 1].r) : 0.0;
+        }
     }
 
     geo.nodes.clear();
