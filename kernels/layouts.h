@@ -29,7 +29,7 @@
         F(HtHit, tx, 16) F(HtHit, ty, 20) F(HtHit, tz, 24) F(HtHit, radius, 28)                    \
     S(HtPathState, 48) F(HtPathState, throughput, 0) F(HtPathState, pixel, 12)                    \
         F(HtPathState, radiance, 16) F(HtPathState, flags, 28) F(HtPathState, last_pdf, 32)        \
-        F(HtPathState, split, 36) F(HtPathState, sample, 40)                                      \
+        F(HtPathState, split, 36) F(HtPathState, sample, 40) F(HtPathState, node, 44)              \
     S(HtShadowContrib, 16) F(HtShadowContrib, contrib, 0) F(HtShadowContrib, path, 12)            \
     S(HtDualRecord, 32) F(HtDualRecord, weight, 0) F(HtDualRecord, material, 12)                  \
         F(HtDualRecord, theta_i, 16) F(HtDualRecord, theta_o, 20) F(HtDualRecord, phi, 24)        \

@@ -123,7 +123,8 @@ typedef struct {
     uint split;      /* which of its camera path's continuations this is (--first-hit-splits;
                       * kernels/rng.h ht_continuation_sample): 0 for the camera path itself */
     uint sample;     /* the camera sample's index: a pass may render several samples of a pixel */
-    float pad2;
+    uint node;       /* the BVH node whose leaf held the path's last hit, where the traversal of its
+                      * next rays starts (kernels/geometry/bvh_traverse.h ht_traverse_from); 0: the root */
 } HtPathState;
 #define HT_PATH_FROM_CAMERA 1u  /* the current ray is a camera ray: no MIS on what it sees */
 #define HT_PATH_FROM_FIBRE 2u   /* the current ray left a fibre (--light-vertices: the MIS partner of a connection) */

@@ -10,6 +10,7 @@
 #include "bench/rays_file.h"
 #include "bvh/bvh.h"
 #include "bvh/device_geometry.h"
+#include "bvh/start_nodes_file.h"
 #include "cl/device.h"
 
 #include <nlohmann/json.hpp>
@@ -21,6 +22,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <random>
 #include <stdexcept>
@@ -54,6 +56,8 @@ struct RaySet {
     bool shadow = false;
     std::vector<HtRay> rays;
     const RaysFile* reference = nullptr;  // Embree's answers, if loaded from a file
+    std::vector<uint32_t> starts;         // where the render started each ray's traversal (a
+                                          // `render --dump-rays` .starts file), else empty
 };
 
 // ---------------------------------------------------------------- generated rays (no files)
@@ -321,21 +325,25 @@ nlohmann::json measure_ray_set(DeviceTracer& tracer, const SceneGeometry& geo, c
         agree("embree_same_process", "Embree (same process)", s.shadow ? compare_occ(occ, eo) : compare(geo, hits, eh));
     }
 
-    // Timed passes: warm-up done above; median of reps.
+    // Timed passes of the tracer as set up: warm-up done above (the correctness pass); median of reps.
+    const auto timed = [&](std::vector<double>& times, std::vector<double>& cpu) {
+        for (int k = 0; k < reps; ++k) {
+            const auto t0 = Clock::now();
+            const double c0 = cpu_ms();
+            if (s.shadow) tracer.enqueue_shadow();
+            else tracer.enqueue_closest();
+            tracer.finish();
+            times.push_back(ms_since(t0));
+            cpu.push_back(cpu_ms() - c0);
+        }
+    };
+    const auto rate = [&](double ms) { return ms > 0 ? s.rays.size() / (ms * 1e3) : 0.0; };
     std::vector<double> times, cpu;
-    for (int k = 0; k < reps; ++k) {
-        const auto t0 = Clock::now();
-        const double c0 = cpu_ms();
-        if (s.shadow) tracer.enqueue_shadow();
-        else tracer.enqueue_closest();
-        tracer.finish();
-        times.push_back(ms_since(t0));
-        cpu.push_back(cpu_ms() - c0);
-    }
+    timed(times, cpu);
     const double med = median(times);
-    const double mrays = med > 0 ? s.rays.size() / (med * 1e3) : 0.0;
+    const double mrays = rate(med);
     // Throughput per CPU-second: what one core does when it is not shared.
-    const double mrays_cpu = median(cpu) > 0 ? s.rays.size() / (median(cpu) * 1e3) : 0.0;
+    const double mrays_cpu = rate(median(cpu));
     jr["median_ms"] = med;
     jr["mrays_per_s"] = mrays;
     jr["mrays_per_cpu_s"] = mrays_cpu;
@@ -350,6 +358,43 @@ nlohmann::json measure_ray_set(DeviceTracer& tracer, const SceneGeometry& geo, c
                                    {s.shadow ? "occluded" : "hits", embree_count},
                                    {"ratio", embree_mrays > 0 ? mrays / embree_mrays : 0.0}};
     }
+    // The render's own traversal of these rays: each started at the node the render started it
+    // at (bvh/start_nodes_file.h); the same answers as from the root, bit for bit, or MISMATCH.
+    std::string starts_line;
+    if (!s.starts.empty()) {
+        tracer.set_starts(s.starts);
+        tracer.enqueue_closest();
+        tracer.finish();
+        std::vector<HtHit> from_starts;
+        tracer.read_hits(from_starts);
+        size_t same = 0;
+        for (size_t i = 0; i < hits.size(); ++i)
+            same += from_starts[i].segment == hits[i].segment &&
+                    std::memcmp(&from_starts[i].t, &hits[i].t, sizeof(float)) == 0;
+        const bool ok = same == hits.size();
+        all_ok = all_ok && ok;
+        std::vector<double> st, sc;
+        timed(st, sc);
+        const double sm = median(st);
+        const double smrays = rate(sm), smrays_cpu = rate(median(sc));
+        size_t started = 0;
+        for (uint32_t n : s.starts) started += n != 0u;
+        jr["from_start_nodes"] = {{"rays_not_from_root", started}, {"same_answers", same}, {"ok", ok},
+                                  {"median_ms", sm}, {"mrays_per_s", smrays}, {"mrays_per_cpu_s", smrays_cpu},
+                                  {"pass_ms", st}};
+        if (embree) jr["from_start_nodes"]["ratio_to_embree"] = embree_mrays > 0 ? smrays / embree_mrays : 0.0;
+        char b[400];
+        std::snprintf(b, sizeof b,
+                      "    closest from the render's start nodes (%zu of %zu rays not from the root; answers "
+                      "identical to the root's: %zu/%zu%s): %.2f Mrays/s (median of %d, %.1f ms); %.2f Mrays per "
+                      "CPU-second",
+                      started, s.rays.size(), same, hits.size(), ok ? "" : "  MISMATCH", smrays, reps, sm, smrays_cpu);
+        starts_line = b;
+        if (embree) {
+            std::snprintf(b, sizeof b, "; hairtrace/Embree = %.2f", embree_mrays > 0 ? smrays / embree_mrays : 0.0);
+            starts_line += b;
+        }
+    }
     if (!json_out) {
         std::printf("  %-10s %zu rays (%s): %s\n", s.name.c_str(), s.rays.size(),
                     !s.reference ? "generated" : s.reference->scene_hash ? "anchor .rays" : ".rays file",
@@ -363,6 +408,7 @@ nlohmann::json measure_ray_set(DeviceTracer& tracer, const SceneGeometry& geo, c
             std::printf("    Embree (same process, same rays): %.2f Mrays/s, %s %zu; hairtrace/Embree = %.2f\n",
                         embree_mrays, s.shadow ? "occluded" : "hits", embree_count,
                         embree_mrays > 0 ? mrays / embree_mrays : 0.0);
+        if (!starts_line.empty()) std::printf("%s\n", starts_line.c_str());
     }
     return jr;
 }
@@ -430,7 +476,7 @@ void declare_bench_options(ArgParser& p) {
     p.group("scenes")
         .path("--hair", "FILE.hair", "a Cem Yuksel .hair file to measure", PathKind::Input, "", true)
         .option("--scene", "SCENE", "a scene to measure (file or builtin:NAME; default: builtin:strand builtin:ball)", "", true)
-        .path("--rays", "FILE.rays", "a ray set (the Embree anchor's format) for the scene named before it; without any, <stem>.{primary,incoherent,shadow}.rays beside a .hair file are used if present, else rays are generated from a framing camera; every hit is checked against the file's stored answers before any rate is printed", PathKind::Input, "", true);
+        .path("--rays", "FILE.rays", "a ray set (the Embree anchor's format) for the scene named before it; without any, <stem>.{primary,incoherent,shadow}.rays beside a .hair file are used if present, else rays are generated from a framing camera; every hit is checked against the file's stored answers before any rate is printed; a closest-hit set's X.starts beside it (written by render --dump-rays) also times the rays from the nodes the render started them at, with the same answers", PathKind::Input, "", true);
     p.group("measurement")
         .option("--res", "N", "generated primary rays: N x N (rounded down to a multiple of 4)", "1024")
         .option("--reps", "N", "timed passes per case, median reported", "5")
@@ -588,12 +634,13 @@ int bench_main(const std::vector<std::string>& args, const SceneSource& source_i
             s.shadow = f.kind == 1;
             s.rays = f.rays;
             s.reference = &f;
+            if (!s.shadow) s.starts = read_start_nodes(start_nodes_path(f.path), geo, f.rays.size());
             sets.push_back(std::move(s));
         }
         if (sets.empty()) {
-            RaySet p{"primary", false, camera_rays(geo, res), nullptr};
+            RaySet p{"primary", false, camera_rays(geo, res), nullptr, {}};
             const std::vector<HtHit> ph = tracer.trace_closest(p.rays);
-            RaySet inc{"incoherent", false, {}, nullptr}, sh{"shadow", true, {}, nullptr};
+            RaySet inc{"incoherent", false, {}, nullptr, {}}, sh{"shadow", true, {}, nullptr, {}};
             secondary_rays(geo, p.rays, ph, inc.rays, sh.rays);
             sets.push_back(std::move(p));
             if (!inc.rays.empty()) {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 
 namespace ht {
 
@@ -100,6 +101,7 @@ DeviceTracer::DeviceTracer(ClContext& cl, const DeviceGeometry& geo, const std::
     build_cached_ = cl.last_build_cached();
     device_step("creating the intersection kernels", [&] {
         closest_ = cl::Kernel(program_, "intersect_closest");
+        closest_from_ = cl::Kernel(program_, "intersect_closest_from");
         shadow_ = cl::Kernel(program_, "intersect_shadow");
     });
 }
@@ -118,8 +120,10 @@ void DeviceTracer::set_rays(const std::vector<HtRay>& rays) {
             rays_ = cl::Buffer(cl_.context(), CL_MEM_READ_ONLY, capacity_ * sizeof(HtRay));
             hits_ = cl::Buffer(cl_.context(), CL_MEM_WRITE_ONLY, capacity_ * sizeof(HtHit));
             occluded_ = cl::Buffer(cl_.context(), CL_MEM_WRITE_ONLY, capacity_ * sizeof(uint32_t));
+            starts_ = cl::Buffer(cl_.context(), CL_MEM_READ_ONLY, capacity_ * sizeof(uint32_t));
         });
     }
+    with_starts_ = false;
     if (!count_) return;
     // The kernels clamp tmax too; replacing inf here keeps it out of the device entirely (a
     // program built with -cl-fast-relaxed-math through `bench --options` assumes finite values).
@@ -131,7 +135,18 @@ void DeviceTracer::set_rays(const std::vector<HtRay>& rays) {
     });
 }
 
-void DeviceTracer::enqueue(cl::Kernel& k, cl::Buffer& out) {
+void DeviceTracer::set_starts(const std::vector<uint32_t>& starts) {
+    if (starts.size() != count_)
+        throw std::invalid_argument("DeviceTracer::set_starts: " + std::to_string(starts.size()) + " start nodes for " +
+                                    std::to_string(count_) + " rays");
+    if (count_)
+        device_step("uploading start nodes", [&] {
+            cl_.queue().enqueueWriteBuffer(starts_, CL_TRUE, 0, count_ * sizeof(uint32_t), starts.data());
+        });
+    with_starts_ = true;
+}
+
+void DeviceTracer::enqueue(cl::Kernel& k, cl::Buffer& out, const cl::Buffer* extra) {
     if (!count_) return;
     device_step("kernel launch", [&] {
         cl_uint a = set_paged_args(k, 0, geo_.nodes);
@@ -140,13 +155,19 @@ void DeviceTracer::enqueue(cl::Kernel& k, cl::Buffer& out) {
         k.setArg(a++, rays_);
         k.setArg(a++, out);
         k.setArg(a++, (cl_uint)count_);
+        if (extra) k.setArg(a++, *extra);
         cl_.queue().enqueueNDRangeKernel(k, cl::NullRange,
                                          cl::NDRange(round_up(count_, kLocalSize)),
                                          cl::NDRange(kLocalSize));
     });
 }
 
-void DeviceTracer::enqueue_closest() { enqueue(closest_, hits_); }
+void DeviceTracer::enqueue_closest() {
+    if (with_starts_)
+        enqueue(closest_from_, hits_, &starts_);
+    else
+        enqueue(closest_, hits_);
+}
 void DeviceTracer::enqueue_shadow() { enqueue(shadow_, occluded_); }
 void DeviceTracer::finish() {
     device_step("kernel execution", [&] { cl_.queue().finish(); });

@@ -57,6 +57,9 @@ public:
 
     // Uploads rays (tmax = +inf replaced by a large finite value) for the trace calls below.
     void set_rays(const std::vector<HtRay>& rays);
+    // Where each uploaded ray's closest-hit traversal starts (host/bvh/start_nodes_file.h), one
+    // inner node reference per ray (0: the root); until then, and after set_rays, the root.
+    void set_starts(const std::vector<uint32_t>& starts);
     // Trace the uploaded rays; the *_enqueue forms do not wait (time them with finish()).
     void enqueue_closest();
     void enqueue_shadow();
@@ -69,13 +72,14 @@ public:
     std::vector<uint32_t> trace_shadow(const std::vector<HtRay>& rays);
 
 private:
-    void enqueue(cl::Kernel& k, cl::Buffer& out);
+    void enqueue(cl::Kernel& k, cl::Buffer& out, const cl::Buffer* extra = nullptr);
 
     ClContext& cl_;
     const DeviceGeometry& geo_;
     cl::Program program_;
-    cl::Kernel closest_, shadow_;
-    cl::Buffer rays_, hits_, occluded_;
+    cl::Kernel closest_, closest_from_, shadow_;
+    cl::Buffer rays_, hits_, occluded_, starts_;
+    bool with_starts_ = false;
     size_t capacity_ = 0, count_ = 0;
     double build_ms_ = 0;
     bool build_cached_ = false;

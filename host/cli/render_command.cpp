@@ -329,7 +329,7 @@ void report(const PreparedRender& job, const RenderRequest& request, const RunOu
         std::fprintf(stderr, "max depth %d cut %llu of %llu paths (%.3g %%)\n", job.settings.max_depth,
                      (unsigned long long)st.cut_paths, (unsigned long long)st.paths,
                      100.0 * double(st.cut_paths) / double(st.paths));
-    for (auto& [name, sec] : st.stage_seconds) std::fprintf(stderr, "stage %-22s %8.3f s\n", name.c_str(), sec);
+    for (auto& [name, sec] : st.stage_seconds) std::fprintf(stderr, "stage %-26s %8.3f s\n", name.c_str(), sec);
     if (request.profile)
         for (size_t b = 0; b < st.bounces.size(); ++b) {
             const BounceStats& bs = st.bounces[b];

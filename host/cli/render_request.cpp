@@ -87,7 +87,7 @@ const OptionRow kOptions[] = {
     {"reporting", "--reference", "REF", "linear image to compare with: prints RMSE, relMSE, max error, NaN count and the share of sparkles (pixels off by more than 10x the reference's 3x3 local standard deviation, docs/PERFORMANCE.md)", "", Kind::InputFile, kRender},
     {"reporting", "--verbose", "", "print the kernel features chosen for the scene and the build options", "", Kind::Flag, kRender},
     {"reporting", "--profile", "", "time every stage kernel separately and print the split (slows the render a little)", "", Kind::Flag, kRender},
-    {"reporting", "--dump-rays", "DIR", "write the rays the render traces (closest hit and shadow, per bounce, the first 1,048,576 of each) with this tracer's answers to DIR/<scene>.b<bounce>.{closest,shadow}.rays, the Embree anchor's format, for `hairtrace bench --rays` (with several devices: the first device's share)", "", Kind::Value, kRender},
+    {"reporting", "--dump-rays", "DIR", "write the rays the render traces (closest hit and shadow, per bounce, the first 1,048,576 of each) with this tracer's answers to DIR/<scene>.b<bounce>.{closest,shadow}.rays, the Embree anchor's format, for `hairtrace bench --rays` (with several devices: the first device's share); beside a closest-hit set, .starts: the node each ray's traversal started at (its path's last hit's), so that bench also times them as the render traced them", "", Kind::Value, kRender},
     {"reporting", "--quiet", "", "no progress output on stderr", "", Kind::Flag, kBoth},
 };
 

@@ -1,5 +1,7 @@
 #include "render/ray_dump.h"
 
+#include "bvh/start_nodes_file.h"
+
 #include "kernels/geometry/capsule.h"
 
 #include <algorithm>
@@ -19,7 +21,7 @@ RayDump::Set& RayDump::set(std::vector<Set>& sets, uint32_t bounce) const {
 }
 
 void RayDump::closest(cl::CommandQueue& queue, const cl::Buffer& rays, const cl::Buffer& hits, uint32_t count,
-                      uint32_t bounce) {
+                      uint32_t bounce, const std::vector<uint32_t>& starts) {
     Set& s = set(closest_, bounce);
     const size_t take = std::min<size_t>(count, max_rays_ - s.rays.size());
     if (take == 0 || !geo_) return;
@@ -29,6 +31,7 @@ void RayDump::closest(cl::CommandQueue& queue, const cl::Buffer& rays, const cl:
     queue.enqueueReadBuffer(hits, CL_TRUE, 0, take * sizeof(HtHit), h.data());
     for (size_t i = 0; i < take; ++i) {
         s.rays.push_back(r[i]);
+        s.starts.push_back(starts.empty() ? 0u : starts[i]);
         s.answers.push_back(h[i].segment);
         s.t.push_back(h[i].t);
         s.u.push_back(h[i].u);
@@ -114,6 +117,11 @@ std::vector<std::string> RayDump::write() const {
                                          .string();
             write_set(path, sets[b], shadow != 0, b);
             out.push_back(path);
+            const std::vector<uint32_t>& starts = sets[b].starts;
+            if (std::any_of(starts.begin(), starts.end(), [](uint32_t n) { return n != 0u; })) {
+                write_start_nodes(start_nodes_path(path), *geo_, starts);
+                out.push_back(start_nodes_path(path));
+            }
         }
     }
     return out;

@@ -28,13 +28,16 @@ public:
 
     // Hooks of the render loop, after the stage kernel ran on `queue`: copy the first `count`
     // rays and answers of this bounce while the bounce's files are not full.  Shadow slots
-    // without a ray (tmax <= tmin, kernels/stages/shade.cl) are skipped.
+    // without a ray (tmax <= tmin, kernels/stages/shade.cl) are skipped.  `starts`: the node each
+    // closest-hit ray's traversal began at (empty: the root for all), written beside the set's
+    // .rays file (bvh/start_nodes_file.h) when one is not the root.
     void closest(cl::CommandQueue& queue, const cl::Buffer& rays, const cl::Buffer& hits, uint32_t count,
-                 uint32_t bounce);
+                 uint32_t bounce, const std::vector<uint32_t>& starts);
     void shadow(cl::CommandQueue& queue, const cl::Buffer& rays, const cl::Buffer& occluded, uint32_t count,
                 uint32_t bounce);
 
-    // Writes every non-empty set; returns the paths written.  Throws std::runtime_error.
+    // Writes every non-empty set (and its start nodes); returns the paths written.  Throws
+    // std::runtime_error.
     std::vector<std::string> write() const;
 
 private:
@@ -43,6 +46,7 @@ private:
         std::vector<uint32_t> answers;  // closest: leaf index (HT_NO_HIT) with t/u below; shadow: 0/1
         std::vector<float> t, u;
         std::vector<float> ng;          // closest: 3 per ray
+        std::vector<uint32_t> starts;   // closest: the traversal's start node per ray
     };
     Set& set(std::vector<Set>& sets, uint32_t bounce) const;
     void write_set(const std::string& path, const Set& s, bool shadow, uint32_t bounce) const;

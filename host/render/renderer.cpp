@@ -123,7 +123,8 @@ struct Renderer::Impl {
     std::string options;
     KernelFeatures features;
     cl::Program trace_program, shade_program;
-    cl::Kernel k_generate, k_closest, k_camera, k_shade, k_shadow, k_resolve, k_accumulate, k_accumulate_background;
+    cl::Kernel k_generate, k_closest, k_closest_paths, k_camera, k_shade, k_shadow, k_resolve, k_accumulate,
+        k_accumulate_background;
     // The camera rays' candidate lists (render/candidate_lists.h), when the scene has them
     struct CandidateLists {
         cl::Buffer start, count, primitive, depth;
@@ -242,6 +243,7 @@ struct Renderer::Impl {
         stats.kernel_options = build_options;
         k_generate = cl::Kernel(trace_program, "generate_camera_rays");
         k_closest = cl::Kernel(trace_program, "intersect_closest");
+        k_closest_paths = cl::Kernel(trace_program, "intersect_closest_paths");
         k_camera = cl::Kernel(trace_program, "intersect_camera");
         k_shadow_lists = cl::Kernel(trace_program, "intersect_shadow_lists");
         k_shade = cl::Kernel(shade_program, "shade");
@@ -444,11 +446,12 @@ struct Renderer::Impl {
             const uint32_t traced = vertices + (scene.environment.enabled ? 1u : 0u);
             for (uint32_t bounce = 0; n > 0 && bounce < traced; ++bounce) {
                 const auto t_bounce = std::chrono::steady_clock::now();
+                const std::vector<uint32_t> starts = dump ? start_nodes(q, n) : std::vector<uint32_t>();
                 if (bounce == 0 && use_candidate_lists)
                     intersect_camera(q, n);
                 else
                     intersect_closest(q, n);
-                if (dump) dump->closest(cl.queue(), queue_rays(q), buffer(PathBuffer::Hits), n, bounce);
+                if (dump) dump->closest(cl.queue(), queue_rays(q), buffer(PathBuffer::Hits), n, bounce, starts);
                 shade(q, n, bounce);
                 // the first shade leaves `light_samples` shadow slots and `splits` stage slots
                 // per camera ray, later ones one of each per ray
@@ -542,7 +545,35 @@ struct Renderer::Impl {
         launch(k_generate, count);
     }
 
-    void intersect_closest(int q, uint32_t count) { intersect_closest(queue_rays(q), buffer(PathBuffer::Hits), count); }
+    // The arguments the closest-hit stages of queue q share: geometry, the rays, their hits and
+    // paths (whose states say where each ray's traversal starts); returns the next argument.
+    cl_uint set_closest_queue_args(cl::Kernel& k, int q, uint32_t count) {
+        cl_uint a = set_geometry_args(k);
+        k.setArg(a++, queue_rays(q));
+        k.setArg(a++, buffer(PathBuffer::Hits));
+        k.setArg(a++, count);
+        k.setArg(a++, queue_paths(q));
+        k.setArg(a++, buffer(PathBuffer::Paths));
+        return a;
+    }
+
+    // The nodes where the traversals of queue q's first `count` rays start (their paths' last hit
+    // nodes), for --dump-rays.
+    std::vector<uint32_t> start_nodes(int q, uint32_t count) {
+        std::vector<uint32_t> ray_path(count), starts(count);
+        std::vector<HtPathState> paths(capacity);
+        cl.queue().enqueueReadBuffer(queue_paths(q), CL_FALSE, 0, count * sizeof(uint32_t), ray_path.data());
+        cl.queue().enqueueReadBuffer(buffer(PathBuffer::Paths), CL_TRUE, 0, capacity * sizeof(HtPathState), paths.data());
+        for (uint32_t i = 0; i < count; ++i) starts[i] = paths.at(ray_path[i]).node;
+        return starts;
+    }
+
+    // The rays of queue q, each starting its traversal at the node of its path's last hit
+    // (kernels/stages/intersect_closest.cl).
+    void intersect_closest(int q, uint32_t count) {
+        set_closest_queue_args(k_closest_paths, q, count);
+        launch(k_closest_paths, count);
+    }
 
     void intersect_closest(const cl::Buffer& rays, const cl::Buffer& hits, uint32_t count) {
         cl_uint a = set_geometry_args(k_closest);
@@ -554,12 +585,7 @@ struct Renderer::Impl {
 
     // The camera rays of queue q, through their pixels' candidate lists.
     void intersect_camera(int q, uint32_t count) {
-        cl_uint a = set_geometry_args(k_camera);
-        k_camera.setArg(a++, queue_rays(q));
-        k_camera.setArg(a++, buffer(PathBuffer::Hits));
-        k_camera.setArg(a++, count);
-        k_camera.setArg(a++, queue_paths(q));
-        k_camera.setArg(a++, buffer(PathBuffer::Paths));
+        cl_uint a = set_closest_queue_args(k_camera, q, count);
         k_camera.setArg(a++, candidate_lists.start);
         k_camera.setArg(a++, candidate_lists.count);
         k_camera.setArg(a++, candidate_lists.primitive);

@@ -33,7 +33,7 @@ __kernel void generate_camera_rays(HtCamera camera, uint pixel_offset, uint coun
     s.flags = HT_PATH_FROM_CAMERA;
     s.last_pdf = 0.0f;
     s.sample = sample;
-    s.pad2 = 0.0f;
+    s.node = 0u;
     for (uint j = 0u; j < splits; ++j) {
         s.split = j;
         paths[i * splits + j] = s;

@@ -2,25 +2,28 @@
  * ray whose pixel has a candidate list (host/render/candidate_lists.h) tests that list instead of
  * traversing the tree, with the same answer (geometry/candidate_list.h); pixels whose list was
  * too long (count = HT_CANDIDATES_USE_TREE) traverse the tree.  Camera ray i belongs to path
- * ray_path[i], whose state names its pixel. */
+ * ray_path[i], whose state names its pixel; a ray that traversed the tree leaves there the node of
+ * its hit, where the path's next ray starts (intersect_closest_paths; a list names no node). */
 #include "../geometry/candidate_list.h"
 
 __kernel void intersect_camera(HT_GEOMETRY_PARAMS, __global const HtRay* rays, __global HtHit* hits, uint count,
-                               __global const uint* ray_path, __global const HtPathState* paths,
+                               __global const uint* ray_path, __global HtPathState* paths,
                                __global const uint* candidate_start, __global const uint* candidate_count,
                                __global const uint* candidate_prim, __global const float* candidate_depth,
                                float4 depth_row) {
     const uint i = (uint)get_global_id(0);
     if (i >= count) return;
     const HtRay ray = rays[i];
-    const uint pixel = paths[ray_path[i]].pixel;
-    const uint n = candidate_count[pixel];
+    __global HtPathState* path = &paths[ray_path[i]];
+    const uint n = candidate_count[path->pixel];
     real t;
     uint best;
     if (n == HT_CANDIDATES_USE_TREE) {
-        best = ht_traverse(HT_GEOMETRY_ARGS, ray, 0, &t);
+        uint node;
+        best = ht_traverse_from(HT_GEOMETRY_ARGS, ray, 0, 0u, &t, &node);
+        path->node = node;
     } else {
-        const uint b = candidate_start[pixel];
+        const uint b = candidate_start[path->pixel];
         best = ht_candidates_closest(HT_SEGS_ARG, HT_POINTS_ARG, candidate_prim + b, candidate_depth + b, n, ray,
                                      depth_row.xyz, &t);
     }

@@ -225,6 +225,99 @@ TEST(Bvh, HostTraversalWithSplitReferences) {
     check_host_against_brute(opt);
 }
 
+// Every inner node reference of the tree (as child slots hold them, the oriented flag included).
+std::vector<uint32_t> inner_refs(const SceneGeometry& g) {
+    std::vector<uint32_t> refs;
+    for (const HtBvhNode& n : g.nodes)
+        for (int k = 0; k < HT_BVH_WIDTH; ++k)
+            if (n.count[k] == 0u && n.child[k] != 0u) refs.push_back(n.child[k]);
+    return refs;
+}
+
+// Whether leaf entry `entry` is in a leaf slot of the node of reference `ref`.
+bool node_holds_entry(const SceneGeometry& g, uint32_t ref, uint32_t entry) {
+    const HtBvhNode& n = g.nodes[ref & ~HT_NODE_ORIENTED];
+    for (int k = 0; k < HT_BVH_WIDTH; ++k)
+        if (n.count[k] > 0u && entry >= n.child[k] && entry < n.child[k] + n.count[k]) return true;
+    return false;
+}
+
+// A traversal started at any node (ht_traverse_from; the render loop starts a path's rays at the
+// node of its last hit) finds what the traversal from the root finds, bit for bit: the closest hit
+// (at a tie too), its t, and for shadow rays whether anything blocks them; and it names the node
+// whose leaf held the hit. Rays: random ones from outside, and rays leaving their first hit in
+// random directions (a path's next rays) started at that hit's node, at nodes elsewhere in the
+// tree and at the root; with axis-aligned and oriented nodes.
+ht::BvhOptions oriented_on();
+
+void check_start_nodes(const ht::BvhOptions& opt) {
+    const Strands s = random_strands(71, 300, 10, 0.1, 0.01);
+    const SceneGeometry g = ht::build_geometry(s, opt);
+    const std::vector<uint32_t> refs = inner_refs(g);
+    ASSERT_GT(refs.size(), 20u);
+    if (opt.obb_ratio > 0) {
+        EXPECT_GT(g.stats.oriented, 0u);
+    }
+    std::mt19937 rng(72);
+    std::uniform_real_distribution<double> u(0, 1);
+    std::normal_distribution<double> gn;
+    size_t hits = 0, secondary = 0, found_at_start = 0;
+    const auto check = [&](const HtRay& r, uint32_t start, uint32_t* node_out) {
+        real t0, t1;
+        uint32_t n0, n1;
+        const uint32_t b0 = ht_traverse_from(g.nodes.data(), g.segments.data(), g.points.data(), r, 0, 0u, &t0, &n0);
+        const uint32_t b1 = ht_traverse_from(g.nodes.data(), g.segments.data(), g.points.data(), r, 0, start, &t1, &n1);
+        EXPECT_EQ(b1, b0) << "start " << start;
+        EXPECT_EQ(t1, t0) << "start " << start;
+        if (b0 == HT_NO_HIT) {
+            EXPECT_EQ(n0, 0u);
+            EXPECT_EQ(n1, 0u);
+        } else {
+            EXPECT_TRUE(node_holds_entry(g, n0, b0));
+            EXPECT_TRUE(node_holds_entry(g, n1, b1));
+        }
+        // any-hit: blocked or not, wherever the traversal starts (and never before the closest hit)
+        const auto any = [&](const HtRay& ray, uint32_t from) {
+            real t;
+            uint32_t n;
+            return ht_traverse_from(g.nodes.data(), g.segments.data(), g.points.data(), ray, 1, from, &t, &n) != HT_NO_HIT;
+        };
+        EXPECT_EQ(any(r, start), b0 != HT_NO_HIT);
+        if (b0 != HT_NO_HIT) {
+            HtRay shorter = r;
+            shorter.tmax = (float)(t0 * 0.999);
+            EXPECT_FALSE(any(shorter, start));
+        }
+        *node_out = n1;
+        return b0;
+    };
+    for (const HtRay& r : random_rays(73, 1500, 1.0)) {
+        uint32_t node;
+        const uint32_t first = check(r, refs[size_t(u(rng) * refs.size()) % refs.size()], &node);
+        if (first == HT_NO_HIT) continue;
+        ++hits;
+        // the path's next ray, from the hit point
+        real t;
+        uint32_t n;
+        ht_traverse(g.nodes.data(), g.segments.data(), g.points.data(), r, 0, &t);
+        const real3 p = make_real3(r.ox, r.oy, r.oz) + make_real3(r.dx, r.dy, r.dz) * t;
+        const real3 w = normalize(make_real3(gn(rng), gn(rng), gn(rng)));
+        const HtRay next{(float)p.x, (float)p.y, (float)p.z, 0.0f, (float)w.x, (float)w.y, (float)w.z, INFINITY};
+        const uint32_t second = check(next, node, &n);
+        ++secondary;
+        found_at_start += second != HT_NO_HIT && n == node;
+        check(next, refs[size_t(u(rng) * refs.size()) % refs.size()], &n);
+        check(next, 0u, &n);
+    }
+    std::printf("[start nodes] %zu hits, %zu rays from them; %zu of those hit in their start node's own leaves\n",
+                hits, secondary, found_at_start);
+    EXPECT_GT(hits, 300u);
+}
+
+TEST(BvhStart, AnyStartNodeGivesTheSameHits) { check_start_nodes({}); }
+
+TEST(BvhStart, AnyStartNodeGivesTheSameHitsOriented) { check_start_nodes(oriented_on()); }
+
 // The builder bins the root's references on two threads (from 65,536 references) and builds
 // subtrees as tasks (from 4,096): what it writes must not depend on how many threads ran it, with
 // or without split references (one segment in several leaves).

@@ -1,0 +1,87 @@
+// The start-node files `render --dump-rays` writes beside its closest-hit ray sets and `bench --rays`
+// reads (bvh/start_nodes_file.h): a round trip, and every lie a file can tell refused with exit 2
+// naming the file.
+#include <gtest/gtest.h>
+
+#include "bvh/bvh.h"
+#include "bvh/start_nodes_file.h"
+#include "core/errors.h"
+#include "random_strands.h"
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::vector<uint32_t> inner_refs(const ht::SceneGeometry& g) {
+    std::vector<uint32_t> refs{0u};
+    for (const HtBvhNode& n : g.nodes)
+        for (int k = 0; k < HT_BVH_WIDTH; ++k)
+            if (n.count[k] == 0u && n.child[k] != 0u) refs.push_back(n.child[k]);
+    return refs;
+}
+
+struct StartFiles : ::testing::Test {
+    fs::path dir = fs::temp_directory_path() / ("ht_starts_" + std::to_string(::getpid()));
+    ht::SceneGeometry g = ht::build_geometry(httest::random_strands(5, 200, 10, 0.1, 0.01), {});
+    void SetUp() override { fs::create_directories(dir); }
+    void TearDown() override { fs::remove_all(dir); }
+    std::string path(const char* name) const { return (dir / name).string(); }
+    // The message of the SceneError that reading `file` throws ("" if none).
+    std::string refusal(const std::string& file, size_t rays) const {
+        try {
+            ht::read_start_nodes(file, g, rays);
+        } catch (const ht::SceneError& e) {
+            return e.what();
+        }
+        return "";
+    }
+};
+
+TEST_F(StartFiles, RoundTripAndAbsentFile) {
+    EXPECT_EQ(ht::start_nodes_path("d/strand.b2.closest.rays"), "d/strand.b2.closest.starts");
+    const std::vector<uint32_t> refs = inner_refs(g);
+    ASSERT_GT(refs.size(), 10u);
+    std::vector<uint32_t> starts;
+    for (size_t i = 0; i < 1000; ++i) starts.push_back(refs[(i * 7919) % refs.size()]);
+    ht::write_start_nodes(path("a.starts"), g, starts);
+    EXPECT_EQ(ht::read_start_nodes(path("a.starts"), g, starts.size()), starts);
+    EXPECT_TRUE(ht::read_start_nodes(path("absent.starts"), g, 5).empty());
+}
+
+TEST_F(StartFiles, LiesAreRefusedNamingTheFile) {
+    const std::vector<uint32_t> refs = inner_refs(g);
+    const std::vector<uint32_t> starts(100, refs.back());
+    ht::write_start_nodes(path("ok.starts"), g, starts);
+    std::ifstream in(path("ok.starts"), std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const auto write = [&](const char* name, const std::string& b) {
+        std::ofstream(path(name), std::ios::binary) << b;
+        return path(name);
+    };
+    // the ray file has another count
+    EXPECT_NE(refusal(path("ok.starts"), 99).find("100 start nodes for a ray file of 99"), std::string::npos);
+    // truncated, and not one at all
+    const std::string cut = write("cut.starts", bytes.substr(0, bytes.size() - 6));
+    EXPECT_NE(refusal(cut, 100).find("cut.starts"), std::string::npos);
+    EXPECT_NE(refusal(write("junk.starts", "HTSX0000000000000000000000000"), 100).find("no HTST header"),
+              std::string::npos);
+    // written for another tree
+    const ht::SceneGeometry other = ht::build_geometry(httest::random_strands(6, 200, 10, 0.1, 0.01), {});
+    ht::write_start_nodes(path("other.starts"), other, std::vector<uint32_t>(100, 0u));
+    EXPECT_NE(refusal(path("other.starts"), 100).find("another tree"), std::string::npos);
+    // a reference that is no inner node (a leaf's first entry, an index past the array)
+    std::string bad = bytes;
+    const uint32_t no_node = uint32_t(g.nodes.size() + 5);
+    std::memcpy(&bad[24 + 4 * 17], &no_node, 4);
+    EXPECT_NE(refusal(write("bad.starts", bad), 100).find("ray 17 starts at"), std::string::npos);
+}
+
+}  // namespace
