@@ -10,7 +10,7 @@
 #include "bench/rays_file.h"
 #include "bvh/bvh.h"
 #include "bvh/device_geometry.h"
-#include "bvh/start_nodes_file.h"
+#include "bvh/start_nodes.h"
 #include "cl/device.h"
 
 #include <nlohmann/json.hpp>
@@ -359,7 +359,7 @@ nlohmann::json measure_ray_set(DeviceTracer& tracer, const SceneGeometry& geo, c
                                    {"ratio", embree_mrays > 0 ? mrays / embree_mrays : 0.0}};
     }
     // The render's own traversal of these rays: each started at the node the render started it
-    // at (bvh/start_nodes_file.h); the same answers as from the root, bit for bit, or MISMATCH.
+    // at (bvh/start_nodes.h); the same answers as from the root, bit for bit, or MISMATCH.
     std::string starts_line;
     if (!s.starts.empty()) {
         tracer.set_starts(s.starts);

@@ -57,7 +57,7 @@ public:
 
     // Uploads rays (tmax = +inf replaced by a large finite value) for the trace calls below.
     void set_rays(const std::vector<HtRay>& rays);
-    // Where each uploaded ray's closest-hit traversal starts (host/bvh/start_nodes_file.h), one
+    // Where each uploaded ray's closest-hit traversal starts (host/bvh/start_nodes.h), one
     // inner node reference per ray (0: the root); until then, and after set_rays, the root.
     void set_starts(const std::vector<uint32_t>& starts);
     // Trace the uploaded rays; the *_enqueue forms do not wait (time them with finish()).

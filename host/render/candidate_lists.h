@@ -34,11 +34,15 @@ struct PixelCandidates {
     std::vector<uint32_t> start, count;  // per pixel
     BulkVector<uint32_t> primitive;  // leaf index
     BulkVector<float> depth;         // nearest depth, rounded down
+    // The camera's lists: the node holding each leaf entry (bvh/start_nodes.h leaf_entry_nodes), where
+    // the traversal of the path's next ray starts (kernels/stages/intersect_camera.cl)
+    std::vector<uint32_t> leaf_node;
     float depth_row[3] = {0, 0, 0};
     size_t tree_pixels = 0;
     uint32_t max_per_pixel = 0;  // the cap that fit the budget
     uint64_t bytes() const {  // on the device
-        return (start.size() + count.size() + primitive.size()) * sizeof(uint32_t) + depth.size() * sizeof(float);
+        return (start.size() + count.size() + primitive.size() + leaf_node.size()) * sizeof(uint32_t) +
+               depth.size() * sizeof(float);
     }
 };
 PixelCandidates pixel_candidates(const ProjectedPrimitives& projected, uint32_t max_per_pixel = kMaxCandidatesPerPixel,

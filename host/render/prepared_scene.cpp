@@ -1,5 +1,7 @@
 #include "render/prepared_scene.h"
 
+#include "bvh/start_nodes.h"
+
 #include "core/constants.h"
 #include "fiber/afs_quadrature.h"
 #include "fiber/dual_scattering.h"
@@ -120,8 +122,10 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& s, const R
         starts = primitive_starts(p.geometry);
         const ProjectedPrimitives projected = project_primitives(p.camera, p.geometry, &starts);
         const auto t1 = std::chrono::steady_clock::now();
-        if (s.camera_lists)
+        if (s.camera_lists) {
             p.candidates = pixel_candidates(projected, s.camera_list_cap ? s.camera_list_cap : kMaxCandidatesPerPixel);
+            if (p.candidates.enabled) p.candidates.leaf_node = leaf_entry_nodes(p.geometry);
+        }
         const auto t2 = std::chrono::steady_clock::now();
         // the lists, when there are some, say which pixels are empty more tightly and at once
         if (skip_empty) p.footprint = p.candidates.enabled ? pixel_footprint(p.candidates) : pixel_footprint(projected);

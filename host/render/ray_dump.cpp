@@ -1,6 +1,6 @@
 #include "render/ray_dump.h"
 
-#include "bvh/start_nodes_file.h"
+#include "bvh/start_nodes.h"
 
 #include "kernels/geometry/capsule.h"
 

@@ -30,7 +30,7 @@ public:
     // rays and answers of this bounce while the bounce's files are not full.  Shadow slots
     // without a ray (tmax <= tmin, kernels/stages/shade.cl) are skipped.  `starts`: the node each
     // closest-hit ray's traversal began at (empty: the root for all), written beside the set's
-    // .rays file (bvh/start_nodes_file.h) when one is not the root.
+    // .rays file (bvh/start_nodes.h) when one is not the root.
     void closest(cl::CommandQueue& queue, const cl::Buffer& rays, const cl::Buffer& hits, uint32_t count,
                  uint32_t bounce, const std::vector<uint32_t>& starts);
     void shadow(cl::CommandQueue& queue, const cl::Buffer& rays, const cl::Buffer& occluded, uint32_t count,

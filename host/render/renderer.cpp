@@ -127,7 +127,7 @@ struct Renderer::Impl {
         k_accumulate_background;
     // The camera rays' candidate lists (render/candidate_lists.h), when the scene has them
     struct CandidateLists {
-        cl::Buffer start, count, primitive, depth;
+        cl::Buffer start, count, primitive, depth, leaf_node;
         cl_float4 depth_row{};
     } candidate_lists;
     bool use_candidate_lists = false;
@@ -310,6 +310,7 @@ struct Renderer::Impl {
         candidate_lists.count = device_array(cl.context(), c.count);
         candidate_lists.primitive = device_array(cl.context(), c.primitive);
         candidate_lists.depth = device_array(cl.context(), c.depth);
+        candidate_lists.leaf_node = device_array(cl.context(), c.leaf_node);
         candidate_lists.depth_row = cl_float4{{c.depth_row[0], c.depth_row[1], c.depth_row[2], 0.0f}};
         use_candidate_lists = true;
         stats.candidate_tree_pixels = c.tree_pixels;
@@ -591,6 +592,7 @@ struct Renderer::Impl {
         k_camera.setArg(a++, candidate_lists.primitive);
         k_camera.setArg(a++, candidate_lists.depth);
         k_camera.setArg(a++, candidate_lists.depth_row);
+        k_camera.setArg(a++, candidate_lists.leaf_node);
         launch(k_camera, count);
     }
 

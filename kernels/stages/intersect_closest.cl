@@ -13,7 +13,7 @@ __kernel void intersect_closest(HT_GEOMETRY_PARAMS, __global const HtRay* rays, 
 }
 
 /* The same, ray i's traversal started at node starts[i] (0: the root): how `hairtrace bench` times
- * the render's rays as the render traced them (host/bvh/start_nodes_file.h); the same hits. */
+ * the render's rays as the render traced them (host/bvh/start_nodes.h); the same hits. */
 __kernel void intersect_closest_from(HT_GEOMETRY_PARAMS, __global const HtRay* rays, __global HtHit* hits, uint count,
                                      __global const uint* starts) {
     const uint i = (uint)get_global_id(0);

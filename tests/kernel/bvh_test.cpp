@@ -4,6 +4,7 @@
 
 #include "bvh/bvh.h"
 #include "bvh/device_geometry.h"
+#include "bvh/start_nodes.h"
 #include "kernels/geometry/bvh_traverse.h"
 #include "random_strands.h"
 
@@ -225,23 +226,6 @@ TEST(Bvh, HostTraversalWithSplitReferences) {
     check_host_against_brute(opt);
 }
 
-// Every inner node reference of the tree (as child slots hold them, the oriented flag included).
-std::vector<uint32_t> inner_refs(const SceneGeometry& g) {
-    std::vector<uint32_t> refs;
-    for (const HtBvhNode& n : g.nodes)
-        for (int k = 0; k < HT_BVH_WIDTH; ++k)
-            if (n.count[k] == 0u && n.child[k] != 0u) refs.push_back(n.child[k]);
-    return refs;
-}
-
-// Whether leaf entry `entry` is in a leaf slot of the node of reference `ref`.
-bool node_holds_entry(const SceneGeometry& g, uint32_t ref, uint32_t entry) {
-    const HtBvhNode& n = g.nodes[ref & ~HT_NODE_ORIENTED];
-    for (int k = 0; k < HT_BVH_WIDTH; ++k)
-        if (n.count[k] > 0u && entry >= n.child[k] && entry < n.child[k] + n.count[k]) return true;
-    return false;
-}
-
 // A traversal started at any node (ht_traverse_from; the render loop starts a path's rays at the
 // node of its last hit) finds what the traversal from the root finds, bit for bit: the closest hit
 // (at a tie too), its t, and for shadow rays whether anything blocks them; and it names the node
@@ -253,7 +237,8 @@ ht::BvhOptions oriented_on();
 void check_start_nodes(const ht::BvhOptions& opt) {
     const Strands s = random_strands(71, 300, 10, 0.1, 0.01);
     const SceneGeometry g = ht::build_geometry(s, opt);
-    const std::vector<uint32_t> refs = inner_refs(g);
+    const std::vector<uint32_t> refs = ht::start_node_refs(g);
+    const std::vector<uint32_t> node_of = ht::leaf_entry_nodes(g);
     ASSERT_GT(refs.size(), 20u);
     if (opt.obb_ratio > 0) {
         EXPECT_GT(g.stats.oriented, 0u);
@@ -273,8 +258,8 @@ void check_start_nodes(const ht::BvhOptions& opt) {
             EXPECT_EQ(n0, 0u);
             EXPECT_EQ(n1, 0u);
         } else {
-            EXPECT_TRUE(node_holds_entry(g, n0, b0));
-            EXPECT_TRUE(node_holds_entry(g, n1, b1));
+            EXPECT_EQ(n0, node_of[b0]);  // the node whose leaf slot holds the hit
+            EXPECT_EQ(n1, node_of[b1]);
         }
         // any-hit: blocked or not, wherever the traversal starts (and never before the closest hit)
         const auto any = [&](const HtRay& ray, uint32_t from) {

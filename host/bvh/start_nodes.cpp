@@ -1,8 +1,9 @@
-#include "bvh/start_nodes_file.h"
+#include "bvh/start_nodes.h"
 
 #include "core/errors.h"
 #include "core/hash.h"
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -17,6 +18,32 @@ constexpr char kMagic[4] = {'H', 'T', 'S', 'T'};
 constexpr uint32_t kVersion = 1;
 constexpr size_t kHeaderBytes = 24;
 }  // namespace
+
+std::vector<uint32_t> leaf_entry_nodes(const SceneGeometry& geometry) {
+    std::vector<uint32_t> node(geometry.segments.size(), 0u);
+    if (geometry.nodes.empty()) return node;
+    std::vector<uint32_t> todo{0u};  // references still to visit
+    while (!todo.empty()) {
+        const uint32_t ref = todo.back();
+        todo.pop_back();
+        const HtBvhNode& n = geometry.nodes[ref & ~HT_NODE_ORIENTED];
+        for (int k = 0; k < HT_BVH_WIDTH; ++k) {
+            if (n.count[k] > 0u)
+                std::fill(node.begin() + n.child[k], node.begin() + n.child[k] + n.count[k], ref);
+            else if (n.child[k] != 0u)
+                todo.push_back(n.child[k]);
+        }
+    }
+    return node;
+}
+
+std::vector<uint32_t> start_node_refs(const SceneGeometry& geometry) {
+    std::vector<uint32_t> refs{0u};
+    for (const HtBvhNode& n : geometry.nodes)
+        for (int k = 0; k < HT_BVH_WIDTH; ++k)
+            if (n.count[k] == 0u && n.child[k] != 0u) refs.push_back(n.child[k]);
+    return refs;
+}
 
 std::string start_nodes_path(const std::string& rays_path) {
     std::filesystem::path p(rays_path);
@@ -61,10 +88,8 @@ std::vector<uint32_t> read_start_nodes(const std::string& path, const SceneGeome
                   std::to_string(geometry.nodes.size()) + "): build this one with the render's options");
     std::vector<uint32_t> starts(rays);
     std::memcpy(starts.data(), bytes.data() + kHeaderBytes, rays * sizeof(uint32_t));
-    std::unordered_set<uint32_t> inner{0u};
-    for (const HtBvhNode& n : geometry.nodes)
-        for (int k = 0; k < HT_BVH_WIDTH; ++k)
-            if (n.count[k] == 0u && n.child[k] != 0u) inner.insert(n.child[k]);
+    const std::vector<uint32_t> refs = start_node_refs(geometry);
+    const std::unordered_set<uint32_t> inner(refs.begin(), refs.end());
     for (size_t i = 0; i < rays; ++i)
         if (!inner.count(starts[i]))
             throw bad("ray " + std::to_string(i) + " starts at " + std::to_string(starts[i]) +

@@ -1,10 +1,10 @@
 // The start-node files `render --dump-rays` writes beside its closest-hit ray sets and `bench --rays`
-// reads (bvh/start_nodes_file.h): a round trip, and every lie a file can tell refused with exit 2
+// reads (bvh/start_nodes.h): a round trip, and every lie a file can tell refused with exit 2
 // naming the file.
 #include <gtest/gtest.h>
 
 #include "bvh/bvh.h"
-#include "bvh/start_nodes_file.h"
+#include "bvh/start_nodes.h"
 #include "core/errors.h"
 #include "random_strands.h"
 
@@ -20,15 +20,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::vector<uint32_t> inner_refs(const ht::SceneGeometry& g) {
-    std::vector<uint32_t> refs{0u};
-    for (const HtBvhNode& n : g.nodes)
-        for (int k = 0; k < HT_BVH_WIDTH; ++k)
-            if (n.count[k] == 0u && n.child[k] != 0u) refs.push_back(n.child[k]);
-    return refs;
-}
-
-struct StartFiles : ::testing::Test {
+struct StartNodes : ::testing::Test {
     fs::path dir = fs::temp_directory_path() / ("ht_starts_" + std::to_string(::getpid()));
     ht::SceneGeometry g = ht::build_geometry(httest::random_strands(5, 200, 10, 0.1, 0.01), {});
     void SetUp() override { fs::create_directories(dir); }
@@ -45,9 +37,36 @@ struct StartFiles : ::testing::Test {
     }
 };
 
-TEST_F(StartFiles, RoundTripAndAbsentFile) {
+// Every leaf entry is named by the one node whose leaf slot holds it, with and without oriented
+// nodes (whose references carry HT_NODE_ORIENTED).
+TEST_F(StartNodes, LeafEntryNodesNameTheNodeHoldingEachEntry) {
+    ht::BvhOptions oriented;
+    oriented.obb_ratio = 0.9f;
+    for (const ht::BvhOptions& opt : {ht::BvhOptions{}, oriented}) {
+        const ht::SceneGeometry t = ht::build_geometry(httest::random_strands(7, 300, 10, 0.1, 0.01), opt);
+        const std::vector<uint32_t> node_of = ht::leaf_entry_nodes(t);
+        ASSERT_EQ(node_of.size(), t.segments.size());
+        std::vector<int> held(t.segments.size(), 0);
+        size_t oriented_refs = 0;
+        for (uint32_t ref : ht::start_node_refs(t)) {
+            oriented_refs += (ref & HT_NODE_ORIENTED) != 0u;
+            const HtBvhNode& n = t.nodes[ref & ~HT_NODE_ORIENTED];
+            for (int k = 0; k < HT_BVH_WIDTH; ++k)
+                for (uint32_t e = n.child[k]; n.count[k] > 0u && e < n.child[k] + n.count[k]; ++e) {
+                    EXPECT_EQ(node_of[e], ref);
+                    ++held[e];
+                }
+        }
+        for (int h : held) EXPECT_EQ(h, 1);
+        if (opt.obb_ratio > 0) {
+            EXPECT_GT(oriented_refs, 0u);
+        }
+    }
+}
+
+TEST_F(StartNodes, RoundTripAndAbsentFile) {
     EXPECT_EQ(ht::start_nodes_path("d/strand.b2.closest.rays"), "d/strand.b2.closest.starts");
-    const std::vector<uint32_t> refs = inner_refs(g);
+    const std::vector<uint32_t> refs = ht::start_node_refs(g);
     ASSERT_GT(refs.size(), 10u);
     std::vector<uint32_t> starts;
     for (size_t i = 0; i < 1000; ++i) starts.push_back(refs[(i * 7919) % refs.size()]);
@@ -56,8 +75,8 @@ TEST_F(StartFiles, RoundTripAndAbsentFile) {
     EXPECT_TRUE(ht::read_start_nodes(path("absent.starts"), g, 5).empty());
 }
 
-TEST_F(StartFiles, LiesAreRefusedNamingTheFile) {
-    const std::vector<uint32_t> refs = inner_refs(g);
+TEST_F(StartNodes, LiesAreRefusedNamingTheFile) {
+    const std::vector<uint32_t> refs = ht::start_node_refs(g);
     const std::vector<uint32_t> starts(100, refs.back());
     ht::write_start_nodes(path("ok.starts"), g, starts);
     std::ifstream in(path("ok.starts"), std::ios::binary);
