@@ -634,7 +634,9 @@ int bench_main(const std::vector<std::string>& args, const SceneSource& source_i
             s.shadow = f.kind == 1;
             s.rays = f.rays;
             s.reference = &f;
-            if (!s.shadow) s.starts = read_start_nodes(start_nodes_path(f.path), geo, f.rays.size());
+            std::string other_tree;
+            if (!s.shadow) s.starts = read_start_nodes(start_nodes_path(f.path), geo, f.rays.size(), &other_tree);
+            if (!other_tree.empty() && !json_out) std::printf("  start nodes not used: %s\n", other_tree.c_str());
             sets.push_back(std::move(s));
         }
         if (sets.empty()) {

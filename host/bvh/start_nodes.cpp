@@ -66,7 +66,8 @@ void write_start_nodes(const std::string& path, const SceneGeometry& geometry, c
     if (!f) throw std::runtime_error("--dump-rays: write failed: " + path);
 }
 
-std::vector<uint32_t> read_start_nodes(const std::string& path, const SceneGeometry& geometry, size_t rays) {
+std::vector<uint32_t> read_start_nodes(const std::string& path, const SceneGeometry& geometry, size_t rays,
+                                       std::string* other_tree) {
     std::ifstream f(path, std::ios::binary);
     if (!f) return {};
     const std::vector<char> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
@@ -83,9 +84,13 @@ std::vector<uint32_t> read_start_nodes(const std::string& path, const SceneGeome
     if (bytes.size() != kHeaderBytes + size_t(words[1]) * sizeof(uint32_t))
         throw bad("is " + std::to_string(bytes.size()) + " bytes, its header says " +
                   std::to_string(kHeaderBytes + size_t(words[1]) * sizeof(uint32_t)));
-    if (words[2] != geometry.nodes.size() || hash != tree_hash(geometry))
-        throw bad("was written for another tree (" + std::to_string(words[2]) + " node records, this one has " +
-                  std::to_string(geometry.nodes.size()) + "): build this one with the render's options");
+    if (words[2] != geometry.nodes.size() || hash != tree_hash(geometry)) {
+        if (other_tree)
+            *other_tree = path + " was written for another tree (" + std::to_string(words[2]) +
+                          " node records, this one has " + std::to_string(geometry.nodes.size()) +
+                          "): the render's BVH options give its tree";
+        return {};
+    }
     std::vector<uint32_t> starts(rays);
     std::memcpy(starts.data(), bytes.data() + kHeaderBytes, rays * sizeof(uint32_t));
     const std::vector<uint32_t> refs = start_node_refs(geometry);

@@ -35,8 +35,10 @@ uint64_t tree_hash(const SceneGeometry& geometry);
 void write_start_nodes(const std::string& path, const SceneGeometry& geometry, const std::vector<uint32_t>& starts);
 
 // The references of `path` for `rays` rays, checked against `geometry`: empty when the file is
-// absent; throws SceneError (exit 2) when it is truncated, lies about its counts, belongs to
-// another tree or names a node that is no inner node of this one.
-std::vector<uint32_t> read_start_nodes(const std::string& path, const SceneGeometry& geometry, size_t rays);
+// absent, or when it was written for another tree (a render with other BVH options than the
+// reader's; *other_tree then says so); throws SceneError (exit 2) when it is truncated, lies about
+// its counts or names a node that is no inner node of this tree.
+std::vector<uint32_t> read_start_nodes(const std::string& path, const SceneGeometry& geometry, size_t rays,
+                                       std::string* other_tree);
 
 }  // namespace ht
