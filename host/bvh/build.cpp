@@ -29,7 +29,8 @@
 // 8-wide node, so an inner 8-wide node sits at binary depth >= kCollapseLevels x its own.
 constexpr int kCollapseLevels = 3;
 static_assert(1 << kCollapseLevels == HT_BVH_WIDTH, "three full binary levels fill one node");
-static_assert((HT_BVH_WIDTH - 1) * (ht::kMaxBvhDepth / kCollapseLevels + 1) < HT_STACK_SIZE,
+// + 1: the root's entry, below a start node's subtree (kernels/geometry/bvh_traverse.h ht_traverse_from)
+static_assert((HT_BVH_WIDTH - 1) * (ht::kMaxBvhDepth / kCollapseLevels + 1) + 1 < HT_STACK_SIZE,
               "BVH depth cap must fit the kernel stack");
 
 namespace ht {

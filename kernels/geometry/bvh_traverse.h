@@ -35,7 +35,8 @@
 #include "pages.h"
 
 /* Stack entries: an 8-wide node pushes at most 7, and the builder keeps the 8-wide depth at most
- * a third of the binary depth cap (host/bvh/build.cpp asserts 7 * (kMaxBvhDepth / 3 + 1) fits). */
+ * a third of the binary depth cap; one more holds the root below a start node's subtree
+ * (host/bvh/build.cpp asserts 7 * (kMaxBvhDepth / 3 + 1) + 1 fits). */
 #define HT_STACK_SIZE 152
 #define HT_T_FAR HT_R(1e30)
 /* |d| components below this are replaced so 1/d stays finite (|1/d| <= 1e20; box extents
@@ -419,7 +420,7 @@ HT_FN uint ht_traverse_from(HT_GEOMETRY_PARAMS, HtRay ray, int any_hit, uint sta
 
     for (;;) {
         real near[HT_BVH_WIDTH];
-        uint leaves, k0 = 0u;
+        uint leaves, tested = 0u; /* the leaf slot tested last */
         HT_CONST_GLOBAL HtBvhNode* n = ht_node_of(HT_NODES_ARG, cur);
         uint inner = ht_node_test(HT_NODES_ARG, cur, n, o, d, &slab, tmin, tbest, near, &leaves);
 
@@ -429,7 +430,7 @@ HT_FN uint ht_traverse_from(HT_GEOMETRY_PARAMS, HtRay ray, int any_hit, uint sta
          * the loop ends at the first entered beyond the closest hit (elsewhere that culls under
          * 1.5 % of the leaf tests and does not pay, host/bvh/NOTES.md). */
         int stop = 0;
-        for (; leaves != 0u; leaves &= ~(1u << k0)) {
+        for (; leaves != 0u; leaves &= ~(1u << tested)) {
             uint k = ht_lowest_bit(leaves);
             if (cur == start) { /* the start node: nearest leaf first, none beyond the closest hit */
                 for (uint rest = leaves & (leaves - 1u); rest != 0u; rest &= rest - 1u) {
@@ -438,7 +439,7 @@ HT_FN uint ht_traverse_from(HT_GEOMETRY_PARAMS, HtRay ray, int any_hit, uint sta
                 }
                 if (near[k] > tbest) break;
             }
-            k0 = k;
+            tested = k;
             if (ht_intersect_leaf(HT_SEGS_ARG, HT_POINTS_ARG, n->child[k], n->count[k], o, d, tmin, &tbest, &best)) {
                 best_node = cur;
                 if (any_hit) {
