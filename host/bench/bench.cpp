@@ -351,12 +351,13 @@ nlohmann::json measure_ray_set(DeviceTracer& tracer, const SceneGeometry& geo, c
     jr["pass_cpu_ms"] = cpu;
     double embree_mrays = 0;
     size_t embree_count = 0;
+    const auto vs_embree = [&](double ours) { return embree_mrays > 0 ? ours / embree_mrays : 0.0; };
     if (embree) {
         const double ems = embree->trace(s.rays, s.shadow, reps, &embree_count);
         embree_mrays = ems > 0 ? s.rays.size() / (ems * 1e3) : 0.0;
         jr["embree_in_process"] = {{"median_ms", ems}, {"mrays_per_s", embree_mrays},
                                    {s.shadow ? "occluded" : "hits", embree_count},
-                                   {"ratio", embree_mrays > 0 ? mrays / embree_mrays : 0.0}};
+                                   {"ratio", vs_embree(mrays)}};
     }
     // The render's own traversal of these rays: each started at the node the render started it
     // at (bvh/start_nodes.h); the same answers as from the root, bit for bit, or MISMATCH.
@@ -382,7 +383,7 @@ nlohmann::json measure_ray_set(DeviceTracer& tracer, const SceneGeometry& geo, c
         jr["from_start_nodes"] = {{"rays_not_from_root", started}, {"same_answers", same}, {"ok", ok},
                                   {"median_ms", sm}, {"mrays_per_s", smrays}, {"mrays_per_cpu_s", smrays_cpu},
                                   {"pass_ms", st}};
-        if (embree) jr["from_start_nodes"]["ratio_to_embree"] = embree_mrays > 0 ? smrays / embree_mrays : 0.0;
+        if (embree) jr["from_start_nodes"]["ratio_to_embree"] = vs_embree(smrays);
         char b[400];
         std::snprintf(b, sizeof b,
                       "    closest from the render's start nodes (%zu of %zu rays not from the root; answers "
@@ -391,7 +392,7 @@ nlohmann::json measure_ray_set(DeviceTracer& tracer, const SceneGeometry& geo, c
                       started, s.rays.size(), same, hits.size(), ok ? "" : "  MISMATCH", smrays, reps, sm, smrays_cpu);
         starts_line = b;
         if (embree) {
-            std::snprintf(b, sizeof b, "; hairtrace/Embree = %.2f", embree_mrays > 0 ? smrays / embree_mrays : 0.0);
+            std::snprintf(b, sizeof b, "; hairtrace/Embree = %.2f", vs_embree(smrays));
             starts_line += b;
         }
     }
@@ -407,7 +408,7 @@ nlohmann::json measure_ray_set(DeviceTracer& tracer, const SceneGeometry& geo, c
         if (embree)
             std::printf("    Embree (same process, same rays): %.2f Mrays/s, %s %zu; hairtrace/Embree = %.2f\n",
                         embree_mrays, s.shadow ? "occluded" : "hits", embree_count,
-                        embree_mrays > 0 ? mrays / embree_mrays : 0.0);
+                        vs_embree(mrays));
         if (!starts_line.empty()) std::printf("%s\n", starts_line.c_str());
     }
     return jr;
