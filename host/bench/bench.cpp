@@ -472,6 +472,13 @@ struct BenchRequest {
     std::string options;
 };
 
+// A float option's default as --help prints it: "0.8", not std::to_string's "0.800000".
+std::string shortest(float v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", v);
+    return buf;
+}
+
 void declare_bench_options(ArgParser& p) {
     const BvhOptions d;
     p.group("scenes")
@@ -493,8 +500,8 @@ void declare_bench_options(ArgParser& p) {
         .option("--lanes", "N", "the SAH charges --cisect per group of N capsules of a leaf (1: per capsule)", std::to_string(d.leaf_lanes))
         .option("--split", "R", "early split clipping: split a segment's box while its halves' area is below R x its own (0: off)", "0")
         .option("--split-depth", "N", "early split clipping: levels of halving", std::to_string(d.split_depth))
-        .option("--obb", "R", "oriented nodes where their children's weighted box area is below R x the axis-aligned one (0: off, the default; 0.8 measured in host/bvh/NOTES.md)", "")
-        .option("--obb-split", "R", "with --obb: also bin each node of >= 16 segments in its segments' dominant frame and split there where that split's weighted area is below R x the axis-aligned best (0: off)", "0");
+        .option("--obb", "R", "oriented nodes where their children's weighted box area is below R x the axis-aligned one (0: axis-aligned nodes only; host/bvh/NOTES.md \"Oriented nodes by default\")", shortest(d.obb_ratio))
+        .option("--obb-split", "R", "with oriented nodes (not --obb 0): also bin each node of >= 16 segments in its segments' dominant frame and split there where that split's weighted area is below R x the axis-aligned best (0: off)", "0");
     p.group("devices")
         .option("--device", "I", "OpenCL device index (default: first CPU/GPU)")
         .option("--options", "\"...\"", "OpenCL build options for the trace kernels", DeviceTracer::default_options());
@@ -525,7 +532,7 @@ BenchRequest parse_bench_request(const ArgParser& p) {
     if (p.has("--obb")) r.bvh.obb_ratio = float(p.get_double("--obb", 0, 1e6));
     if (p.has("--obb-split")) r.bvh.obb_split = float(p.get_double("--obb-split", 0, 1e6));
     if (r.bvh.obb_split > 0 && !(r.bvh.obb_ratio > 0))
-        throw p.error("--obb-split", "only applies with --obb: the splits serve oriented boxes");
+        throw p.error("--obb-split", "needs oriented nodes (not --obb 0): the splits serve oriented boxes");
     if (p.has("--device")) r.device = p.get_int("--device", 0, 1000);
     r.options = p.get("--options");
     return r;

@@ -28,6 +28,9 @@
 // the depth cap keeps it safe: Flattener::visit opens at least kCollapseLevels binary levels per
 // 8-wide node, so an inner 8-wide node sits at binary depth >= kCollapseLevels x its own.
 constexpr int kCollapseLevels = 3;
+// References per child whose frame box bounds an oriented node's cost from below before the full
+// boxes are computed (Flattener::visit).
+constexpr uint32_t kBoundSample = 32;
 static_assert(1 << kCollapseLevels == HT_BVH_WIDTH, "three full binary levels fill one node");
 // + 1: the root's entry, below a start node's subtree (kernels/geometry/bvh_traverse.h ht_traverse_from)
 static_assert((HT_BVH_WIDTH - 1) * (ht::kMaxBvhDepth / kCollapseLevels + 1) + 1 < HT_STACK_SIZE,
@@ -368,6 +371,21 @@ Moments range_moments(const std::vector<Prim>& prims, uint32_t b, uint32_t e) {
     return mo;
 }
 
+// Whether a range's segment directions spread too widely for a frame along the dominant one to fit
+// them better than the world axes: sum(lambda^2) < (sum lambda)^2 / 2 for the eigenvalues of sum d
+// d^T (1 for one direction, 1/3 for directions all around; a cone of ~50 degrees gives 1/2).  Curls
+// are (82 % of builtin:ball's children, none of the anchor strand's or straight.hair's); their
+// frames took a quarter of the ball's oriented build and made 18 of its 14,040 nodes oriented
+// (host/bvh/NOTES.md "Oriented nodes by default").
+bool directions_spread(const Moments& mo) {
+    const double (&m)[3][3] = mo.m;
+    const double trace = m[0][0] + m[1][1] + m[2][2];
+    double squares = 0;
+    for (int j = 0; j < 3; ++j)
+        for (int k = 0; k < 3; ++k) squares += m[j][k] * m[j][k];
+    return squares < 0.5 * trace * trace;
+}
+
 // The frame of a range with moments `mo`: first axis along the dominant segment direction
 // (largest eigenvector of sum d d^T, so long segments weigh most and a strand's two directions
 // count alike), the others across it.  False when no capsule has a direction.
@@ -377,12 +395,31 @@ bool dominant_frame(const Moments& mo, const Box& bounds, Frame& f) {
     for (int k = 1; k < 3; ++k)
         if (m[k][k] > m[big][big]) big = k;
     if (!(m[big][big] > 0)) return false;
-    // Power iteration from the largest column: 3x3, a few dozen steps are free next to the scan.
-    double v[3] = {m[0][big], m[1][big], m[2][big]};
+    // Power iteration on m^8 (three squarings, each scaled by its trace so that nothing overflows):
+    // a step is eight of m's, so 4 steps reach what 32 of m's did.  Where no direction dominates
+    // (curls) it never converges, and 32 steps of m took a quarter of the ball's oriented build
+    // (host/bvh/NOTES.md "Oriented nodes by default").
+    double q[3][3][3];
+    const double (*src)[3] = m;
+    for (int s = 0; s < 3; ++s) {
+        double tr = 0;
+        for (int j = 0; j < 3; ++j)
+            for (int k = 0; k < 3; ++k) {
+                q[s][j][k] = src[j][0] * src[0][k] + src[j][1] * src[1][k] + src[j][2] * src[2][k];
+                if (j == k) tr += q[s][j][k];
+            }
+        if (!(tr > 0)) return false;
+        for (int j = 0; j < 3; ++j)
+            for (int k = 0; k < 3; ++k) q[s][j][k] /= tr;
+        src = q[s];
+    }
+    const double (&m8)[3][3] = q[2];
+    double v[3] = {m8[0][big], m8[1][big], m8[2][big]};
     normalize3(v);
-    for (int it = 0; it < 32; ++it) {
+    if (!(dot3(v, v) > 0)) return false;
+    for (int it = 0; it < 4; ++it) {
         double w[3];
-        for (int j = 0; j < 3; ++j) w[j] = dot3(m[j], v);
+        for (int j = 0; j < 3; ++j) w[j] = dot3(m8[j], v);
         normalize3(w);
         if (!(dot3(w, w) > 0)) break;
         const double moved = std::fabs(w[0] - v[0]) + std::fabs(w[1] - v[1]) + std::fabs(w[2] - v[2]);
@@ -854,9 +891,10 @@ private:
 
 // Box of references [b, e) in frame f: a capsule's extent along a unit axis is its end points'
 // extent widened by r.
-DBox frame_box(const std::vector<Prim>& prims, uint32_t b, uint32_t e, const Frame& f) {
+// With stride > 1, of every stride-th reference only: a box inside the full one.
+DBox frame_box(const std::vector<Prim>& prims, uint32_t b, uint32_t e, const Frame& f, uint32_t stride = 1) {
     DBox box;
-    for (uint32_t i = b; i < e; ++i) {
+    for (uint32_t i = b; i < e; i += stride) {
         const Prim& q = prims[i];
         for (int v = 0; v < q.points; ++v) {
             const double p[3] = {(double)q.p[v][0] - f.c[0], (double)q.p[v][1] - f.c[1], (double)q.p[v][2] - f.c[2]};
@@ -967,22 +1005,37 @@ struct Flattener {
         // mapping the ray per child costs about twice the axis-aligned test.  The root stays
         // axis-aligned; so do nodes with triangles (flat boxes have no unit-cube map).
         Frame frame[W];
+        bool world[W];  // frame[k] is the world axes
         DBox obox[W];
         bool orient = depth > 0 && opt.obb_ratio > 0 && m > 0;
         double aligned = 0, turned = 0;
+        for (int k = 0; k < m; ++k) aligned += double(range[k][1] - range[k][0]) * slot[k].box.half_area();
         for (int k = 0; k < m && orient; ++k) {
             const Moments mo = slot[k].count ? range_moments(prims, range[k][0], range[k][1]) : moments[slot[k].child];
             orient = mo.triangles == 0;
             if (!orient) break;
-            if (!dominant_frame(mo, slot[k].box, frame[k]))
-                axis_frame(slot[k].box, frame[k]);
+            world[k] = directions_spread(mo) || !dominant_frame(mo, slot[k].box, frame[k]);
+            if (world[k]) axis_frame(slot[k].box, frame[k]);
+        }
+        // Where the boxes of a sample of each child's capsules (inside the full boxes, so a lower
+        // bound) already reach the threshold, the node stays axis-aligned without the full boxes:
+        // the same decision, and most of the oriented build's time on scenes whose nodes rarely
+        // qualify (curls: builtin:ball, host/bvh/NOTES.md "Oriented nodes by default").
+        for (int k = 0; k < m && orient; ++k) {
+            const uint32_t n = range[k][1] - range[k][0];
+            // in the world axes the box is the child's own (shrunk by float rounding's worth)
+            turned += double(n) * (world[k] ? slot[k].box.half_area() * (1 - 1e-5)
+                                            : frame_box(prims, range[k][0], range[k][1], frame[k],
+                                                        std::max(1u, n / kBoundSample)).half_area());
+        }
+        orient = orient && turned < opt.obb_ratio * aligned;
+        turned = 0;
+        for (int k = 0; k < m && orient; ++k) {
             obox[k] = frame_box(prims, range[k][0], range[k][1], frame[k]);
             pad_outward(frame[k], obox[k]);
             for (int j = 0; j < 3; ++j)
                 orient = orient && obox[k].hi[j] - obox[k].lo[j] > 0x1p-40 * (1.0 + magnitude(frame[k], obox[k]));
-            const double n = range[k][1] - range[k][0];
-            aligned += n * slot[k].box.half_area();
-            turned += n * obox[k].half_area();
+            turned += double(range[k][1] - range[k][0]) * obox[k].half_area();
         }
         orient = orient && turned < opt.obb_ratio * aligned;
         double child_area[W];

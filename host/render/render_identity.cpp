@@ -106,8 +106,6 @@ uint64_t settings_digest(const RenderSettings& s, int chunk) {
         d.add(s.first_hit_splits).add(s.first_hit_light_samples);
     // only when adaptive: which pixels get which samples depends on both
     if (s.target_error > 0) d.add(s.target_error).add(s.adaptive_min_spp);
-    if (s.bvh_oriented > 0) d.add(s.bvh_oriented);
-    if (s.bvh_oriented_splits > 0) d.add(s.bvh_oriented_splits).add(std::string("bvh_oriented_splits"));
     if (s.light_threshold > 0) d.add(s.light_threshold);
     if (s.light_guiding != 0) d.add(s.light_guiding).add(std::string("light_guiding"));
     if (s.light_pick != RenderSettings::LightPick::Uniform) d.add(s.light_pick);

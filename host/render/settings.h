@@ -3,6 +3,7 @@
 // part of the render identity (render/render_identity.h).
 #pragma once
 
+#include "bvh/bvh.h"
 #include "render/features.h"
 
 #include "kernels/types.h"
@@ -136,11 +137,12 @@ struct RenderSettings {
     // every sample.  The films then carry their even halves (core/film.h).
     float target_error = 0.0f;
     int adaptive_min_spp = 0;
-    // --bvh-oriented: BvhOptions::obb_ratio of the scene's BVH (0: axis-aligned nodes only).  Hits
-    // are the same but for the segment taken at exactly equal t (a joint), so it is identity.
-    float bvh_oriented = 0.0f;
+    // --bvh-oriented: BvhOptions::obb_ratio of the scene's BVH (0: axis-aligned nodes only).  Not
+    // identity: every tree gives the same hits, bit for bit (a tie at equal t goes to the higher
+    // segment id whatever the visiting order, kernels/geometry/bvh_traverse.h ht_hit_precedes).
+    float bvh_oriented = BvhOptions().obb_ratio;
     // --bvh-oriented-splits: BvhOptions::obb_split (0: axis-aligned splits only); needs
-    // bvh_oriented.  Identity for the same reason.
+    // bvh_oriented.  Not identity for the same reason.
     float bvh_oriented_splits = 0.0f;
 };
 

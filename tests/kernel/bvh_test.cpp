@@ -462,6 +462,68 @@ TEST(BvhOriented, ChosenBySahWhereTheyPay) {
     EXPECT_EQ(ht::build_geometry(parallel_strands(11, 200, 10, none, 0.1, 0.005), oriented_on()).stats.oriented, 0u);
 }
 
+// Helices about the (1, 1, 1) diagonal, roots spread over [-1,1]^3: each segment turns by `turn`
+// radians about the axis, so small turns make gently bent fibres and large ones tight curls.
+Strands helices(uint32_t seed, int ns, int nseg, double turn, double radius, double pitch, double r) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(-1, 1);
+    const double a[3] = {1 / std::sqrt(3.0), 1 / std::sqrt(3.0), 1 / std::sqrt(3.0)};
+    const double e1[3] = {1 / std::sqrt(2.0), -1 / std::sqrt(2.0), 0};
+    const double e2[3] = {a[1] * e1[2] - a[2] * e1[1], a[2] * e1[0] - a[0] * e1[2], a[0] * e1[1] - a[1] * e1[0]};
+    Strands s;
+    s.first_point.push_back(0);
+    for (int i = 0; i < ns; ++i) {
+        const double p[3] = {u(rng), u(rng), u(rng)}, phase = 3 * u(rng);
+        for (int j = 0; j <= nseg; ++j) {
+            const double c = radius * std::cos(phase + j * turn), d = radius * std::sin(phase + j * turn);
+            float q[3];
+            for (int k = 0; k < 3; ++k) q[k] = (float)(p[k] + c * e1[k] + d * e2[k] + j * pitch * a[k]);
+            s.points.push_back({q[0], q[1], q[2]});
+            s.radius.push_back((float)r);
+        }
+        s.first_point.push_back((uint32_t)s.points.size());
+        s.material.push_back(0);
+    }
+    return s;
+}
+
+// Strands whose every segment points a random way, roots spread over [-1,1]^3.
+Strands random_walks(uint32_t seed, int ns, int nseg, double seg_len, double r) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(-1, 1);
+    Strands s;
+    s.first_point.push_back(0);
+    for (int i = 0; i < ns; ++i) {
+        double p[3] = {u(rng), u(rng), u(rng)};
+        for (int j = 0; j <= nseg; ++j) {
+            s.points.push_back({(float)p[0], (float)p[1], (float)p[2]});
+            s.radius.push_back((float)r);
+            double d[3], l2;
+            do {
+                for (double& x : d) x = u(rng);
+                l2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+            } while (l2 > 1 || l2 < 1e-4);
+            for (int k = 0; k < 3; ++k) p[k] += seg_len * d[k] / std::sqrt(l2);
+        }
+        s.first_point.push_back((uint32_t)s.points.size());
+        s.material.push_back(0);
+    }
+    return s;
+}
+
+// Children whose segments point every way (tight 3-D curls, as builtin:ball's) keep the world
+// axes: a frame along their "dominant" direction fits them no better and only costs build time
+// (directions_spread in host/bvh/build.cpp).  Gently bent diagonal fibres still get oriented nodes.
+TEST(BvhOriented, CurlsKeepTheWorldAxes) {
+    const Strands curls = random_walks(31, 300, 48, 0.02, 0.004);
+    const SceneGeometry gc = ht::build_geometry(curls, oriented_on());
+    EXPECT_LT(gc.stats.oriented * 50, gc.stats.nodes) << gc.stats.oriented << " of " << gc.stats.nodes;
+    check_host_against_brute(oriented_on(), curls, 200);
+    const Strands bent = helices(32, 300, 48, 0.02, 0.05, 0.02, 0.004);
+    const SceneGeometry gb = ht::build_geometry(bent, oriented_on());
+    EXPECT_GT(gb.stats.oriented * 4, gb.stats.nodes) << gb.stats.oriented << " of " << gb.stats.nodes;
+}
+
 TEST(BvhOriented, TraversalMatchesBruteForce) {
     const double diag[3] = {1, 2, -1}, along_x[3] = {1, 0, 0}, none[3] = {0, 0, 0};
     check_host_against_brute(oriented_on());

@@ -71,13 +71,13 @@ TEST(RenderIdentity, EachPartFollowsItsInputs) {
     guided_auto.light_guiding = kAutoLightGuiding;
     only(render_identity(s, guided, 16), RenderIdentity::Settings);
     only(render_identity(s, guided_auto, 16), RenderIdentity::Settings);
-    RenderSettings oriented = rs;
-    oriented.bvh_oriented = 0.8f;
-    only(render_identity(s, oriented, 16), RenderIdentity::Settings);
-    RenderSettings oriented_splits = oriented;
+    // The BVH's options are not identity: every tree gives the same hits, so parts and checkpoints
+    // of one render may come from different trees (Render.OrientedBvhNodesGiveTheSameImage).
+    RenderSettings aligned = rs, oriented_splits = rs;
+    aligned.bvh_oriented = 0.0f;
     oriented_splits.bvh_oriented_splits = 1.0f;
-    only(render_identity(s, oriented_splits, 16), RenderIdentity::Settings);
-    EXPECT_NE(render_identity(s, oriented_splits, 16), render_identity(s, oriented, 16));
+    EXPECT_EQ(render_identity(s, aligned, 16), render_identity(s, rs, 16));
+    EXPECT_EQ(render_identity(s, oriented_splits, 16), render_identity(s, rs, 16));
     RenderSettings afs = rs, dual = rs;
     afs.indirect = RenderSettings::Indirect::Afs;
     dual.indirect = RenderSettings::Indirect::Dual;

@@ -48,14 +48,27 @@ TEST(RenderRequest, RenderAndConvergeResolveTheSameWordsAlike) {
     }
 }
 
+TEST(RenderRequest, OrientedNodesAreTheBuildersDefaultAndCanBeTurnedOff) {
+    using ht::RenderCommand;
+    for (RenderCommand c : {RenderCommand::Render, RenderCommand::Converge}) {
+        // --help's default ("0.8") is the builder's own
+        EXPECT_EQ(settings(c, {}).bvh_oriented, ht::BvhOptions().obb_ratio);
+        EXPECT_GT(settings(c, {}).bvh_oriented, 0.0f);
+        EXPECT_EQ(settings(c, {"--bvh-oriented", "off"}).bvh_oriented, 0.0f);
+        EXPECT_FLOAT_EQ(settings(c, {"--bvh-oriented", "0.5"}).bvh_oriented, 0.5f);
+    }
+}
+
 TEST(RenderRequest, OrientedSplitsNeedOrientedNodes) {
     using ht::RenderCommand;
     EXPECT_FLOAT_EQ(settings(RenderCommand::Render, {"--bvh-oriented", "0.8", "--bvh-oriented-splits", "1"})
                         .bvh_oriented_splits,
                     1.0f);
     EXPECT_EQ(settings(RenderCommand::Render, {"--bvh-oriented", "0.8"}).bvh_oriented_splits, 0.0f);
+    // oriented nodes are the default, so the splits need no --bvh-oriented
+    EXPECT_FLOAT_EQ(settings(RenderCommand::Render, {"--bvh-oriented-splits", "1"}).bvh_oriented_splits, 1.0f);
     for (RenderCommand c : {RenderCommand::Render, RenderCommand::Converge}) {
-        EXPECT_THROW(image_request(c, {"--bvh-oriented-splits", "1"}), ht::UsageError);
+        EXPECT_THROW(image_request(c, {"--bvh-oriented", "off", "--bvh-oriented-splits", "1"}), ht::UsageError);
         EXPECT_THROW(image_request(c, {"--bvh-oriented", "0.8", "--bvh-oriented-splits", "0"}), ht::UsageError);
         EXPECT_THROW(image_request(c, {"--bvh-oriented", "0.8", "--bvh-oriented-splits", "3"}), ht::UsageError);
     }
