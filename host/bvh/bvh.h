@@ -40,9 +40,10 @@ struct BvhOptions {
     // Oriented nodes (host/bvh/NOTES.md "Oriented nodes"): a node keeps its children's
     // boxes in a frame along its segments' dominant direction when their count-weighted half-area
     // there is below obb_ratio x the axis-aligned one.  0 = axis-aligned nodes only.  0.8 (the
-    // value measured in NOTES.md) is the default: renders of long fibres take 0.89-0.94x the time
-    // with it and those of short-segment locks the same, the longer build included (NOTES.md
-    // "Oriented nodes by default").
+    // value measured in NOTES.md) is the default: the passes of renders of long fibres take
+    // 0.86-0.95x the time with it, those of short-segment locks the same; the build takes longer,
+    // so `render --bvh-oriented auto` takes it only for renders long enough to win that back
+    // (NOTES.md "Oriented nodes by default").
     float obb_ratio = 0.8f;
     // Oriented splits (host/bvh/NOTES.md "Oriented splits"): with obb_ratio > 0, each binary node
     // of 16 or more references is also binned in the frame of its segments' dominant direction,

@@ -80,7 +80,7 @@ const OptionRow kOptions[] = {
 
     {"devices", "--device", "I|I,J,..|all", "OpenCL device index from `hairtrace devices` (default: first CPU/GPU); several devices split the chunks between them (one host thread each, work stealing), with the same image", "", Kind::Value, kBoth},
     {"devices", "--max-memory", "SIZE", "upper bound for host memory while loading and for device memory while rendering, e.g. 512M or 8G; inputs that need more are refused before allocating, with the size named", "", Kind::Value, kBoth},
-    {"devices", "--bvh-oriented", "R|off", "oriented-box BVH nodes where their children's count-weighted box area is below R x the axis-aligned one: each child box along its segments' dominant direction; off: axis-aligned boxes only. Every tree gives the same hits and images. The default pays on long fibres (render time with the build: the 3.2M-segment head 0.89x, straight.hair 0.94x) and costs nothing measurable on locks of short segments (the anchor strand, the ball); +1-2 bytes/segment; docs/PERFORMANCE.md section 1", "0.8", Kind::Value, kBoth},
+    {"devices", "--bvh-oriented", "auto|R|off", "oriented-box BVH nodes where their children's count-weighted box area is below R x the axis-aligned one: each child box along its segments' dominant direction; off: axis-aligned boxes only; auto: R = 0.8 (the measured value) when the render takes at least 4 path vertices per segment (width x height x spp x max depth), where the traversal wins their longer build back, else off. Every tree gives the same hits and images. They pay on long fibres (render time: the 3.2M-segment head 0.88-0.90x, straight.hair 0.94-0.95x; the head's build +0.6-0.9 s) and cost nothing measurable on locks of short segments (the anchor strand, the ball); +1 (strand) to +7 (straight.hair) bytes/segment; docs/PERFORMANCE.md section 1", "auto", Kind::Value, kBoth},
     {"devices", "--bvh-oriented-splits", "R|off", "with oriented nodes (not --bvh-oriented off): the builder also bins each node of 16 or more segments in the frame of its segments' dominant direction and splits there where that split's count-weighted box area is below R x the best axis-aligned split's (1 measured), so bundles of fibres across the axes are cut along and across the fibres; hits are the same. Pays in long renders of large heads (the 3.2M-segment head at 128 spp: render 0.95x, path rays 1.08-1.21x faster than oriented nodes alone), not on the anchor strand or straight.hair; the build takes 1.5x as long; docs/PERFORMANCE.md section 1", "off", Kind::Value, kBoth},
     {"devices", "--kernel-dir", "DIR", "load kernel sources from DIR instead of the embedded copies", "", Kind::InputFolder, kBoth},
 
@@ -183,7 +183,13 @@ ImageRequest parse_image_request(const ArgParser& p) {
     s.light_threshold = float(p.get_double_or("--light-threshold", "off", kMinLightThreshold, kMaxLightThreshold).value_or(0.0));
     s.light_guiding = parse_light_guiding("--light-guiding", p.get("--light-guiding"));
     s.light_vertices = uint32_t(p.get_int_or("--light-vertices", "off", 1, int(kMaxLightVertices)).value_or(0));
-    s.bvh_oriented = float(p.get_double_or("--bvh-oriented", "off", 0.01, 1).value_or(0.0));
+    if (p.get("--bvh-oriented") != "auto") {
+        try {
+            s.bvh_oriented = float(p.get_double_or("--bvh-oriented", "off", 0.01, 1).value_or(0.0));
+        } catch (const UsageError&) {
+            throw p.error("--bvh-oriented", "must be auto, off or a number in [0.01, 1], got '" + p.get("--bvh-oriented") + "'");
+        }
+    }
     s.bvh_oriented_splits = float(p.get_double_or("--bvh-oriented-splits", "off", 0.01, 2).value_or(0.0));
     if (s.bvh_oriented_splits > 0 && s.bvh_oriented == 0)
         throw p.error("--bvh-oriented-splits", "needs oriented nodes (not --bvh-oriented off): the splits serve oriented boxes");

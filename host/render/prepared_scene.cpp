@@ -99,7 +99,9 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& s, const R
                                                   p.settings.light_guiding, p.settings.light_vertices > 0);
     if (recipe_ready) recipe_ready(p);
     BvhOptions bvh;
-    bvh.obb_ratio = s.bvh_oriented;
+    bvh.obb_ratio = effective_bvh_oriented(s.bvh_oriented, s.bvh_oriented_splits,
+                                           double(s.width) * s.height * s.spp * std::max(1, s.max_depth),
+                                           scene.strands.segment_count());
     bvh.obb_split = s.bvh_oriented_splits;
     p.geometry = build_geometry(scene, bvh);
     p.strand_material.assign(scene.strands.material.begin(), scene.strands.material.end());

@@ -34,6 +34,21 @@ constexpr uint32_t kMaxLightVertices = 4096;
 // The light rays per camera sample in effect: none where no vertex has a connection to make
 // (depth 1: the first vertex's continuation is not traced).
 inline uint32_t effective_light_vertices(uint32_t setting, int max_depth) { return max_depth >= 2 ? setting : 0u; }
+// RenderSettings::bvh_oriented for --bvh-oriented auto: BvhOptions' oriented nodes when the render
+// takes at least kOrientedVerticesPerSegment path vertices per segment (width x height x spp x max
+// depth), else axis-aligned ones.  Their build costs about 0.2 us per segment more, cold (the
+// anchor's 3.2M-segment head: +0.6-0.9 s), and their traversal wins it back from about 3.3
+// vertices per segment on the head; scenes where they win nothing lose only that build
+// (host/bvh/NOTES.md "Oriented nodes by default").
+constexpr float kAutoOriented = -1.0f;
+constexpr double kOrientedVerticesPerSegment = 4;
+// The ratio in effect for `setting`, a render of `vertices` path vertices at most over `segments`
+// segments; oriented splits need oriented nodes, so auto takes them with splits.
+inline float effective_bvh_oriented(float setting, float splits, double vertices, size_t segments) {
+    if (setting != kAutoOriented) return setting;
+    return splits > 0 || vertices >= kOrientedVerticesPerSegment * double(segments) ? BvhOptions().obb_ratio : 0.0f;
+}
+
 // RenderSettings::light_guiding for --light-guiding auto, and the share auto takes.
 constexpr float kAutoLightGuiding = -1.0f, kDefaultLightGuiding = 0.2f;
 
@@ -137,12 +152,13 @@ struct RenderSettings {
     // every sample.  The films then carry their even halves (core/film.h).
     float target_error = 0.0f;
     int adaptive_min_spp = 0;
-    // --bvh-oriented: BvhOptions::obb_ratio of the scene's BVH (0: axis-aligned nodes only).  Not
-    // identity: every tree gives the same hits, bit for bit (a tie at equal t goes to the higher
-    // segment id whatever the visiting order, kernels/geometry/bvh_traverse.h ht_hit_precedes).
-    float bvh_oriented = BvhOptions().obb_ratio;
-    // --bvh-oriented-splits: BvhOptions::obb_split (0: axis-aligned splits only); needs
-    // bvh_oriented.  Not identity for the same reason.
+    // --bvh-oriented: BvhOptions::obb_ratio of the scene's BVH (0: axis-aligned nodes only;
+    // kAutoOriented: effective_bvh_oriented decides).  Not identity: every tree gives the same
+    // hits, bit for bit (a tie at equal t goes to the higher segment id whatever the visiting
+    // order, kernels/geometry/bvh_traverse.h ht_hit_precedes).
+    float bvh_oriented = kAutoOriented;
+    // --bvh-oriented-splits: BvhOptions::obb_split (0: axis-aligned splits only); needs oriented
+    // nodes (auto then takes them).  Not identity for the same reason.
     float bvh_oriented_splits = 0.0f;
 };
 

@@ -48,15 +48,38 @@ TEST(RenderRequest, RenderAndConvergeResolveTheSameWordsAlike) {
     }
 }
 
-TEST(RenderRequest, OrientedNodesAreTheBuildersDefaultAndCanBeTurnedOff) {
+TEST(RenderRequest, OrientedNodesAutoOffOrARatio) {
     using ht::RenderCommand;
     for (RenderCommand c : {RenderCommand::Render, RenderCommand::Converge}) {
-        // --help's default ("0.8") is the builder's own
-        EXPECT_EQ(settings(c, {}).bvh_oriented, ht::BvhOptions().obb_ratio);
-        EXPECT_GT(settings(c, {}).bvh_oriented, 0.0f);
+        EXPECT_EQ(settings(c, {}).bvh_oriented, ht::kAutoOriented);
+        EXPECT_EQ(settings(c, {"--bvh-oriented", "auto"}).bvh_oriented, ht::kAutoOriented);
         EXPECT_EQ(settings(c, {"--bvh-oriented", "off"}).bvh_oriented, 0.0f);
         EXPECT_FLOAT_EQ(settings(c, {"--bvh-oriented", "0.5"}).bvh_oriented, 0.5f);
+        for (const char* bad : {"most", "0", "1.5"}) {
+            try {
+                image_request(c, {"--bvh-oriented", bad});
+                ADD_FAILURE() << bad << " was taken";
+            } catch (const ht::UsageError& e) {
+                EXPECT_NE(std::string(e.what()).find("auto, off or a number"), std::string::npos) << e.what();
+            }
+        }
     }
+}
+
+// auto: the builder's ratio from kOrientedVerticesPerSegment path vertices per segment on (where
+// the traversal wins the longer build back), with splits always (they need oriented nodes).
+TEST(RenderRequest, AutoOrientedNodesWhereTheRenderIsLongEnough) {
+    const float on = ht::BvhOptions().obb_ratio;
+    ASSERT_GT(on, 0.0f);
+    const double per = ht::kOrientedVerticesPerSegment;
+    EXPECT_EQ(ht::effective_bvh_oriented(ht::kAutoOriented, 0, per * 1000, 1000), on);
+    EXPECT_EQ(ht::effective_bvh_oriented(ht::kAutoOriented, 0, per * 1000 - 1, 1000), 0.0f);
+    EXPECT_EQ(ht::effective_bvh_oriented(ht::kAutoOriented, 1, 0, 1000), on);
+    EXPECT_EQ(ht::effective_bvh_oriented(0.5f, 0, 0, 1000), 0.5f);
+    EXPECT_EQ(ht::effective_bvh_oriented(0.0f, 0, 1e12, 1), 0.0f);
+    // the anchor's 3.2M-segment head at 256^2 and depth 5: off at 32 spp (about break-even), on at 64
+    EXPECT_EQ(ht::effective_bvh_oriented(ht::kAutoOriented, 0, 256.0 * 256 * 32 * 5, 3200000), 0.0f);
+    EXPECT_EQ(ht::effective_bvh_oriented(ht::kAutoOriented, 0, 256.0 * 256 * 64 * 5, 3200000), on);
 }
 
 TEST(RenderRequest, OrientedSplitsNeedOrientedNodes) {
