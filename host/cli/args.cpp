@@ -231,6 +231,19 @@ double parse_double(const std::string& what, const std::string& text, double lo,
     return v;
 }
 
+double parse_auto_off_or_double(const std::string& what, const std::string& text, double lo, double hi,
+                                double auto_value) {
+    if (text == "auto") return auto_value;
+    if (text == "off") return 0.0;
+    try {
+        return parse_double(what, text, lo, hi);
+    } catch (const UsageError&) {
+        std::ostringstream m;
+        m << what << " must be auto, off or a number in [" << lo << ", " << hi << "], got '" << text << "'";
+        throw UsageError(m.str());
+    }
+}
+
 std::vector<std::string> split_fields(const std::string& text, char sep) {
     std::vector<std::string> fields;
     size_t start = 0;

@@ -36,6 +36,9 @@ std::string did_you_mean(const std::string& word, const std::vector<std::string>
 // Each throws a UsageError naming `what` and the expected form.
 int parse_int(const std::string& what, const std::string& text, long lo, long hi);
 double parse_double(const std::string& what, const std::string& text, double lo, double hi);
+// "auto" -> auto_value, "off" -> 0, else a number in [lo, hi] (the settings whose auto a rule decides).
+double parse_auto_off_or_double(const std::string& what, const std::string& text, double lo, double hi,
+                                double auto_value);
 // "a,,b," -> "a", "", "b", "": every field between separators, empty ones included (so that a
 // stray separator is reported by whoever checks the fields).
 std::vector<std::string> split_fields(const std::string& text, char sep);

@@ -183,13 +183,7 @@ ImageRequest parse_image_request(const ArgParser& p) {
     s.light_threshold = float(p.get_double_or("--light-threshold", "off", kMinLightThreshold, kMaxLightThreshold).value_or(0.0));
     s.light_guiding = parse_light_guiding("--light-guiding", p.get("--light-guiding"));
     s.light_vertices = uint32_t(p.get_int_or("--light-vertices", "off", 1, int(kMaxLightVertices)).value_or(0));
-    if (p.get("--bvh-oriented") != "auto") {
-        try {
-            s.bvh_oriented = float(p.get_double_or("--bvh-oriented", "off", 0.01, 1).value_or(0.0));
-        } catch (const UsageError&) {
-            throw p.error("--bvh-oriented", "must be auto, off or a number in [0.01, 1], got '" + p.get("--bvh-oriented") + "'");
-        }
-    }
+    s.bvh_oriented = float(parse_auto_off_or_double("--bvh-oriented", p.get("--bvh-oriented"), 0.01, 1, kAutoOriented));
     s.bvh_oriented_splits = float(p.get_double_or("--bvh-oriented-splits", "off", 0.01, 2).value_or(0.0));
     if (s.bvh_oriented_splits > 0 && s.bvh_oriented == 0)
         throw p.error("--bvh-oriented-splits", "needs oriented nodes (not --bvh-oriented off): the splits serve oriented boxes");

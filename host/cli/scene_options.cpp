@@ -58,9 +58,7 @@ uint32_t parse_fiber_field(const std::string& what, const std::string& f) {
 }
 
 float parse_light_guiding(const std::string& what, const std::string& value) {
-    if (value == "auto") return kAutoLightGuiding;
-    if (value == "off") return 0.0f;
-    return float(parse_double(what, value, kMinLightGuiding, kMaxLightGuiding));
+    return float(parse_auto_off_or_double(what, value, kMinLightGuiding, kMaxLightGuiding, kAutoLightGuiding));
 }
 
 namespace {

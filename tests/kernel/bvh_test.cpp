@@ -487,35 +487,12 @@ Strands helices(uint32_t seed, int ns, int nseg, double turn, double radius, dou
     return s;
 }
 
-// Strands whose every segment points a random way, roots spread over [-1,1]^3.
-Strands random_walks(uint32_t seed, int ns, int nseg, double seg_len, double r) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<double> u(-1, 1);
-    Strands s;
-    s.first_point.push_back(0);
-    for (int i = 0; i < ns; ++i) {
-        double p[3] = {u(rng), u(rng), u(rng)};
-        for (int j = 0; j <= nseg; ++j) {
-            s.points.push_back({(float)p[0], (float)p[1], (float)p[2]});
-            s.radius.push_back((float)r);
-            double d[3], l2;
-            do {
-                for (double& x : d) x = u(rng);
-                l2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-            } while (l2 > 1 || l2 < 1e-4);
-            for (int k = 0; k < 3; ++k) p[k] += seg_len * d[k] / std::sqrt(l2);
-        }
-        s.first_point.push_back((uint32_t)s.points.size());
-        s.material.push_back(0);
-    }
-    return s;
-}
-
 // Children whose segments point every way (tight 3-D curls, as builtin:ball's) keep the world
 // axes: a frame along their "dominant" direction fits them no better and only costs build time
 // (directions_spread in host/bvh/build.cpp).  Gently bent diagonal fibres still get oriented nodes.
 TEST(BvhOriented, CurlsKeepTheWorldAxes) {
-    const Strands curls = random_walks(31, 300, 48, 0.02, 0.004);
+    // bent by up to 10 per unit direction at each segment: every segment points a random way
+    const Strands curls = random_strands(31, 300, 48, 0.02, 0.004, 10.0);
     const SceneGeometry gc = ht::build_geometry(curls, oriented_on());
     EXPECT_LT(gc.stats.oriented * 50, gc.stats.nodes) << gc.stats.oriented << " of " << gc.stats.nodes;
     check_host_against_brute(oriented_on(), curls, 200);
