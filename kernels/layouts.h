@@ -14,8 +14,7 @@
 
 #define HT_SHARED_LAYOUTS(S, F)                                                                    \
     S(HtPoint, 16) F(HtPoint, x, 0) F(HtPoint, y, 4) F(HtPoint, z, 8) F(HtPoint, r, 12)           \
-    S(HtSegment, 16) F(HtSegment, point, 0) F(HtSegment, segment, 4) F(HtSegment, strand, 8)      \
-        F(HtSegment, flags, 12)                                                                    \
+    S(HtSegment, 8) F(HtSegment, point, 0) F(HtSegment, strand_flags, 4)                          \
     S(HtBvhNode, 256) F(HtBvhNode, x, 0) F(HtBvhNode, y, 64) F(HtBvhNode, z, 128)               \
         F(HtBvhNode, child, 192) F(HtBvhNode, count, 224)                                     \
     S(HtTriangleShading, 128) F(HtTriangleShading, n0, 0) F(HtTriangleShading, n1, 16)            \

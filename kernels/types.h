@@ -1,7 +1,7 @@
 /* Struct layouts shared by the host and the kernels, declared once.
  *
  * Only float / uint / int fields and fixed arrays of them: no real, no float3 (whose size differs
- * between OpenCL C and C++), no pointers.  Every struct's size is a multiple of 16 bytes and is
+ * between OpenCL C and C++), no pointers.  Every struct's size is a multiple of 8 bytes and is
  * declared with its field offsets in layouts.h, which both compilers check.
  */
 #ifndef HT_TYPES_H
@@ -28,12 +28,27 @@ typedef struct {
 /* A strand's last segment: no successor at `point + 2` (the joint rule, ht_strand_interior in
  * kernels/geometry/bvh_traverse.h, reads the neighbours of every other segment). */
 #define HT_SEG_LAST 4u
+/* 8 bytes per leaf record (host/bvh/NOTES.md "Eight-byte leaf records"): the strand id and the
+ * flags share a word, and the global segment id (Embree's primID) is not stored: it grows with
+ * `point` (strands back to back, then the triangles), which is all the kernels need of it
+ * (ht_hit_precedes), and the host derives it (host/bvh/bvh.h SceneGeometry::global_id). */
 typedef struct {
-    uint point;    /* index of the first point */
-    uint segment;  /* global segment id (Embree primID order: strands back to back) */
-    uint strand;   /* strand id, indexes HtStrand data (material) */
-    uint flags;
+    uint point;         /* index of the first point */
+    uint strand_flags;  /* strand id (triangles: triangle index) << HT_SEG_FLAG_BITS | HT_SEG_* flags */
 } HtSegment;
+#define HT_SEG_FLAG_BITS 3u
+#define HT_SEG_FLAG_MASK 7u
+/* the largest strand (or triangle) id a record holds */
+#define HT_SEG_MAX_STRAND (0xFFFFFFFFu >> HT_SEG_FLAG_BITS)
+
+HT_FN uint ht_seg_flags(HtSegment s) { return s.strand_flags & HT_SEG_FLAG_MASK; }
+HT_FN uint ht_seg_strand(HtSegment s) { return s.strand_flags >> HT_SEG_FLAG_BITS; }
+HT_FN HtSegment ht_make_segment(uint point, uint strand, uint flags) {
+    HtSegment s;
+    s.point = point;
+    s.strand_flags = strand << HT_SEG_FLAG_BITS | flags;
+    return s;
+}
 
 /* 8-wide BVH node, the children's bounds as SoA (host/bvh/NOTES.md "8-wide nodes"): per axis the
  * eight children's lower bounds, then their upper bounds, so one float16 multiply-subtract per axis
@@ -63,8 +78,8 @@ typedef struct {
 /* No texture: HtTriangleShading.texture of an untextured triangle. */
 #define HT_NO_TEXTURE 0xFFFFFFFFu
 
-/* Per-triangle shading data, indexed by HtSegment.strand of a triangle record.  128 bytes: a power
- * of two so that paged geometry (geometry/pages.h) finds a record by shift and mask. */
+/* Per-triangle shading data, indexed by the strand id of a triangle record (ht_seg_strand).  128
+ * bytes: a power of two so that paged geometry (geometry/pages.h) finds a record by shift and mask. */
 typedef struct {
     float n0[4], n1[4], n2[4]; /* vertex shading normals xyz (w = 1 when present, 0: use the
                                 * geometric normal) */

@@ -167,7 +167,7 @@ Checksum checksum(const SceneGeometry& g, const std::vector<HtHit>& hits) {
         if (h.segment != HT_NO_HIT) {
             ++c.hits;
             c.sum_t += h.t;
-            c.sum_id += g.segments[h.segment].segment;
+            c.sum_id += g.global_id(g.segments[h.segment]);
         }
     return c;
 }
@@ -192,7 +192,7 @@ Agreement compare(const SceneGeometry& g, const std::vector<HtHit>& hits, const 
         ++a.hitmiss;
         if (!ours) continue;
         ++a.both;
-        a.prim += g.segments[hits[i].segment].segment == ref[i].prim;
+        a.prim += g.global_id(g.segments[hits[i].segment]) == ref[i].prim;
         const double te = ref[i].t;
         const bool same_t = std::fabs(hits[i].t - te) <= 1e-4 * std::max(1.0, te);
         a.t += same_t;

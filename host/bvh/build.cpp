@@ -1178,7 +1178,7 @@ void build_bvh_from(const BuildArray<HtSegment>& base, SceneGeometry& geo, const
     BuildArray<Ref> refs;
     refs.reserve(base.size());
     for (uint32_t i = 0; i < base.size(); ++i) {
-        if (base[i].flags & HT_SEG_TRIANGLE) {
+        if (ht_seg_flags(base[i]) & HT_SEG_TRIANGLE) {
             // Triangles are never split: their boxes are tight already for mesh-like shapes.
             Ref ref;
             ref.set_seg(i);
@@ -1219,7 +1219,7 @@ void build_bvh_from(const BuildArray<HtSegment>& base, SceneGeometry& geo, const
         for (size_t i = 0; i < refs.size(); ++i) {
             const HtSegment& s = base[refs[i].seg()];
             Prim& q = prims[i];
-            q.points = s.flags & HT_SEG_TRIANGLE ? 3 : 2;
+            q.points = ht_seg_flags(s) & HT_SEG_TRIANGLE ? 3 : 2;
             for (int v = 0; v < q.points; ++v) {
                 const HtPoint& p = geo.points[s.point + v];
                 q.p[v][0] = p.x, q.p[v][1] = p.y, q.p[v][2] = p.z;
@@ -1290,19 +1290,19 @@ SceneGeometry build_geometry(const Strands& strands, const std::vector<Mesh>& me
         const uint32_t b = strands.first_point[s], e = strands.first_point[s + 1];
         segments += e > b ? e - b - 1 : 0;
     }
+    if (ns > HT_SEG_MAX_STRAND || triangles > HT_SEG_MAX_STRAND)
+        throw std::runtime_error("BVH: more than " + std::to_string(HT_SEG_MAX_STRAND) +
+                                 " strands or triangles (kernels/types.h HtSegment)");
+    // base[global id] (Embree primID: strands back to back)
     BuildArray<HtSegment> base;
     base.reserve(segments);
     geo.triangles.reserve(triangles);
+    geo.strand_id_shift.resize(ns);
     for (size_t s = 0; s < ns; ++s) {
         const uint32_t b = strands.first_point[s], e = strands.first_point[s + 1];
-        for (uint32_t p = b; p + 1 < e; ++p) {
-            HtSegment seg;
-            seg.point = p;
-            seg.segment = (uint32_t)base.size();  // Embree primID: strands back to back
-            seg.strand = (uint32_t)s;
-            seg.flags = (p == b ? HT_SEG_FIRST : 0u) | (p + 2 == e ? HT_SEG_LAST : 0u);
-            base.push_back(seg);
-        }
+        geo.strand_id_shift[s] = b - (uint32_t)base.size();
+        for (uint32_t p = b; p + 1 < e; ++p)
+            base.push_back(ht_make_segment(p, (uint32_t)s, (p == b ? HT_SEG_FIRST : 0u) | (p + 2 == e ? HT_SEG_LAST : 0u)));
     }
     geo.segment_count = base.size();
 
@@ -1316,12 +1316,7 @@ SceneGeometry build_geometry(const Strands& strands, const std::vector<Mesh>& me
         const bool has_uvs = m.uvs.size() == m.positions.size() && !m.uvs.empty();
         const uint32_t texture = has_uvs && mat.texture >= 0 ? uint32_t(mat.texture) : HT_NO_TEXTURE;
         for (size_t t = 0; t + 2 < m.indices.size(); t += 3) {
-            HtSegment seg;
-            seg.point = (uint32_t)geo.points.size();
-            seg.segment = (uint32_t)base.size();
-            seg.strand = (uint32_t)geo.triangles.size();
-            seg.flags = HT_SEG_TRIANGLE;
-            base.push_back(seg);
+            base.push_back(ht_make_segment((uint32_t)geo.points.size(), (uint32_t)geo.triangles.size(), HT_SEG_TRIANGLE));
             HtTriangleShading sh{};
             float* normals[3] = {sh.n0, sh.n1, sh.n2};
             for (int v = 0; v < 3; ++v) {
@@ -1352,7 +1347,7 @@ SceneGeometry build_geometry(const Strands& strands, const std::vector<Mesh>& me
 void rebuild_bvh(SceneGeometry& geo, const BvhOptions& opt) {
     const auto t0 = std::chrono::steady_clock::now();
     BuildArray<HtSegment> base(geo.segment_count + geo.triangle_count);
-    for (const HtSegment& s : geo.segments) base[s.segment] = s;
+    for (const HtSegment& s : geo.segments) base[geo.global_id(s)] = s;
     build_bvh_from(base, geo, opt);
     geo.stats.build_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

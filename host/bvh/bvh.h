@@ -7,6 +7,7 @@
 #include "kernels/types.h"
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 namespace ht {
@@ -79,14 +80,24 @@ struct BvhStats {
 struct SceneGeometry {
     // All strand points, strands back to back, then 3 vertices per triangle (r = 0).
     std::vector<HtPoint> points;
-    // Leaf order.  Capsules: .segment = global id (Embree primID).  Triangles (HT_SEG_TRIANGLE):
-    // .segment = segment_count + triangle index, .strand = triangle index.
+    // Leaf order (kernels/types.h HtSegment: point and strand id | flags; a triangle's strand id
+    // is its triangle index).  global_id() gives a record's Embree primID.
     std::vector<HtSegment> segments;
     std::vector<HtBvhNode> nodes;     // node 0 = root; never empty
     std::vector<HtTriangleShading> triangles;  // per triangle, meshes back to back
     BvhStats stats;
     size_t segment_count = 0;         // distinct hair segments of the scene
     size_t triangle_count = 0;        // triangles (also the size of `triangles`)
+    // Host only, per strand: its first point minus its first segment's global id, so that a
+    // capsule's id is point - strand_id_shift[strand] (the kernels need no ids: kernels/types.h).
+    std::vector<uint32_t> strand_id_shift;
+
+    // The global id (Embree primID) of leaf record s: capsules strands back to back, then the
+    // triangles (segment_count + triangle index).
+    uint32_t global_id(const HtSegment& s) const {
+        return ht_seg_flags(s) & HT_SEG_TRIANGLE ? uint32_t(segment_count) + ht_seg_strand(s)
+                                                 : s.point - strand_id_shift[ht_seg_strand(s)];
+    }
 };
 
 // Builds points, segments and the BVH for all strands.  Strands with fewer than 2 points have

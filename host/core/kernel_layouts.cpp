@@ -10,7 +10,7 @@ namespace ht {
 
 #define HT_CHECK_SIZE(T, bytes) \
     static_assert(sizeof(T) == (bytes), #T ": size differs from kernels/layouts.h"); \
-    static_assert(sizeof(T) % 16 == 0, #T ": shared structs are whole 16-byte rows");
+    static_assert(sizeof(T) % 8 == 0, #T ": shared structs are whole 8-byte words");
 #define HT_CHECK_FIELD(T, field, offset) \
     static_assert(offsetof(T, field) == (offset), #T "." #field ": offset differs from kernels/layouts.h");
 HT_SHARED_LAYOUTS(HT_CHECK_SIZE, HT_CHECK_FIELD)

@@ -55,7 +55,7 @@ PrimitiveStarts primitive_starts(const SceneGeometry& g) {
         for (size_t k = begin; k < end; ++k) {  // a point begins at most one primitive
             const HtSegment& seg = g.segments[k];
             s.primitive[seg.point] = uint32_t(k);
-            s.vertices[seg.point] = seg.flags & HT_SEG_TRIANGLE ? 3 : 2;
+            s.vertices[seg.point] = ht_seg_flags(seg) & HT_SEG_TRIANGLE ? 3 : 2;
         }
     });
     return s;

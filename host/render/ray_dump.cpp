@@ -38,7 +38,7 @@ void RayDump::closest(cl::CommandQueue& queue, const cl::Buffer& rays, const cl:
         real3 n = make_real3(0, 0, 0);
         if (h[i].segment != HT_NO_HIT) {
             const HtSegment& seg = geo_->segments[h[i].segment];
-            if (seg.flags & HT_SEG_TRIANGLE) {
+            if (ht_seg_flags(seg) & HT_SEG_TRIANGLE) {
                 n = make_real3(h[i].tx, h[i].ty, h[i].tz);  // HtHit carries a triangle's normal
             } else {
                 // The anchor stores an outward geometric normal: the hit's offset from the axis.
@@ -81,7 +81,7 @@ void RayDump::write_set(const std::string& path, const Set& s, bool shadow, uint
     put(24, shadow ? 4u : 28u);
     put(28, uint32_t(geo_->segment_count));
     uint32_t strands = 0;
-    for (const HtSegment& g : geo_->segments) strands += (g.flags & HT_SEG_FIRST) != 0;
+    for (const HtSegment& g : geo_->segments) strands += (ht_seg_flags(g) & HT_SEG_FIRST) != 0;
     put(32, strands);
     // width, height (the rays are not a pixel grid), curve type 0 (round linear) and the scene
     // hash (not computed: 0) stay zero
@@ -98,7 +98,7 @@ void RayDump::write_set(const std::string& path, const Set& s, bool shadow, uint
         }
         const bool hit = s.answers[i] != HT_NO_HIT;
         float rec[7] = {hit ? s.t[i] : INFINITY, 0, hit ? s.u[i] : 0.0f, 0, s.ng[3 * i], s.ng[3 * i + 1], s.ng[3 * i + 2]};
-        const uint32_t prim = hit ? geo_->segments[s.answers[i]].segment : 0xFFFFFFFFu;
+        const uint32_t prim = hit ? geo_->global_id(geo_->segments[s.answers[i]]) : 0xFFFFFFFFu;
         std::memcpy(&rec[1], &prim, 4);
         f.write(reinterpret_cast<const char*>(rec), sizeof rec);
     }

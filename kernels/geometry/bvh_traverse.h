@@ -81,11 +81,11 @@ HT_FN int ht_strand_interior(HT_POINTS_PARAM, HtSegment s, HtPoint a, HtPoint b,
     const real3 p = o + d * t;
     const real pmax = ht_max(ht_max(fabs(p.x), fabs(p.y)), fabs(p.z));
     const real tol = ht_max(HT_SURFACE_TOL_REL * ht_hit_radius(a, b), HT_SURFACE_TOL_ULPS * HT_REAL_EPS * pmax);
-    if (!(s.flags & HT_SEG_LAST)) {
+    if (!(ht_seg_flags(s) & HT_SEG_LAST)) {
         const HtPoint c = HT_POINT(s.point + 2u);
         if (ht_inside_neighbour((o - pb) + d * t, ht_point_pos(c) - pb, ht_hit_radius(b, c), tol, 0)) return 1;
     }
-    if (!(s.flags & HT_SEG_FIRST)) {
+    if (!(ht_seg_flags(s) & HT_SEG_FIRST)) {
         const HtPoint z = HT_POINT(s.point - 1u);
         if (ht_inside_neighbour((o - pa) + d * t, ht_point_pos(z) - pa, ht_hit_radius(z, a), tol, 1)) return 1;
     }
@@ -100,7 +100,7 @@ HT_FN real ht_strand_segment_intersect(HT_POINTS_PARAM, HtSegment s, real3 o, re
     const HtPoint b = HT_POINT(s.point + 1u);
     const real3 pa = ht_point_pos(a), pb = ht_point_pos(b);
     const real r = ht_hit_radius(a, b);
-    const uint first = s.flags & HT_SEG_FIRST;
+    const uint first = ht_seg_flags(s) & HT_SEG_FIRST;
     /* one call site: the kernels inline it, and a second copy of the capsule test cost time */
     real t = tmin;
     do t = ht_capsule_intersect(o, d, pa, pb, r, first, t, tmax);
@@ -109,7 +109,8 @@ HT_FN real ht_strand_segment_intersect(HT_POINTS_PARAM, HtSegment s, real3 o, re
 }
 
 /* The order of closest-hit candidates (host/bvh/NOTES.md "Semantics"): the nearer first and, at a
- * bit-equal t, the higher global id (HtSegment.segment, Embree's primID).  A total order, so the
+ * bit-equal t, the higher global id (Embree's primID, which grows with HtSegment.point: the ids
+ * are compared as their first points, kernels/types.h).  A total order, so the
  * answer is the same whichever order the tree presents the candidates in: two segments meet at a
  * bit-equal t on the circle where a strand's joint sphere meets the next segment's cylinder, or
  * where fibres coincide, and with "first found wins" the 8-wide layout moved 27 pixels of a render
@@ -120,7 +121,7 @@ HT_FN real ht_strand_segment_intersect(HT_POINTS_PARAM, HtSegment s, real3 o, re
  * the best so far (best = HT_NO_HIT: nothing at tbest = the ray's tmax, which stays excluded); the
  * ids are read only at a tie. */
 HT_FN int ht_hit_precedes(HT_SEGS_PARAM, real t, uint k, real tbest, uint best) {
-    return t < tbest || (t == tbest && best != HT_NO_HIT && HT_SEG(k).segment > HT_SEG(best).segment);
+    return t < tbest || (t == tbest && best != HT_NO_HIT && HT_SEG(k).point > HT_SEG(best).point);
 }
 
 /* The exclusive far end for the intersection tests that still lets a root at exactly tbest through
@@ -141,7 +142,7 @@ HT_FN int ht_leaf_entry(HT_SEGS_PARAM, HT_POINTS_PARAM, uint k, real3 o, real3 d
     const real bound = ht_tie_bound(*tbest);
     real t;
 #if HT_FEATURE_MESHES
-    if (s.flags & HT_SEG_TRIANGLE) {
+    if (ht_seg_flags(s) & HT_SEG_TRIANGLE) {
         real b1, b2;
         t = ht_triangle_intersect(o, d, ht_point_pos(HT_POINT(s.point)), ht_point_pos(HT_POINT(s.point + 1u)),
                                   ht_point_pos(HT_POINT(s.point + 2u)), tmin, bound, &b1, &b2);
@@ -178,7 +179,8 @@ HT_FN int ht_intersect_entries(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_CONST_GLOBAL u
     const HtSegment s0 = HT_LANE(0u), s1 = HT_LANE(1u), s2 = HT_LANE(2u), s3 = HT_LANE(3u);
     const HtSegment s4 = HT_LANE(4u), s5 = HT_LANE(5u), s6 = HT_LANE(6u), s7 = HT_LANE(7u);
 #if HT_FEATURE_MESHES
-    if (!((s0.flags | s1.flags | s2.flags | s3.flags | s4.flags | s5.flags | s6.flags | s7.flags) & HT_SEG_TRIANGLE))
+    if (!((s0.strand_flags | s1.strand_flags | s2.strand_flags | s3.strand_flags | s4.strand_flags | s5.strand_flags |
+           s6.strand_flags | s7.strand_flags) & HT_SEG_TRIANGLE))
 #endif
     {
         /* Each point as one float4 load (x, y, z, r), transposed into the lanes by shuffles:
@@ -197,7 +199,9 @@ HT_FN int ht_intersect_entries(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_CONST_GLOBAL u
 #undef HT_POINT4
 /* component F of the eight float4s P0..P7 */
 #define HT_LANES8(P, F) (float8)(P##0 .F, P##1 .F, P##2 .F, P##3 .F, P##4 .F, P##5 .F, P##6 .F, P##7 .F)
-        const uint8 flags = (uint8)(s0.flags, s1.flags, s2.flags, s3.flags, s4.flags, s5.flags, s6.flags, s7.flags);
+        /* the flags are the words' low bits */
+        const uint8 flags = (uint8)(s0.strand_flags, s1.strand_flags, s2.strand_flags, s3.strand_flags, s4.strand_flags,
+                                    s5.strand_flags, s6.strand_flags, s7.strand_flags);
         const float bound = ht_tie_bound(*tbest);
         const float8 t = ht_capsule_lane8(o, d, HT_LANES8(a, x), HT_LANES8(a, y), HT_LANES8(a, z), HT_LANES8(b, x),
                                           HT_LANES8(b, y), HT_LANES8(b, z), 0.5f * (HT_LANES8(a, w) + HT_LANES8(b, w)),
@@ -518,7 +522,7 @@ HT_FN void ht_closest_hit_record(HT_SEGS_PARAM, HT_POINTS_PARAM, HtRay ray, uint
     const real3 o = make_real3(ray.ox, ray.oy, ray.oz);
     const real3 d = make_real3(ray.dx, ray.dy, ray.dz);
 #if HT_FEATURE_MESHES
-    if (s.flags & HT_SEG_TRIANGLE) {
+    if (ht_seg_flags(s) & HT_SEG_TRIANGLE) {
         const real3 p0 = ht_point_pos(HT_POINT(s.point));
         const real3 p1 = ht_point_pos(HT_POINT(s.point + 1u));
         const real3 p2 = ht_point_pos(HT_POINT(s.point + 2u));

@@ -23,7 +23,7 @@
 
 /* log2 of each paged record's size; host/core/kernel_layouts.cpp asserts them against sizeof. */
 #define HT_NODE_BYTES_LOG2 8      /* HtBvhNode */
-#define HT_SEGMENT_BYTES_LOG2 4   /* HtSegment */
+#define HT_SEGMENT_BYTES_LOG2 3   /* HtSegment */
 #define HT_POINT_BYTES_LOG2 4     /* HtPoint */
 #define HT_TRIANGLE_BYTES_LOG2 7  /* HtTriangleShading */
 #define HT_MAX_GEOMETRY_PAGES 8

@@ -67,7 +67,7 @@ HT_FN int ht_afs_leaf(HT_SEGS_PARAM, HT_POINTS_PARAM, __global const uint* stran
     for (uint k = first; k < first + count; ++k) {
         const HtSegment s = HT_SEG(k);
 #if HT_FEATURE_MESHES
-        if (s.flags & HT_SEG_TRIANGLE) {
+        if (ht_seg_flags(s) & HT_SEG_TRIANGLE) {
             float b1, b2;
             const float t = ht_triangle_intersect(o, d, ht_point_pos(HT_POINT(s.point)),
                                                   ht_point_pos(HT_POINT(s.point + 1u)),
@@ -82,9 +82,9 @@ HT_FN int ht_afs_leaf(HT_SEGS_PARAM, HT_POINTS_PARAM, __global const uint* stran
         const HtPoint a = HT_POINT(s.point);
         const HtPoint b = HT_POINT(s.point + 1u);
         const float3 pa = ht_point_pos(a), pb = ht_point_pos(b);
-        if (!(ht_capsule_intersect(o, d, pa, pb, ht_hit_radius(a, b), s.flags & HT_SEG_FIRST, tmin, tmax) < tmax))
+        if (!(ht_capsule_intersect(o, d, pa, pb, ht_hit_radius(a, b), ht_seg_flags(s) & HT_SEG_FIRST, tmin, tmax) < tmax))
             continue;
-        if (!(s.flags & HT_SEG_FIRST)) {
+        if (!(ht_seg_flags(s) & HT_SEG_FIRST)) {
             /* the strand's previous segment: points are stored strand by strand.  Its begin sphere
              * (a root's) is left out: a joint is owned by the segment that ends there. */
             const HtPoint z = HT_POINT(s.point - 1u);
@@ -95,7 +95,7 @@ HT_FN int ht_afs_leaf(HT_SEGS_PARAM, HT_POINTS_PARAM, __global const uint* stran
         const float len2 = dot(u, u);
         const float3 axis = len2 > 0.0f ? u * rsqrt(len2) : (float3)(1.0f, 0.0f, 0.0f);
         const float theta = asin(clamp(fabs(dot(d, axis)), 0.0f, 1.0f));
-        ht_cross_fibre(table, dual, strand_material[s.strand], theta, c);
+        ht_cross_fibre(table, dual, strand_material[ht_seg_strand(s)], theta, c);
         if (max(c->T.x, max(c->T.y, c->T.z)) < HT_AFS_MIN_TRANSMITTANCE) {
             c->T = (float3)(0.0f);
             return 1;

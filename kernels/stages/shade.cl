@@ -293,7 +293,7 @@ HT_FN int ht_connect_light_vertex(HT_SEGS_PARAM, HT_POINTS_PARAM, __global const
     if (lh.segment == HT_NO_HIT) return 0;
     const HtSegment seg = HT_SEG(lh.segment);
 #if HT_FEATURE_MESHES
-    if (seg.flags & HT_SEG_TRIANGLE) return 0;
+    if (ht_seg_flags(seg) & HT_SEG_TRIANGLE) return 0;
 #endif
     const HtPoint a = HT_POINT(seg.point), b = HT_POINT(seg.point + 1u);
     const float3 pa = (float3)(a.x, a.y, a.z), pb = (float3)(b.x, b.y, b.z);
@@ -322,7 +322,7 @@ HT_FN int ht_connect_light_vertex(HT_SEGS_PARAM, HT_POINTS_PARAM, __global const
     HtHit at_y = lh;
     at_y.t = r;
     HtShadingPoint spy;
-    ht_fibre_point(materials[strand_material[seg.strand]], a, b, &to_y, &at_y, HT_PATH_FROM_FIBRE, bounce + 1u,
+    ht_fibre_point(materials[strand_material[ht_seg_strand(seg)]], a, b, &to_y, &at_y, HT_PATH_FROM_FIBRE, bounce + 1u,
                    field_mode, pixel_angle, &spy);
     /* the light at y, as y's own estimate of this light would find it unshadowed */
     HtLightSample ls;
@@ -426,12 +426,12 @@ __kernel void shade(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_TRIS_PARAM, HT_SCENE_PARA
 #endif
             HtSegment seg = HT_SEG(hit.segment);
 #if HT_FEATURE_MESHES
-            if (seg.flags & HT_SEG_TRIANGLE)
-                ht_surface_point(HT_TRI_SHADING(seg.strand), &ray, &hit, textures, texture_count, texels, &sp);
+            if (ht_seg_flags(seg) & HT_SEG_TRIANGLE)
+                ht_surface_point(HT_TRI_SHADING(ht_seg_strand(seg)), &ray, &hit, textures, texture_count, texels, &sp);
             else
 #endif
             {
-                fibre_material = strand_material[seg.strand];
+                fibre_material = strand_material[ht_seg_strand(seg)];
                 ht_fibre_point(materials[fibre_material], HT_POINT(seg.point),
                                HT_POINT(seg.point + 1u), &ray, &hit, st.flags, bounce, field_mode,
                                pixel_angle, &sp);

@@ -74,7 +74,7 @@ struct Brute {
 // joint_rule false: the capsules alone, every surface kept (the rule before strands were unions).
 Brute brute_force(const SceneGeometry& g, const HtRay& ray, bool joint_rule = true) {
     std::vector<HtSegment> base(g.segment_count);
-    for (const HtSegment& s : g.segments) base[s.segment] = s;
+    for (const HtSegment& s : g.segments) base[g.global_id(s)] = s;
     std::reverse(base.begin(), base.end());
     Brute b;
     b.t = std::min<double>(ray.tmax, 1e30);
@@ -84,10 +84,10 @@ Brute brute_force(const SceneGeometry& g, const HtRay& ray, bool joint_rule = tr
         const HtPoint& c = g.points[s.point + 1];
         const double t = joint_rule ? ht_strand_segment_intersect(g.points.data(), s, o, d, ray.tmin, b.t)
                                     : ht_capsule_intersect(o, d, ht_point_pos(a), ht_point_pos(c), ht_hit_radius(a, c),
-                                                           s.flags & HT_SEG_FIRST, ray.tmin, b.t);
+                                                           ht_seg_flags(s) & HT_SEG_FIRST, ray.tmin, b.t);
         if (t < b.t) {
             b.t = t;
-            b.seg = s.segment;
+            b.seg = g.global_id(s);
         }
     }
     return b;
@@ -122,7 +122,7 @@ TEST(Bvh, StructureIsConsistent) {
     EXPECT_LE(g.stats.max_depth, (size_t)ht::kMaxBvhDepth);
     // Every segment appears exactly once, every leaf range is in bounds.
     std::vector<int> seen(g.segment_count, 0);
-    for (const HtSegment& seg : g.segments) seen[seg.segment]++;
+    for (const HtSegment& seg : g.segments) seen[g.global_id(seg)]++;
     for (int c : seen) EXPECT_EQ(c, 1);
     size_t leaf_refs = 0;
     for (const HtBvhNode& n : g.nodes)
@@ -144,6 +144,44 @@ TEST(Bvh, StructureIsConsistent) {
     std::printf("[bvh] 3600 segs: nodes %zu leaves %zu depth %zu sah %.2f bytes/seg %.1f\n",
                 g.stats.nodes, g.stats.leaves, g.stats.max_depth, g.stats.sah_cost,
                 g.stats.bytes_per_segment);
+}
+
+// The eight-byte leaf records (kernels/types.h HtSegment) keep no global id: the host derives it
+// from the first point, across strands with no points and with one point (no segments), and the
+// kernels order ties by the first point, which must grow with the id.
+TEST(Bvh, LeafRecordsGiveBackEveryGlobalIdStrandAndFlag) {
+    Strands s;
+    const int points[] = {3, 0, 1, 5, 2, 0, 4};
+    s.first_point.push_back(0);
+    for (int n : points) {
+        for (int i = 0; i < n; ++i) {
+            s.points.push_back({float(s.first_point.size()), float(i), 0.0f});
+            s.radius.push_back(0.1f);
+        }
+        s.first_point.push_back(uint32_t(s.points.size()));
+    }
+    const SceneGeometry g = ht::build_geometry(s);
+    ASSERT_EQ(sizeof(HtSegment), 8u);
+    ASSERT_EQ(g.segment_count, 2u + 4u + 1u + 3u);
+    std::vector<int> seen(g.segment_count, 0);
+    for (const HtSegment& seg : g.segments) {
+        const uint32_t strand = ht_seg_strand(seg), flags = ht_seg_flags(seg);
+        ASSERT_LT(strand, s.strand_count());
+        const uint32_t b = s.first_point[strand], e = s.first_point[strand + 1];
+        ASSERT_GE(seg.point, b);
+        ASSERT_LT(seg.point + 1, e);
+        EXPECT_EQ(flags, (seg.point == b ? HT_SEG_FIRST : 0u) | (seg.point + 2 == e ? HT_SEG_LAST : 0u));
+        // the id counts the segments of the strands before, then the position in the strand
+        uint32_t before = 0;
+        for (uint32_t t = 0; t < strand; ++t)
+            before += s.first_point[t + 1] - s.first_point[t] > 1 ? s.first_point[t + 1] - s.first_point[t] - 1 : 0;
+        const uint32_t id = g.global_id(seg);
+        EXPECT_EQ(id, before + seg.point - b);
+        ++seen[id];
+    }
+    for (int c : seen) EXPECT_EQ(c, 1);
+    for (const HtSegment& x : g.segments)
+        for (const HtSegment& y : g.segments) EXPECT_EQ(x.point < y.point, g.global_id(x) < g.global_id(y));
 }
 
 TEST(Bvh, EmptyAndTinyScenes) {
@@ -194,7 +232,7 @@ void check_host_against_brute(const ht::BvhOptions& opt,
     for (const HtRay& r : rays) {
         const Brute b = brute_force(g, r);
         const HtHit h = host_closest(g, r);
-        const uint32_t seg = h.segment == HT_NO_HIT ? HT_NO_HIT : g.segments[h.segment].segment;
+        const uint32_t seg = h.segment == HT_NO_HIT ? HT_NO_HIT : g.global_id(g.segments[h.segment]);
         if (b.seg == HT_NO_HIT) {
             EXPECT_EQ(seg, HT_NO_HIT);
             EXPECT_EQ(ht_trace_any(g.nodes.data(), g.segments.data(), g.points.data(), r), 0u);
@@ -559,7 +597,7 @@ Agreement compare_device_host(const SceneGeometry& g, const std::vector<HtRay>& 
         ++a.hitmiss;
         if (!hh) continue;
         ++a.hits;
-        if (g.segments[h.segment].segment == g.segments[dev[i].segment].segment) ++a.seg;
+        if (g.global_id(g.segments[h.segment]) == g.global_id(g.segments[dev[i].segment])) ++a.seg;
         if (std::fabs(h.t - dev[i].t) <= 1e-4 * std::max(1.0f, h.t)) ++a.t;
     }
     return a;
@@ -809,7 +847,7 @@ void self_hit_rate(double L, double r, double scale, double bound) {
         real3 d = normalize(make_real3(gn(rng), gn(rng), gn(rng)));
         if (dot(d, n) < 0) d = d - n * (2 * dot(d, n));
         sec.push_back(HtRay{o[0], o[1], o[2], 0.0f, (float)d.x, (float)d.y, (float)d.z, INFINITY});
-        src.push_back(sg.segment);
+        src.push_back(g.global_id(sg));
     }
     const auto h2 = dev.tracer->trace_closest(sec);
     const auto occ = dev.tracer->trace_shadow(sec);
@@ -819,8 +857,9 @@ void self_hit_rate(double L, double r, double scale, double bound) {
         auto classify = [&](const HtHit& h) {
             if (h.segment == HT_NO_HIT) return 0;
             const HtSegment& s2 = g.segments[h.segment];
-            if (s2.segment == src[i]) return 1;
-            const uint32_t dd = s2.segment > src[i] ? s2.segment - src[i] : src[i] - s2.segment;
+            const uint32_t id2 = g.global_id(s2);
+            if (id2 == src[i]) return 1;
+            const uint32_t dd = id2 > src[i] ? id2 - src[i] : src[i] - id2;
             if (dd > 1 || h.t >= 10 * r) return 0;
             const real3 o = make_real3(sec[i].ox, sec[i].oy, sec[i].oz);
             const real3 d = make_real3(sec[i].dx, sec[i].dy, sec[i].dz);
@@ -887,7 +926,7 @@ TEST(BvhKernel, RaysParallelToASegment) {
         EXPECT_EQ(occ[i], 0u) << i;
     }
     EXPECT_NE(hits[3].segment, HT_NO_HIT);
-    EXPECT_EQ(g.segments[hits[3].segment].segment, 0u);
+    EXPECT_EQ(g.global_id(g.segments[hits[3].segment]), 0u);
     EXPECT_NEAR(hits[3].t, 4.9129f, 1e-3f);  // sphere entry at x = -0.087, y = 0.049
     EXPECT_EQ(occ[3], 1u);
 }
@@ -915,7 +954,7 @@ TEST(Bvh, RebuildWithOtherOptionsKeepsAnswers) {
         ASSERT_EQ(a.segment == HT_NO_HIT, b.segment == HT_NO_HIT);
         if (a.segment == HT_NO_HIT) continue;
         ++hits;
-        EXPECT_EQ(g.segments[a.segment].segment, g2.segments[b.segment].segment);
+        EXPECT_EQ(g.global_id(g.segments[a.segment]), g2.global_id(g2.segments[b.segment]));
         EXPECT_EQ(a.t, b.t);
     }
     EXPECT_GT(hits, 100u);
@@ -1091,12 +1130,12 @@ TEST(BvhTie, HigherSegmentIdWinsInEveryLayout) {
             if (host[i].segment != HT_NO_HIT) {
                 ++hits;
                 const Brute b = brute_force(g, rays[i]);
-                EXPECT_EQ(g.segments[host[i].segment].segment, b.seg) << "ray " << i;
+                EXPECT_EQ(g.global_id(g.segments[host[i].segment]), b.seg) << "ray " << i;
             }
             // global ids in place of leaf indices, which differ between layouts
             for (HtHit* h : {&host[i], &kernel[i]}) {
                 if (h->segment == HT_NO_HIT) continue;
-                h->segment = g.segments[h->segment].segment;
+                h->segment = g.global_id(g.segments[h->segment]);
                 (h == &host[i] ? host_originals : kernel_originals) += h->segment < originals;
             }
             if (host_first.empty()) continue;

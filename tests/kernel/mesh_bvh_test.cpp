@@ -76,11 +76,11 @@ Brute brute_force(const SceneGeometry& g, const HtRay& ray) {
     b.t = std::min<double>(ray.tmax, 1e30);
     const real3 o = make_real3(ray.ox, ray.oy, ray.oz), d = make_real3(ray.dx, ray.dy, ray.dz);
     std::vector<HtSegment> base(g.segment_count + g.triangle_count);
-    for (const HtSegment& s : g.segments) base[s.segment] = s;
+    for (const HtSegment& s : g.segments) base[g.global_id(s)] = s;
     std::reverse(base.begin(), base.end());
     for (const HtSegment& s : base) {
         double t;
-        if (s.flags & HT_SEG_TRIANGLE) {
+        if (ht_seg_flags(s) & HT_SEG_TRIANGLE) {
             real b1, b2;
             t = ht_triangle_intersect(o, d, ht_point_pos(g.points[s.point]),
                                       ht_point_pos(g.points[s.point + 1]),
@@ -90,7 +90,7 @@ Brute brute_force(const SceneGeometry& g, const HtRay& ray) {
         }
         if (t < b.t) {
             b.t = t;
-            b.prim = s.segment;
+            b.prim = g.global_id(s);
         }
     }
     return b;
@@ -116,10 +116,11 @@ TEST(MeshBvh, LayoutAndShadingData) {
     EXPECT_EQ(g.segments.size(), g.segment_count + g.triangle_count);
     size_t tris = 0;
     for (const HtSegment& s : g.segments) {
-        if (!(s.flags & HT_SEG_TRIANGLE)) continue;
+        if (!(ht_seg_flags(s) & HT_SEG_TRIANGLE)) continue;
         ++tris;
-        EXPECT_GE(s.segment, g.segment_count);
-        EXPECT_EQ(s.strand, s.segment - g.segment_count);
+        // the triangles' vertices follow the strands' points, three per triangle in id order
+        EXPECT_EQ(s.point, g.points.size() - 3 * g.triangle_count + 3 * ht_seg_strand(s));
+        EXPECT_LT(ht_seg_strand(s), g.triangle_count);
         ASSERT_LE(s.point + 3, g.points.size());
     }
     EXPECT_EQ(tris, g.triangle_count);
@@ -138,9 +139,9 @@ TEST(MeshBvh, HostTraversalMatchesBruteForce) {
         ASSERT_EQ(h.segment == HT_NO_HIT, b.prim == HT_NO_HIT);
         if (b.prim == HT_NO_HIT) continue;
         const HtSegment& s = g.segments[h.segment];
-        EXPECT_EQ(s.segment, b.prim);
+        EXPECT_EQ(g.global_id(s), b.prim);
         EXPECT_NEAR(h.t, b.t, 1e-5 * std::max(1.0, b.t));
-        if (s.flags & HT_SEG_TRIANGLE) {
+        if (ht_seg_flags(s) & HT_SEG_TRIANGLE) {
             ++tri_hits;
             EXPECT_EQ(h.radius, 0.0f);
             // barycentrics reconstruct the hit point; the normal is unit length
@@ -177,8 +178,8 @@ TEST(MeshBvhKernel, ClosestHitMatchesBruteForce) {
         if (!dh || b.prim == HT_NO_HIT) continue;
         ++n_hits;
         const HtSegment& s = g.segments[hits[i].segment];
-        tri += (s.flags & HT_SEG_TRIANGLE) != 0;
-        same += s.segment == b.prim;
+        tri += (ht_seg_flags(s) & HT_SEG_TRIANGLE) != 0;
+        same += g.global_id(s) == b.prim;
         t_ok += std::fabs(hits[i].t - b.t) <= 1e-4 * std::max(1.0, b.t);
     }
     std::printf("[kernel vs brute] %zu rays, %zu hits (%zu triangles): hit/miss %zu, prim %zu, "
@@ -204,7 +205,7 @@ TEST(MeshBvh, RebuildKeepsTriangles) {
         ht_trace_closest(g.nodes.data(), g.segments.data(), g.points.data(), r, &h);
         ASSERT_EQ(h.segment == HT_NO_HIT, b.prim == HT_NO_HIT);
         if (b.prim != HT_NO_HIT) {
-            EXPECT_EQ(g.segments[h.segment].segment, b.prim);
+            EXPECT_EQ(g.global_id(g.segments[h.segment]), b.prim);
         }
     }
 }
@@ -233,12 +234,12 @@ TEST(MeshBvhKernel, TrianglesTiedWithACopyGoToTheCopy) {
         for (size_t i = 0; i < rays.size(); ++i) {
             HtHit h;
             ht_trace_closest(g.nodes.data(), g.segments.data(), g.points.data(), rays[i], &h);
-            if (h.segment == HT_NO_HIT || !(g.segments[h.segment].flags & HT_SEG_TRIANGLE)) continue;
+            if (h.segment == HT_NO_HIT || !(ht_seg_flags(g.segments[h.segment]) & HT_SEG_TRIANGLE)) continue;
             ++triangle_hits;
-            EXPECT_EQ(g.segments[h.segment].segment, brute_force(g, rays[i]).prim) << "ray " << i;
-            originals += g.segments[h.segment].segment < first_copy;
-            if (kernel[i].segment != HT_NO_HIT && (g.segments[kernel[i].segment].flags & HT_SEG_TRIANGLE))
-                originals += g.segments[kernel[i].segment].segment < first_copy;
+            EXPECT_EQ(g.global_id(g.segments[h.segment]), brute_force(g, rays[i]).prim) << "ray " << i;
+            originals += g.global_id(g.segments[h.segment]) < first_copy;
+            if (kernel[i].segment != HT_NO_HIT && (ht_seg_flags(g.segments[kernel[i].segment]) & HT_SEG_TRIANGLE))
+                originals += g.global_id(g.segments[kernel[i].segment]) < first_copy;
         }
         EXPECT_GT(triangle_hits, 500u);
         EXPECT_EQ(originals, 0u) << "max_leaf " << opt.max_leaf;
@@ -267,7 +268,7 @@ TEST(MeshBvhKernel, PagedGeometryGivesIdenticalHits) {
     const auto a = t_flat.trace_closest(rays), b = t_paged.trace_closest(rays);
     size_t tri = 0, differ = 0;
     for (size_t i = 0; i < a.size(); ++i) {
-        tri += a[i].segment != HT_NO_HIT && (g.segments[a[i].segment].flags & HT_SEG_TRIANGLE);
+        tri += a[i].segment != HT_NO_HIT && (ht_seg_flags(g.segments[a[i].segment]) & HT_SEG_TRIANGLE);
         differ += std::memcmp(&a[i], &b[i], sizeof(HtHit)) != 0;
     }
     EXPECT_GT(tri, 2000u);

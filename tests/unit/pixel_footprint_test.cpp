@@ -38,7 +38,7 @@ bool ray_meets_geometry(const HtCamera& cam, const SceneGeometry& g, uint32_t pi
         const HtPoint& a = g.points[s.point];
         const HtPoint& b = g.points[s.point + 1];
         double t;
-        if (s.flags & HT_SEG_TRIANGLE) {
+        if (ht_seg_flags(s) & HT_SEG_TRIANGLE) {
             real b1, b2;
             t = ht_triangle_intersect(o, d, ht_point_pos(a), ht_point_pos(b), ht_point_pos(g.points[s.point + 2]), 0.0,
                                       1e30, &b1, &b2);
@@ -177,7 +177,7 @@ void expect_lists_hold_the_hits(const HtCamera& cam, const SceneGeometry& g, con
                 const HtPoint& a = g.points[s.point];
                 const HtPoint& b = g.points[s.point + 1];
                 double t;
-                if (s.flags & HT_SEG_TRIANGLE) {
+                if (ht_seg_flags(s) & HT_SEG_TRIANGLE) {
                     real b1, b2;
                     t = ht_triangle_intersect(o, d, ht_point_pos(a), ht_point_pos(b), ht_point_pos(g.points[s.point + 2]),
                                               0.0, 1e30, &b1, &b2);

@@ -74,7 +74,7 @@ void expect_tree_answers(const SceneGeometry& geo, const ShadowLists& l, int n, 
             for (uint32_t k = 0; k < geo.segments.size(); ++k) {
                 const HtSegment& s = geo.segments[k];
                 double t;
-                if (s.flags & HT_SEG_TRIANGLE) {
+                if (ht_seg_flags(s) & HT_SEG_TRIANGLE) {
                     real b1, b2;
                     t = ht_triangle_intersect(ro, rd, ht_point_pos(geo.points[s.point]), ht_point_pos(geo.points[s.point + 1]),
                                               ht_point_pos(geo.points[s.point + 2]), 0.0, 1e30, &b1, &b2);
