@@ -10,6 +10,7 @@
  *   make_real3(x,y,z), dot, cross, length, normalize, r3_x/y/z accessors via .x .y .z
  *   HT_FN                              function qualifier for helpers in headers
  *   HT_FIBER_FN                        the same for kernels/fiber/ (force-inlined where HT_FIBER_INLINE is defined)
+ *   HT_NOINLINE                        keeps a helper a called function in the kernels (a hint; the host ignores it)
  *   HT_GLOBAL, HT_CONST_GLOBAL         address-space qualifiers for buffer pointers
  *   ht_select(c, a, b)                 compare-select min/max friendly form (PoCL: faster than fmin)
  *   ht_as_uint / ht_as_float           bit casts
@@ -33,6 +34,14 @@ typedef float3 real3;
 #define HT_FIBER_FN static inline __attribute__((always_inline))
 #else
 #define HT_FIBER_FN HT_FN
+#endif
+/* A helper kept out of its callers' code: the traversal loops run faster with the leaf test
+ * called than inlined into them (docs/POCL.md section 1).  A clang/GCC attribute, which every
+ * LLVM-based OpenCL compiler takes; elsewhere the call is inlined as before. */
+#if defined(__clang__) || defined(__GNUC__)
+#define HT_NOINLINE __attribute__((noinline))
+#else
+#define HT_NOINLINE
 #endif
 #define HT_GLOBAL __global
 #define HT_CONST_GLOBAL __global const
@@ -61,6 +70,7 @@ typedef std::uint64_t ulong;
 
 #define HT_FN static inline
 #define HT_FIBER_FN HT_FN
+#define HT_NOINLINE
 #define HT_GLOBAL
 #define HT_CONST_GLOBAL const
 #define HT_PRIVATE
