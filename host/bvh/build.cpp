@@ -1006,10 +1006,11 @@ struct Flattener {
         // axis-aligned; so do nodes with triangles (flat boxes have no unit-cube map).
         Frame frame[W];
         bool world[W];  // frame[k] is the world axes
+        bool boxed[W];  // obox[k] is child k's full frame box already (unpadded)
         DBox obox[W];
         bool orient = depth > 0 && opt.obb_ratio > 0 && m > 0;
         double aligned = 0, turned = 0;
-        for (int k = 0; k < m; ++k) aligned += double(range[k][1] - range[k][0]) * slot[k].box.half_area();
+        for (int k = 0; k < m && orient; ++k) aligned += double(range[k][1] - range[k][0]) * slot[k].box.half_area();
         for (int k = 0; k < m && orient; ++k) {
             const Moments mo = slot[k].count ? range_moments(prims, range[k][0], range[k][1]) : moments[slot[k].child];
             orient = mo.triangles == 0;
@@ -1021,17 +1022,22 @@ struct Flattener {
         // bound) already reach the threshold, the node stays axis-aligned without the full boxes:
         // the same decision, and most of the oriented build's time on scenes whose nodes rarely
         // qualify (curls: builtin:ball, host/bvh/NOTES.md "Oriented nodes by default").
+        // A child of fewer than 2 x kBoundSample references is sampled whole: its box is kept.
         for (int k = 0; k < m && orient; ++k) {
-            const uint32_t n = range[k][1] - range[k][0];
-            // in the world axes the box is the child's own (shrunk by float rounding's worth)
-            turned += double(n) * (world[k] ? slot[k].box.half_area() * (1 - 1e-5)
-                                            : frame_box(prims, range[k][0], range[k][1], frame[k],
-                                                        std::max(1u, n / kBoundSample)).half_area());
+            const uint32_t n = range[k][1] - range[k][0], stride = std::max(1u, n / kBoundSample);
+            boxed[k] = !world[k] && stride == 1;
+            if (world[k]) {  // in the world axes the box is the child's own (shrunk by float rounding's worth)
+                turned += double(n) * slot[k].box.half_area() * (1 - 1e-5);
+                continue;
+            }
+            const DBox sample = frame_box(prims, range[k][0], range[k][1], frame[k], stride);
+            if (boxed[k]) obox[k] = sample;
+            turned += double(n) * sample.half_area();
         }
         orient = orient && turned < opt.obb_ratio * aligned;
         turned = 0;
         for (int k = 0; k < m && orient; ++k) {
-            obox[k] = frame_box(prims, range[k][0], range[k][1], frame[k]);
+            if (!boxed[k]) obox[k] = frame_box(prims, range[k][0], range[k][1], frame[k]);
             pad_outward(frame[k], obox[k]);
             for (int j = 0; j < 3; ++j)
                 orient = orient && obox[k].hi[j] - obox[k].lo[j] > 0x1p-40 * (1.0 + magnitude(frame[k], obox[k]));
