@@ -18,9 +18,6 @@
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
-#if defined(__linux__)
-#include <sys/mman.h>
-#endif
 
 #include "kernels/geometry/bvh_traverse.h"
 
@@ -40,59 +37,11 @@ namespace ht {
 namespace {
 
 // The build's arrays (points, segment records, references, intermediate nodes: ~30 MB for 250k
-// segments) are written once into fresh memory, and on this project's KVM guest a first touch of a
-// 4 KiB page costs ~11 us (8 MiB: 22 ms), so page faults were about half of the build
-// (host/bvh/NOTES.md "Build time: page faults").  Asking for transparent huge pages on the
-// 2 MiB-aligned part of each large array makes one fault per 2 MiB.  Call it before the first
-// write (after reserve, not resize).  A hint only: no effect without THP, and none on the contents.
-void advise_huge_pages(const void* data, size_t bytes) {
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-    constexpr uintptr_t kHuge = uintptr_t(1) << 21;
-    const uintptr_t b = (reinterpret_cast<uintptr_t>(data) + kHuge - 1) & ~(kHuge - 1);
-    const uintptr_t e = (reinterpret_cast<uintptr_t>(data) + bytes) & ~(kHuge - 1);
-    if (e > b) madvise(reinterpret_cast<void*>(b), e - b, MADV_HUGEPAGE);
-#else
-    (void)data, (void)bytes;
-#endif
-}
-template <class T>
-void reserve_huge(std::vector<T>& v, size_t n) {
-    v.reserve(n);
-    advise_huge_pages(v.data(), v.capacity() * sizeof(T));
-}
-
-// For the build's own arrays: blocks of 2 MiB or more are 2 MiB-aligned and rounded up to whole
-// huge pages, so all of a block faults in huge pages (reserve_huge leaves the unaligned ends of a
-// std::vector's block, up to 4 MiB, to 4 KiB faults).
-template <class T>
-struct HugePageAllocator {
-    using value_type = T;
-    static constexpr size_t kHuge = size_t(1) << 21;
-    HugePageAllocator() = default;
-    template <class U>
-    HugePageAllocator(const HugePageAllocator<U>&) {}
-    T* allocate(size_t n) {
-        const size_t bytes = n * sizeof(T);
-        if (bytes < kHuge) return static_cast<T*>(::operator new(bytes));
-        const size_t whole = (bytes + kHuge - 1) & ~(kHuge - 1);
-        void* p = std::aligned_alloc(kHuge, whole);
-        if (!p) throw std::bad_alloc();
-        advise_huge_pages(p, whole);
-        return static_cast<T*>(p);
-    }
-    void deallocate(T* p, size_t n) {
-        if (n * sizeof(T) < kHuge)
-            ::operator delete(p);
-        else
-            std::free(p);
-    }
-    template <class U>
-    bool operator==(const HugePageAllocator<U>&) const { return true; }
-    template <class U>
-    bool operator!=(const HugePageAllocator<U>&) const { return false; }
-};
-template <class T>
-using BuildArray = std::vector<T, HugePageAllocator<T>>;
+// segments) are written once into fresh memory, and on this project's KVM guests a first touch of
+// a 4 KiB page costs ~10 us (8 MiB: 20 ms), so page faults were about half of the build
+// (host/bvh/NOTES.md "Build time: page faults").  So every array of the build, and the
+// geometry's own, is a BulkVector (core/bulk_vector.h): 2 MiB-aligned transparent huge pages,
+// one fault per 2 MiB, and no zero fill of what the build writes anyway.
 
 // Four float lanes: x, y, z and a spare (see Box).  The host is built for the x86-64 baseline
 // (CMakeLists.txt sets no -m flags), of which SSE2 is part, so the binning below is SSE2; other
@@ -358,7 +307,7 @@ struct Moments {
     }
 };
 
-Moments range_moments(const std::vector<Prim>& prims, uint32_t b, uint32_t e) {
+Moments range_moments(const BulkVector<Prim>& prims, uint32_t b, uint32_t e) {
     Moments mo;
     for (uint32_t i = b; i < e; ++i) {
         const Prim& q = prims[i];
@@ -455,7 +404,7 @@ class Builder {
 public:
     // ends: null, or each reference's capsule (RefEnds) in the order of refs, for oriented splits;
     // the builder permutes it with refs.
-    Builder(BuildArray<Ref>& refs, const BvhOptions& opt, RefEnds* ends)
+    Builder(BulkVector<Ref>& refs, const BvhOptions& opt, RefEnds* ends)
         : refs_(refs), ends_(ends), opt_(opt), bins_(std::clamp(opt.bins, 4, Bins::kMax)),
           lanes_((uint32_t)std::max(1, opt.leaf_lanes)), lane_shift_(-1) {
         for (int k = 0; k < 31; ++k)
@@ -875,9 +824,9 @@ private:
     // Nodes this small are split axis-aligned only: an oriented split pays for a whole subtree.
     static constexpr uint32_t kOrientedSplitFrom = 16;
 
-    BuildArray<Ref>& refs_;
+    BulkVector<Ref>& refs_;
     RefEnds* ends_ = nullptr;  // per reference, permuted with refs_ (oriented_split), or null
-    BuildArray<NodeStorage> storage_;  // reserved, never resized: alloc() hands out its slots
+    BulkVector<NodeStorage> storage_;  // reserved, never resized: alloc() hands out its slots
     std::unique_ptr<uint64_t[]> mask_;  // partition's side bits
     NodeStorage* slots_ = nullptr;     // storage_.data()
     BvhOptions opt_;
@@ -892,7 +841,7 @@ private:
 // Box of references [b, e) in frame f: a capsule's extent along a unit axis is its end points'
 // extent widened by r.
 // With stride > 1, of every stride-th reference only: a box inside the full one.
-DBox frame_box(const std::vector<Prim>& prims, uint32_t b, uint32_t e, const Frame& f, uint32_t stride = 1) {
+DBox frame_box(const BulkVector<Prim>& prims, uint32_t b, uint32_t e, const Frame& f, uint32_t stride = 1) {
     DBox box;
     for (uint32_t i = b; i < e; i += stride) {
         const Prim& q = prims[i];
@@ -943,12 +892,16 @@ void pad_outward(const Frame& f, DBox& b) {
 // the depth bound holds).  Slots stay in the binary tree's left-to-right order.
 struct Flattener {
     const BNode* in;  // Builder::nodes()
-    std::vector<HtBvhNode>& out;
+    BulkVector<HtBvhNode>& out;
     const BvhOptions& opt;
-    const std::vector<Prim>& prims;
-    const std::vector<Moments>& moments;  // per intermediate node (moments_of)
+    const BulkVector<Prim>& prims;
+    const BulkVector<Moments>& moments;  // per intermediate node (moments_of)
     unsigned threads = 1;
     double root_area = 1;
+    // Output records per reference that `out` was reserved for: the parallel parts reserve their
+    // share, in huge pages (growing them by doubling copied them and faulted in each new block,
+    // 4 KiB at a time: host/bvh/NOTES.md "Build time: page faults").
+    double records_per_ref = 0;
     double sah = 0;
     size_t leaves = 0, max_depth = 0, oriented = 0;
 
@@ -957,7 +910,7 @@ struct Flattener {
     uint32_t visit(uint32_t id, size_t depth, double area) {
         const uint32_t me = (uint32_t)out.size();
         if (me >= HT_NODE_ORIENTED - 2u) throw std::runtime_error("BVH: too many nodes");
-        out.emplace_back();
+        out.emplace_back(HtBvhNode{});  // zeroed: BulkVector leaves a bare emplace_back() unset
         max_depth = std::max(max_depth, depth);
         const BNode& bn = in[id];
         constexpr int W = HT_BVH_WIDTH;
@@ -1048,7 +1001,7 @@ struct Flattener {
         for (int k = 0; k < m; ++k) child_area[k] = orient ? obox[k].half_area() : slot[k].box.half_area();
         if (orient) {
             ++oriented;
-            out.emplace_back();
+            out.emplace_back(HtBvhNode{});
         }
 
         uint32_t child[W] = {};
@@ -1058,10 +1011,12 @@ struct Flattener {
         // nodes cost less to write than those arrays' growth, relocation and copy: one thread
         // writes them straight into `out` (ball, 2 threads: ~2 ms instead of ~4).
         const bool parallel = depth == 0 && threads > 1 && opt.obb_ratio > 0;
-        std::vector<HtBvhNode> part[W];
+        BulkVector<HtBvhNode> part[W];
         std::vector<Flattener> sub;
         if (parallel) {
             for (int k = 0; k < m; ++k) {
+                if (slot[k].count == 0)
+                    part[k].reserve(size_t(records_per_ref * double(range[k][1] - range[k][0])) + 2);
                 sub.push_back(Flattener{in, part[k], opt, prims, moments, threads, root_area});
             }
             std::atomic<int> next{0};
@@ -1126,8 +1081,8 @@ struct Flattener {
     }
 
     // Fills out[id] with the moments of intermediate node id's references, bottom-up.
-    static const Moments& moments_of(const BNode* in, const std::vector<Prim>& prims, uint32_t id,
-                                     std::vector<Moments>& out) {
+    static const Moments& moments_of(const BNode* in, const BulkVector<Prim>& prims, uint32_t id,
+                                     BulkVector<Moments>& out) {
         const BNode& bn = in[id];
         Moments mo;
         for (int s = 0; s < 2; ++s) {
@@ -1140,7 +1095,7 @@ struct Flattener {
     }
 
     // Adds `base` to the inner child references below node `ref` of a subtree flattened on its own.
-    static void relocate(std::vector<HtBvhNode>& v, uint32_t ref, uint32_t base) {
+    static void relocate(BulkVector<HtBvhNode>& v, uint32_t ref, uint32_t base) {
         HtBvhNode& n = v[ref & ~HT_NODE_ORIENTED];
         for (int k = 0; k < HT_BVH_WIDTH; ++k)
             if (n.count[k] == 0 && n.child[k] != 0) {
@@ -1151,7 +1106,7 @@ struct Flattener {
 };
 
 // Box of the capsule piece between parameters [a, b] of the segment, split while it pays.
-void add_refs(BuildArray<Ref>& refs, uint32_t seg, const float* p0, const float* p1, float r,
+void add_refs(BulkVector<Ref>& refs, uint32_t seg, const float* p0, const float* p1, float r,
               float a, float b, int depth, const BvhOptions& opt) {
     float pa[3], pb[3];
     for (int k = 0; k < 3; ++k) {
@@ -1180,8 +1135,8 @@ void add_refs(BuildArray<Ref>& refs, uint32_t seg, const float* p0, const float*
     refs.push_back(ref);
 }
 
-void build_bvh_from(const BuildArray<HtSegment>& base, SceneGeometry& geo, const BvhOptions& opt) {
-    BuildArray<Ref> refs;
+void build_bvh_from(const BulkVector<HtSegment>& base, SceneGeometry& geo, const BvhOptions& opt) {
+    BulkVector<Ref> refs;
     refs.reserve(base.size());
     for (uint32_t i = 0; i < base.size(); ++i) {
         if (ht_seg_flags(base[i]) & HT_SEG_TRIANGLE) {
@@ -1205,7 +1160,7 @@ void build_bvh_from(const BuildArray<HtSegment>& base, SceneGeometry& geo, const
     // Oriented splits read each reference's end points, in the references' order so that the
     // reads stream (by segment id they were a quarter of the build, cache misses); hair only: a
     // triangle has no direction to bin along.
-    BuildArray<RefEnds> ends;
+    BulkVector<RefEnds> ends;
     if (opt.obb_split > 0 && opt.obb_ratio > 0 && geo.triangle_count == 0) {
         ends.resize(refs.size());
         for (size_t i = 0; i < refs.size(); ++i) {
@@ -1219,7 +1174,7 @@ void build_bvh_from(const BuildArray<HtSegment>& base, SceneGeometry& geo, const
     Builder builder(refs, opt, ends.empty() ? nullptr : ends.data());
     const uint32_t root = builder.run();
 
-    std::vector<Prim> prims;
+    BulkVector<Prim> prims;
     if (opt.obb_ratio > 0) {
         prims.resize(refs.size());
         for (size_t i = 0; i < refs.size(); ++i) {
@@ -1238,8 +1193,9 @@ void build_bvh_from(const BuildArray<HtSegment>& base, SceneGeometry& geo, const
     // Each output node stems from its own binary node (two records if oriented).  Not one per
     // reference: with 256-byte records that reservation (64 MB for the strand anchor) made the
     // build ~1.4x slower (host/bvh/NOTES.md "8-wide nodes").
-    reserve_huge(geo.nodes, size_t(builder.used()) * (opt.obb_ratio > 0 ? 2 : 1) + 1);
-    std::vector<Moments> moments;
+    const size_t records = size_t(builder.used()) * (opt.obb_ratio > 0 ? 2 : 1) + 1;
+    geo.nodes.reserve(records);
+    BulkVector<Moments> moments;
     if (opt.obb_ratio > 0) {
         moments.resize(builder.used());
         Flattener::moments_of(builder.nodes(), prims, root, moments);
@@ -1249,10 +1205,11 @@ void build_bvh_from(const BuildArray<HtSegment>& base, SceneGeometry& geo, const
     Box rb = builder.nodes()[root].box[0];
     rb.grow(builder.nodes()[root].box[1]);
     fl.root_area = std::max(rb.half_area(), 1e-30);
+    fl.records_per_ref = double(records) / double(std::max<size_t>(refs.size(), 1));
     fl.visit(root, 0, fl.root_area);
 
     geo.segments.clear();
-    reserve_huge(geo.segments, refs.size());
+    geo.segments.reserve(refs.size());
     for (const Ref& ref : refs) geo.segments.push_back(base[ref.seg()]);
 
     BvhStats& st = geo.stats;
@@ -1285,7 +1242,7 @@ SceneGeometry build_geometry(const Strands& strands, const std::vector<Mesh>& me
     const size_t ns = strands.strand_count();
     size_t triangles = 0;
     for (const Mesh& m : meshes) triangles += m.indices.size() / 3;
-    reserve_huge(geo.points, strands.points.size() + 3 * triangles);
+    geo.points.reserve(strands.points.size() + 3 * triangles);
     for (size_t i = 0; i < strands.points.size(); ++i) {
         const float r = i < strands.radius.size() ? strands.radius[i] : 0.0f;
         geo.points.push_back(HtPoint{strands.points[i][0], strands.points[i][1], strands.points[i][2], r});
@@ -1300,7 +1257,7 @@ SceneGeometry build_geometry(const Strands& strands, const std::vector<Mesh>& me
         throw std::runtime_error("BVH: more than " + std::to_string(HT_SEG_MAX_STRAND) +
                                  " strands or triangles (kernels/types.h HtSegment)");
     // base[global id] (Embree primID: strands back to back)
-    BuildArray<HtSegment> base;
+    BulkVector<HtSegment> base;
     base.reserve(segments);
     geo.triangles.reserve(triangles);
     geo.strand_id_shift.resize(ns);
@@ -1352,7 +1309,7 @@ SceneGeometry build_geometry(const Strands& strands, const std::vector<Mesh>& me
 
 void rebuild_bvh(SceneGeometry& geo, const BvhOptions& opt) {
     const auto t0 = std::chrono::steady_clock::now();
-    BuildArray<HtSegment> base(geo.segment_count + geo.triangle_count);
+    BulkVector<HtSegment> base(geo.segment_count + geo.triangle_count);
     for (const HtSegment& s : geo.segments) base[geo.global_id(s)] = s;
     build_bvh_from(base, geo, opt);
     geo.stats.build_ms =

@@ -2,6 +2,7 @@
 // 8-wide BVH (kernels/types.h HtBvhNode, children's bounds as SoA).
 #pragma once
 
+#include "core/bulk_vector.h"
 #include "scene/scene.h"
 
 #include "kernels/types.h"
@@ -78,12 +79,14 @@ struct BvhStats {
 };
 
 struct SceneGeometry {
+    // The three kernel arrays are BulkVectors (core/bulk_vector.h): the build writes them into
+    // fresh memory, faulted in 2 MiB at a time; their resize() leaves elements unset.
     // All strand points, strands back to back, then 3 vertices per triangle (r = 0).
-    std::vector<HtPoint> points;
+    BulkVector<HtPoint> points;
     // Leaf order (kernels/types.h HtSegment: point and strand id | flags; a triangle's strand id
     // is its triangle index).  global_id() gives a record's Embree primID.
-    std::vector<HtSegment> segments;
-    std::vector<HtBvhNode> nodes;     // node 0 = root; never empty
+    BulkVector<HtSegment> segments;
+    BulkVector<HtBvhNode> nodes;     // node 0 = root; never empty
     std::vector<HtTriangleShading> triangles;  // per triangle, meshes back to back
     BvhStats stats;
     size_t segment_count = 0;         // distinct hair segments of the scene

@@ -40,8 +40,8 @@ cl::Buffer make_buffer(ClContext& cl, const std::string& what, const void* data,
 
 // The array as paging.pages buffers; pages past its end repeat its last buffer (never read:
 // no index reaches them, but every kernel argument must be a valid buffer).
-template <typename T>
-std::vector<cl::Buffer> make_pages(ClContext& cl, const char* what, const std::vector<T>& v,
+template <typename T, typename Allocator>
+std::vector<cl::Buffer> make_pages(ClContext& cl, const char* what, const std::vector<T, Allocator>& v,
                                    const GeometryPaging& paging) {
     const size_t bytes = v.size() * sizeof(T);
     if (paging.pages == 1) return {make_buffer(cl, what, v.data(), bytes)};

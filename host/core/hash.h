@@ -22,8 +22,8 @@ inline uint64_t fnv1a(const void* data, size_t n, uint64_t h = kFnv1aSeed) {
 
 inline uint64_t fnv1a(const std::string& s, uint64_t h = kFnv1aSeed) { return fnv1a(s.data(), s.size(), h); }
 
-template <typename T>
-uint64_t fnv1a(const std::vector<T>& v, uint64_t h = kFnv1aSeed) {
+template <typename T, typename Allocator>
+uint64_t fnv1a(const std::vector<T, Allocator>& v, uint64_t h = kFnv1aSeed) {
     static_assert(std::is_trivially_copyable_v<T>, "hash only plain bytes");
     return fnv1a(v.data(), v.size() * sizeof(T), h);
 }
