@@ -606,8 +606,8 @@ int bench_main(const std::vector<std::string>& args, const SceneSource& source_i
                         st.bytes_per_segment,
                         bopt.obb_split > 0 ? (", " + std::to_string(st.oriented_splits) + " oriented splits").c_str() : "");
 
-        // Embree's build as ours: the median of 5 in this process (one build alone was 0.8-1.2x
-        // the median, depending on what memory the builds before it had left faulted in).
+        // Embree's build as ours: the median of 5 in this process (single builds spread 0.84-1.38x
+        // their median of 5 on the AMD EPYC guest, host/bvh/NOTES.md).
         std::unique_ptr<EmbreeTracer> embree;
         if (with_embree) {
             std::vector<double> embree_ms;
