@@ -898,10 +898,6 @@ struct Flattener {
     const BulkVector<Moments>& moments;  // per intermediate node (moments_of)
     unsigned threads = 1;
     double root_area = 1;
-    // Output records per reference that `out` was reserved for: the parallel parts reserve their
-    // share, in huge pages (growing them by doubling copied them and faulted in each new block,
-    // 4 KiB at a time: host/bvh/NOTES.md "Build time: page faults").
-    double records_per_ref = 0;
     double sah = 0;
     size_t leaves = 0, max_depth = 0, oriented = 0;
 
@@ -1014,9 +1010,13 @@ struct Flattener {
         BulkVector<HtBvhNode> part[W];
         std::vector<Flattener> sub;
         if (parallel) {
+            // Each part reserves its references' share of what `out` was reserved for, in huge pages
+            // (growing by doubling copied the parts and faulted in each new block 4 KiB at a time:
+            // host/bvh/NOTES.md "Build time: the oriented build's arrays in huge pages").
+            const double refs_here = m > 0 ? std::max(1.0, double(range[m - 1][1] - range[0][0])) : 1.0;
             for (int k = 0; k < m; ++k) {
                 if (slot[k].count == 0)
-                    part[k].reserve(size_t(records_per_ref * double(range[k][1] - range[k][0])) + 2);
+                    part[k].reserve(size_t(double(out.capacity()) * double(range[k][1] - range[k][0]) / refs_here) + 2);
                 sub.push_back(Flattener{in, part[k], opt, prims, moments, threads, root_area});
             }
             std::atomic<int> next{0};
@@ -1193,8 +1193,7 @@ void build_bvh_from(const BulkVector<HtSegment>& base, SceneGeometry& geo, const
     // Each output node stems from its own binary node (two records if oriented).  Not one per
     // reference: with 256-byte records that reservation (64 MB for the strand anchor) made the
     // build ~1.4x slower (host/bvh/NOTES.md "8-wide nodes").
-    const size_t records = size_t(builder.used()) * (opt.obb_ratio > 0 ? 2 : 1) + 1;
-    geo.nodes.reserve(records);
+    geo.nodes.reserve(size_t(builder.used()) * (opt.obb_ratio > 0 ? 2 : 1) + 1);
     BulkVector<Moments> moments;
     if (opt.obb_ratio > 0) {
         moments.resize(builder.used());
@@ -1205,7 +1204,6 @@ void build_bvh_from(const BulkVector<HtSegment>& base, SceneGeometry& geo, const
     Box rb = builder.nodes()[root].box[0];
     rb.grow(builder.nodes()[root].box[1]);
     fl.root_area = std::max(rb.half_area(), 1e-30);
-    fl.records_per_ref = double(records) / double(std::max<size_t>(refs.size(), 1));
     fl.visit(root, 0, fl.root_area);
 
     geo.segments.clear();
