@@ -250,12 +250,19 @@ double leaf_groups(uint32_t n, const BvhOptions& opt) {
     return (double)((n + lanes - 1) / lanes);
 }
 
-// What an oriented box must hold for one reference: a capsule (two end points, radius r) or a
-// triangle (three vertices, r = 0); the whole segment even for a split reference's piece.
-struct Prim {
-    float p[3][3];  // the points as stored (float), so nothing is lost; the boxes are computed in double
-    double r;       // 0.5 (r_a + r_b) exactly, at least the radius either precision intersects with
-    int points;     // 2 (capsule) or 3 (triangle)
+// What an oriented box must hold for one reference: its whole segment's capsule (even for a split
+// reference's piece), the end points as stored (float, so nothing is lost; the boxes are computed
+// in double) with their radii, a[3] = r_a and b[3] = r_b.  A triangle has b[3] < 0 (radii are
+// positive, host/scene/hygiene.h) and no points here: no node holding one is oriented.  One array
+// in the references' order, permuted with them by the build, serves the oriented splits and the
+// flattening: filled before the build, it reads the segments in their order; gathered after it,
+// in the leaves' order, it cost the ball's build 10-50 ms of cache misses (host/bvh/NOTES.md
+// "Build time: the reference ends permuted with the references").
+struct alignas(16) RefEnds {
+    float a[4], b[4];
+    bool triangle() const { return b[3] < 0.0f; }
+    // 0.5 (r_a + r_b) exactly: at least the radius either precision intersects with
+    double radius() const { return 0.5 * ((double)a[3] + (double)b[3]); }
 };
 
 // An affine frame p' = R (p - c): orthonormal rows, so boxes in it are as tight as the capsules.
@@ -307,15 +314,15 @@ struct Moments {
     }
 };
 
-Moments range_moments(const BulkVector<Prim>& prims, uint32_t b, uint32_t e) {
+Moments range_moments(const BulkVector<RefEnds>& ends, uint32_t b, uint32_t e) {
     Moments mo;
     for (uint32_t i = b; i < e; ++i) {
-        const Prim& q = prims[i];
-        if (q.points != 2) {
+        const RefEnds& q = ends[i];
+        if (q.triangle()) {
             ++mo.triangles;
             continue;
         }
-        mo.add_segment(q.p[0], q.p[1]);
+        mo.add_segment(q.a, q.b);
     }
     return mo;
 }
@@ -395,17 +402,13 @@ bool dominant_frame(const Moments& mo, const Box& bounds, Frame& f) {
     return true;
 }
 
-// A reference's capsule for oriented splits: end points a and b, a[3] the radius.
-struct alignas(16) RefEnds {
-    float a[4], b[4];
-};
-
 class Builder {
 public:
-    // ends: null, or each reference's capsule (RefEnds) in the order of refs, for oriented splits;
-    // the builder permutes it with refs.
-    Builder(BulkVector<Ref>& refs, const BvhOptions& opt, RefEnds* ends)
-        : refs_(refs), ends_(ends), opt_(opt), bins_(std::clamp(opt.bins, 4, Bins::kMax)),
+    // ends: null, or each reference's capsule (RefEnds) in the order of refs, which the builder
+    // permutes with refs; oriented_splits: bin nodes in their segments' frame too (needs ends).
+    Builder(BulkVector<Ref>& refs, const BvhOptions& opt, RefEnds* ends, bool oriented_splits)
+        : refs_(refs), ends_(ends), split_oriented_(oriented_splits && ends), opt_(opt),
+          bins_(std::clamp(opt.bins, 4, Bins::kMax)),
           lanes_((uint32_t)std::max(1, opt.leaf_lanes)), lane_shift_(-1) {
         for (int k = 0; k < 31; ++k)
             if (lanes_ == 1u << k) lane_shift_ = k;
@@ -677,7 +680,7 @@ private:
             }
             // In registers, stored once: growing the stored box lane by lane and reading it back
             // as a vector stalled on the stores.
-            const float r = q.a[3];
+            const float r = 0.5f * (q.a[3] + q.b[3]);
             const F4 rr = set4(r, r, r, 0.0f);
             const F4 lo = sub4(min4(x[0], x[1]), rr), hi = add4(max4(x[0], x[1]), rr);
             store4(fbox[i].box.lo, lo);
@@ -776,7 +779,7 @@ private:
 
         uint32_t mid;
         Box cl, cr;
-        if (ends_ && best_axis >= 0 && n >= kOrientedSplitFrom &&
+        if (split_oriented_ && best_axis >= 0 && n >= kOrientedSplitFrom &&
             oriented_split(b, e, bounds, nb, isect_per_area, best_cost, mid)) {
             best_l = Box();
             best_r = Box();
@@ -825,7 +828,8 @@ private:
     static constexpr uint32_t kOrientedSplitFrom = 16;
 
     BulkVector<Ref>& refs_;
-    RefEnds* ends_ = nullptr;  // per reference, permuted with refs_ (oriented_split), or null
+    RefEnds* ends_ = nullptr;  // per reference, permuted with refs_, or null
+    bool split_oriented_ = false;  // oriented_split() considered
     BulkVector<NodeStorage> storage_;  // reserved, never resized: alloc() hands out its slots
     std::unique_ptr<uint64_t[]> mask_;  // partition's side bits
     NodeStorage* slots_ = nullptr;     // storage_.data()
@@ -841,16 +845,18 @@ private:
 // Box of references [b, e) in frame f: a capsule's extent along a unit axis is its end points'
 // extent widened by r.
 // With stride > 1, of every stride-th reference only: a box inside the full one.
-DBox frame_box(const BulkVector<Prim>& prims, uint32_t b, uint32_t e, const Frame& f, uint32_t stride = 1) {
+// Capsules only (a range with a triangle is never oriented).
+DBox frame_box(const BulkVector<RefEnds>& ends, uint32_t b, uint32_t e, const Frame& f, uint32_t stride = 1) {
     DBox box;
     for (uint32_t i = b; i < e; i += stride) {
-        const Prim& q = prims[i];
-        for (int v = 0; v < q.points; ++v) {
-            const double p[3] = {(double)q.p[v][0] - f.c[0], (double)q.p[v][1] - f.c[1], (double)q.p[v][2] - f.c[2]};
+        const RefEnds& q = ends[i];
+        const double r = q.radius();
+        for (const float* v : {q.a, q.b}) {
+            const double p[3] = {(double)v[0] - f.c[0], (double)v[1] - f.c[1], (double)v[2] - f.c[2]};
             for (int j = 0; j < 3; ++j) {
                 const double x = dot3(f.row[j], p);
-                box.lo[j] = std::min(box.lo[j], x - q.r);
-                box.hi[j] = std::max(box.hi[j], x + q.r);
+                box.lo[j] = std::min(box.lo[j], x - r);
+                box.hi[j] = std::max(box.hi[j], x + r);
             }
         }
     }
@@ -892,25 +898,25 @@ void pad_outward(const Frame& f, DBox& b) {
 // the depth bound holds).  Slots stay in the binary tree's left-to-right order.
 struct Flattener {
     const BNode* in;  // Builder::nodes()
-    BulkVector<HtBvhNode>& out;
+    // Records [next, end) of out are this flattener's to fill, in preorder (records_below() bounds
+    // what a subtree needs).
+    HtBvhNode* out;
+    uint32_t next, end;
     const BvhOptions& opt;
-    const BulkVector<Prim>& prims;
+    const BulkVector<RefEnds>& ends;
     const BulkVector<Moments>& moments;  // per intermediate node (moments_of)
     unsigned threads = 1;
     double root_area = 1;
     double sah = 0;
     size_t leaves = 0, max_depth = 0, oriented = 0;
 
-    // Returns the reference (output index | HT_NODE_ORIENTED) of intermediate node `id`, whose box
-    // as its parent tests it has half-area `area`.
-    uint32_t visit(uint32_t id, size_t depth, double area) {
-        const uint32_t me = (uint32_t)out.size();
-        if (me >= HT_NODE_ORIENTED - 2u) throw std::runtime_error("BVH: too many nodes");
-        out.emplace_back(HtBvhNode{});  // zeroed: BulkVector leaves a bare emplace_back() unset
-        max_depth = std::max(max_depth, depth);
+    static constexpr int W = HT_BVH_WIDTH;
+
+    // The (up to W) children of the 8-wide node made of intermediate node id: kCollapseLevels full
+    // binary levels, then the inner slot of largest area opened until there are W.  Returns their
+    // number.
+    static int collapse(const BNode* in, uint32_t id, Slot* slot) {
         const BNode& bn = in[id];
-        constexpr int W = HT_BVH_WIDTH;
-        Slot slot[W];
         int level[W];  // binary levels below `id`
         int m = 0;
         // Replaces slot i (inner) by its binary node's children.
@@ -942,6 +948,33 @@ struct Flattener {
             if (pick < 0) break;
             open(pick);
         }
+        return m;
+    }
+
+    // Records the 8-wide subtree of intermediate node id can take: one per node, two if oriented.
+    static size_t records_below(const BNode* in, uint32_t id, bool oriented) {
+        Slot slot[W];
+        const int m = collapse(in, id, slot);
+        size_t n = oriented ? 2 : 1;
+        for (int k = 0; k < m; ++k)
+            if (slot[k].count == 0) n += records_below(in, slot[k].child, oriented);
+        return n;
+    }
+
+    // The next record, zeroed (it is written before any of its children's, so preorder).
+    uint32_t take() {
+        if (next >= end) throw std::logic_error("BVH: flattening overran its records");
+        out[next] = HtBvhNode{};
+        return next++;
+    }
+
+    // Returns the reference (output index | HT_NODE_ORIENTED) of intermediate node `id`, whose box
+    // as its parent tests it has half-area `area`.
+    uint32_t visit(uint32_t id, size_t depth, double area) {
+        const uint32_t me = take();
+        max_depth = std::max(max_depth, depth);
+        Slot slot[W];
+        const int m = collapse(in, id, slot);
         uint32_t range[W][2];
         for (int k = 0; k < m; ++k) {
             range[k][0] = slot[k].count > 0 ? slot[k].child : in[slot[k].child].begin;
@@ -961,7 +994,7 @@ struct Flattener {
         double aligned = 0, turned = 0;
         for (int k = 0; k < m && orient; ++k) aligned += double(range[k][1] - range[k][0]) * slot[k].box.half_area();
         for (int k = 0; k < m && orient; ++k) {
-            const Moments mo = slot[k].count ? range_moments(prims, range[k][0], range[k][1]) : moments[slot[k].child];
+            const Moments mo = slot[k].count ? range_moments(ends, range[k][0], range[k][1]) : moments[slot[k].child];
             orient = mo.triangles == 0;
             if (!orient) break;
             world[k] = directions_spread(mo) || !dominant_frame(mo, slot[k].box, frame[k]);
@@ -979,14 +1012,14 @@ struct Flattener {
                 turned += double(n) * slot[k].box.half_area() * (1 - 1e-5);
                 continue;
             }
-            const DBox sample = frame_box(prims, range[k][0], range[k][1], frame[k], stride);
+            const DBox sample = frame_box(ends, range[k][0], range[k][1], frame[k], stride);
             if (boxed[k]) obox[k] = sample;
             turned += double(n) * sample.half_area();
         }
         orient = orient && turned < opt.obb_ratio * aligned;
         turned = 0;
         for (int k = 0; k < m && orient; ++k) {
-            if (!boxed[k]) obox[k] = frame_box(prims, range[k][0], range[k][1], frame[k]);
+            if (!boxed[k]) obox[k] = frame_box(ends, range[k][0], range[k][1], frame[k]);
             pad_outward(frame[k], obox[k]);
             for (int j = 0; j < 3; ++j)
                 orient = orient && obox[k].hi[j] - obox[k].lo[j] > 0x1p-40 * (1.0 + magnitude(frame[k], obox[k]));
@@ -997,31 +1030,30 @@ struct Flattener {
         for (int k = 0; k < m; ++k) child_area[k] = orient ? obox[k].half_area() : slot[k].box.half_area();
         if (orient) {
             ++oriented;
-            out.emplace_back(HtBvhNode{});
+            take();
         }
 
         uint32_t child[W] = {};
         // With oriented nodes the root's subtrees are flattened on all build threads (the oriented
-        // boxes cost as much as the binary build), each into its own array, then appended in
-        // order: the same preorder and the same records as one thread writes.  Axis-aligned
-        // nodes cost less to write than those arrays' growth, relocation and copy: one thread
-        // writes them straight into `out` (ball, 2 threads: ~2 ms instead of ~4).
+        // boxes cost as much as the binary build), each into records of its own after the ones
+        // before it (records_below), then moved together in order: the same preorder and the same
+        // records as one thread writes.  Axis-aligned nodes cost less to write than that move:
+        // one thread writes them in place (ball, 2 threads: ~2 ms instead of ~4).
         const bool parallel = depth == 0 && threads > 1 && opt.obb_ratio > 0;
-        BulkVector<HtBvhNode> part[W];
         std::vector<Flattener> sub;
+        uint32_t first[W] = {};
         if (parallel) {
-            // Each part reserves its references' share of what `out` was reserved for, in huge pages
-            // (growing by doubling copied the parts and faulted in each new block 4 KiB at a time:
-            // host/bvh/NOTES.md "Build time: the oriented build's arrays in huge pages").
-            const double refs_here = m > 0 ? std::max(1.0, double(range[m - 1][1] - range[0][0])) : 1.0;
+            uint32_t at = next;
             for (int k = 0; k < m; ++k) {
-                if (slot[k].count == 0)
-                    part[k].reserve(size_t(double(out.capacity()) * double(range[k][1] - range[k][0]) / refs_here) + 2);
-                sub.push_back(Flattener{in, part[k], opt, prims, moments, threads, root_area});
+                const size_t need = slot[k].count == 0 ? records_below(in, slot[k].child, true) : 0;
+                if (need > end - at) throw std::logic_error("BVH: flattening overran its records");
+                first[k] = at;
+                sub.push_back(Flattener{in, out, at, at + (uint32_t)need, opt, ends, moments, threads, root_area});
+                at += (uint32_t)need;
             }
-            std::atomic<int> next{0};
+            std::atomic<int> turn{0};
             auto work = [&] {
-                for (int k; (k = next++) < m;)
+                for (int k; (k = turn++) < m;)
                     if (slot[k].count == 0) child[k] = sub[k].visit(slot[k].child, depth + 1, child_area[k]);
             };
             std::vector<std::thread> pool;
@@ -1036,11 +1068,13 @@ struct Flattener {
                 max_depth = std::max(max_depth, depth + 1);
                 sah += opt.c_isect * leaf_groups(slot[k].count, opt) * child_area[k] / root_area;
             } else if (parallel) {
-                const uint32_t base = (uint32_t)out.size();
-                if (part[k].size() + base >= HT_NODE_ORIENTED) throw std::runtime_error("BVH: too many nodes");
-                relocate(part[k], child[k], base);
-                child[k] += base;  // keeps HT_NODE_ORIENTED
-                out.insert(out.end(), part[k].begin(), part[k].end());
+                const uint32_t used = sub[k].next - first[k], shift = first[k] - next;
+                if (shift > 0) {
+                    std::memmove(out + next, out + first[k], size_t(used) * sizeof(HtBvhNode));
+                    child[k] -= shift;  // keeps HT_NODE_ORIENTED
+                    relocate(out, child[k], shift);
+                }
+                next += used;
                 sah += sub[k].sah;
                 leaves += sub[k].leaves;
                 oriented += sub[k].oriented;
@@ -1081,26 +1115,27 @@ struct Flattener {
     }
 
     // Fills out[id] with the moments of intermediate node id's references, bottom-up.
-    static const Moments& moments_of(const BNode* in, const BulkVector<Prim>& prims, uint32_t id,
+    static const Moments& moments_of(const BNode* in, const BulkVector<RefEnds>& ends, uint32_t id,
                                      BulkVector<Moments>& out) {
         const BNode& bn = in[id];
         Moments mo;
         for (int s = 0; s < 2; ++s) {
             if (bn.count[s] > 0)
-                mo.add(range_moments(prims, bn.child[s], bn.child[s] + bn.count[s]));
+                mo.add(range_moments(ends, bn.child[s], bn.child[s] + bn.count[s]));
             else if (bn.child[s] != 0)
-                mo.add(moments_of(in, prims, bn.child[s], out));
+                mo.add(moments_of(in, ends, bn.child[s], out));
         }
         return out[id] = mo;
     }
 
-    // Adds `base` to the inner child references below node `ref` of a subtree flattened on its own.
-    static void relocate(BulkVector<HtBvhNode>& v, uint32_t ref, uint32_t base) {
+    // Takes `shift` off the inner child references below node `ref` of a subtree moved down by
+    // that many records.
+    static void relocate(HtBvhNode* v, uint32_t ref, uint32_t shift) {
         HtBvhNode& n = v[ref & ~HT_NODE_ORIENTED];
         for (int k = 0; k < HT_BVH_WIDTH; ++k)
             if (n.count[k] == 0 && n.child[k] != 0) {
-                relocate(v, n.child[k], base);
-                n.child[k] += base;
+                n.child[k] -= shift;
+                relocate(v, n.child[k], shift);
             }
     }
 };
@@ -1157,54 +1192,48 @@ void build_bvh_from(const BulkVector<HtSegment>& base, SceneGeometry& geo, const
         add_refs(refs, i, p0, p1, 0.5f * (a.r + b.r), 0.0f, 1.0f, 0, opt);
     }
 
-    // Oriented splits read each reference's end points, in the references' order so that the
-    // reads stream (by segment id they were a quarter of the build, cache misses); hair only: a
-    // triangle has no direction to bin along.
+    // Each reference's end points for the oriented nodes and splits (RefEnds), filled in the
+    // segments' order and permuted with the references by the build.
     BulkVector<RefEnds> ends;
-    if (opt.obb_split > 0 && opt.obb_ratio > 0 && geo.triangle_count == 0) {
+    if (opt.obb_ratio > 0) {
         ends.resize(refs.size());
         for (size_t i = 0; i < refs.size(); ++i) {
             const HtSegment& s = base[refs[i].seg()];
+            if (ht_seg_flags(s) & HT_SEG_TRIANGLE) {
+                ends[i] = RefEnds{{0.0f, 0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f, -1.0f}};
+                continue;
+            }
             const HtPoint& a = geo.points[s.point];
             const HtPoint& b = geo.points[s.point + 1];
-            ends[i] = RefEnds{{a.x, a.y, a.z, 0.5f * (a.r + b.r)}, {b.x, b.y, b.z, 0.0f}};
+            ends[i] = RefEnds{{a.x, a.y, a.z, a.r}, {b.x, b.y, b.z, b.r}};
         }
     }
 
-    Builder builder(refs, opt, ends.empty() ? nullptr : ends.data());
+    // Oriented splits: hair only, a triangle has no direction to bin along.
+    Builder builder(refs, opt, ends.empty() ? nullptr : ends.data(),
+                    opt.obb_split > 0 && geo.triangle_count == 0);
     const uint32_t root = builder.run();
 
-    BulkVector<Prim> prims;
-    if (opt.obb_ratio > 0) {
-        prims.resize(refs.size());
-        for (size_t i = 0; i < refs.size(); ++i) {
-            const HtSegment& s = base[refs[i].seg()];
-            Prim& q = prims[i];
-            q.points = ht_seg_flags(s) & HT_SEG_TRIANGLE ? 3 : 2;
-            for (int v = 0; v < q.points; ++v) {
-                const HtPoint& p = geo.points[s.point + v];
-                q.p[v][0] = p.x, q.p[v][1] = p.y, q.p[v][2] = p.z;
-            }
-            q.r = q.points == 2 ? 0.5 * ((double)geo.points[s.point].r + (double)geo.points[s.point + 1].r) : 0.0;
-        }
-    }
-
+    // The records the tree can take, counted on the binary tree (two per node where it may be
+    // oriented), are allocated but not touched (BulkVector); the flattening fills them in preorder
+    // and the rest is cut off.  Not one per reference: with 256-byte records that reservation (64
+    // MB for the strand anchor) made the build ~1.4x slower (host/bvh/NOTES.md "8-wide nodes").
     geo.nodes.clear();
-    // Each output node stems from its own binary node (two records if oriented).  Not one per
-    // reference: with 256-byte records that reservation (64 MB for the strand anchor) made the
-    // build ~1.4x slower (host/bvh/NOTES.md "8-wide nodes").
-    geo.nodes.reserve(size_t(builder.used()) * (opt.obb_ratio > 0 ? 2 : 1) + 1);
+    const size_t records = Flattener::records_below(builder.nodes(), root, opt.obb_ratio > 0);
+    if (records >= HT_NODE_ORIENTED) throw std::runtime_error("BVH: too many nodes");
+    geo.nodes.resize(records);
     BulkVector<Moments> moments;
     if (opt.obb_ratio > 0) {
         moments.resize(builder.used());
-        Flattener::moments_of(builder.nodes(), prims, root, moments);
+        Flattener::moments_of(builder.nodes(), ends, root, moments);
     }
-    Flattener fl{builder.nodes(), geo.nodes, opt, prims, moments,
+    Flattener fl{builder.nodes(), geo.nodes.data(), 0, (uint32_t)records, opt, ends, moments,
                  opt.threads ? opt.threads : std::max(1u, std::thread::hardware_concurrency())};
     Box rb = builder.nodes()[root].box[0];
     rb.grow(builder.nodes()[root].box[1]);
     fl.root_area = std::max(rb.half_area(), 1e-30);
     fl.visit(root, 0, fl.root_area);
+    geo.nodes.resize(fl.next);
 
     geo.segments.clear();
     geo.segments.reserve(refs.size());
