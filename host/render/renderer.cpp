@@ -14,6 +14,7 @@
 
 #include "bvh/bvh.h"
 #include "bvh/device_geometry.h"
+#include "cl/work_buffer.h"
 #include "core/constants.h"
 #include "render/environment.h"
 #include "render/features.h"
@@ -188,12 +189,21 @@ struct Renderer::Impl {
     Pilot* pilot = nullptr;
     uint32_t light_samples = 1;    // --first-hit-light-samples
     uint32_t paths_per_pixel = 1;  // path states of a camera path: max(splits, light_samples)
-    cl::Buffer buffers[size_t(PathBuffer::Count)];
+    WorkBuffer buffers[size_t(PathBuffer::Count)];
     cl::Buffer counters;
 
-    cl::Buffer& buffer(PathBuffer b) { return buffers[size_t(b)]; }
+    cl::Buffer& buffer(PathBuffer b) { return buffers[size_t(b)].buffer(); }
     cl::Buffer& queue_rays(int q) { return buffer(q ? PathBuffer::RaysB : PathBuffer::RaysA); }
     cl::Buffer& queue_paths(int q) { return buffer(q ? PathBuffer::RayPathB : PathBuffer::RayPathA); }
+
+    // Commands still queued (a render left by an exception) may use the path buffers' host memory
+    // (cl/work_buffer.h): they finish before it goes.
+    ~Impl() {
+        try {
+            cl.queue().finish();
+        } catch (...) {
+        }
+    }
 
     Impl(ClContext& c, std::unique_ptr<PreparedScene> own, const PreparedScene& p)
         : cl(c), owned(std::move(own)), prepared(p), settings(p.settings) {
@@ -406,10 +416,10 @@ struct Renderer::Impl {
 
     void allocate(size_t n) {
         if (injected_fault("alloc")) throw cl::Error(CL_MEM_OBJECT_ALLOCATION_FAILURE, "clCreateBuffer");
+        if (capacity) cl.queue().finish();  // the buffers replaced below may be host memory (WorkBuffer)
         capacity = n;
         for (const PathBufferSpec& b : kPathBuffers)
-            if (buffer_set.uses(b))
-                buffer(b.id) = cl::Buffer(cl.context(), CL_MEM_READ_WRITE, buffer_set.bytes(b, n));
+            if (buffer_set.uses(b)) buffers[size_t(b.id)] = WorkBuffer(cl, buffer_set.bytes(b, n));
         counters = cl::Buffer(cl.context(), CL_MEM_READ_WRITE, HT_COUNTER_COUNT * sizeof(uint32_t));
     }
 
