@@ -78,9 +78,9 @@ std::vector<ConvergeConfig> parse_configs(const std::string& text, const ImageRe
                 r.settings.light_vertices =
                     v == "off" ? 0u : uint32_t(parse_int("--configs light_vertices", v, 1, int(kMaxLightVertices)));
             if (k == "camera_rays")
-                r.settings.camera_lists = require_choice("--configs camera_rays", v, {"lists", "tree"}) == "lists";
+                r.settings.camera_lists = list_choice(require_choice("--configs camera_rays", v, {"auto", "lists", "tree"}));
             if (k == "shadow_rays")
-                r.settings.shadow_lists = shadow_lists_mode(require_choice("--configs shadow_rays", v, {"auto", "lists", "tree"}));
+                r.settings.shadow_lists = list_choice(require_choice("--configs shadow_rays", v, {"auto", "lists", "tree"}));
             if (k == "samples_per_pass")
                 r.settings.samples_per_pass = parse_int("--configs samples_per_pass", v, 1, kMaxSamplesPerPass);
             if (k == "empty_pixels")

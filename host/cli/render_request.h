@@ -62,8 +62,8 @@ struct RenderRequest {
     std::vector<std::string> command_line;  // every word, for the images' metadata (set by the command)
 };
 
-// --shadow-rays auto|lists|tree (also converge's shadow_rays key)
-RenderSettings::ShadowLists shadow_lists_mode(const std::string& word);
+// --camera-rays and --shadow-rays auto|lists|tree (also converge's camera_rays and shadow_rays keys)
+RenderSettings::ListChoice list_choice(const std::string& word);
 
 // The words --model and --indirect accept (converge's --configs keys take the same).
 const std::vector<std::string>& fiber_model_names();

@@ -40,6 +40,15 @@ bool wants_shadow_lists(const RenderSettings& s, const PreparedScene& p) {
            double(s.spp) * pixels >= kShadowListRaysPerPrimitive * double(p.geometry.segments.size()) * double(grids);
 }
 
+// RenderSettings::camera_lists: whether the lists will save more than they cost (decided before
+// the projection, so by the image's pixels, render/candidate_lists.h kCameraListRaysPerPrimitive).
+bool wants_camera_lists(const RenderSettings& s, const SceneGeometry& geometry) {
+    using Mode = RenderSettings::ListChoice;
+    if (s.camera_lists != Mode::Auto) return s.camera_lists == Mode::Lists;
+    return double(s.spp) * double(s.width) * double(s.height) >=
+           kCameraListRaysPerPrimitive * double(geometry.segments.size());
+}
+
 }  // namespace
 
 namespace {
@@ -119,12 +128,13 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& s, const R
     // which primitive begins at each point: made once for the camera's projection and the
     // lights' alike, by whichever comes first
     PrimitiveStarts starts;
-    if (skip_empty || s.camera_lists) {
+    const bool camera_lists = wants_camera_lists(s, p.geometry);
+    if (skip_empty || camera_lists) {
         const auto t0 = std::chrono::steady_clock::now();
         starts = primitive_starts(p.geometry);
         const ProjectedPrimitives projected = project_primitives(p.camera, p.geometry, &starts);
         const auto t1 = std::chrono::steady_clock::now();
-        if (s.camera_lists) {
+        if (camera_lists) {
             p.candidates = pixel_candidates(projected, s.camera_list_cap ? s.camera_list_cap : kMaxCandidatesPerPixel);
             if (p.candidates.enabled) p.candidates.leaf_node = leaf_entry_nodes(p.geometry);
         }

@@ -135,17 +135,22 @@ struct RenderSettings {
     // (render/pixel_footprint.h) get the background's value without being traced -- the same
     // bits as tracing them.  Off: every pixel is traced (for A/B measurements).
     bool skip_empty_pixels = true;
-    // --camera-rays lists: a camera ray tests its pixel's candidate list, nearest first, instead
-    // of traversing the tree (render/candidate_lists.h pixel_candidates) -- the same hits.  Off
-    // (tree): every camera ray traverses the tree (for A/B measurements).
-    bool camera_lists = true;
+    // Rays of one kind (camera rays, shadow rays toward a directional light) find their closest
+    // hit or a blocker from lists made for them (Lists), by the tree (Tree), or from lists when
+    // the render traces enough of them to pay for the lists (Auto).  The same answers either way.
+    enum class ListChoice { Auto, Lists, Tree };
+    // --camera-rays: a camera ray tests its pixel's candidate list, nearest first, instead of
+    // traversing the tree (render/candidate_lists.h pixel_candidates).  Auto: lists when spp
+    // times the image's pixels reaches kCameraListRaysPerPrimitive per primitive.
+    ListChoice camera_lists = ListChoice::Auto;
     uint32_t camera_list_cap = 0;  // a pixel's longest list (0: kMaxCandidatesPerPixel); tests set less
     // --shadow-rays lists: shadow rays toward a directional light test the list of their cell in a
     // grid across the light's direction (render/shadow_lists.h) -- the same answers.  Tree: every
     // shadow ray traverses the tree.  Auto: lists when the render's first-vertex shadow rays, spp
     // times the pixels that see geometry, reach kShadowListRaysPerPrimitive per primitive and grid
     // (below that, building them costs more than they save).
-    enum class ShadowLists { Auto, Lists, Tree } shadow_lists = ShadowLists::Auto;
+    using ShadowLists = ListChoice;
+    ShadowLists shadow_lists = ShadowLists::Auto;
 
     // --target-error: after adaptive_min_spp samples everywhere, further chunks only for the
     // tiles whose relative error estimate exceeds it (render/adaptive.h); 0: every pixel gets

@@ -20,10 +20,10 @@ using namespace rendertest;
 // lists against the tree: the same film; returns the lists' statistics
 ht::RenderStats expect_same_film(const ht::Scene& s, ht::RenderSettings rs, const char* what) {
     ht::RenderStats lists, tree;
-    rs.camera_lists = true;
+    rs.camera_lists = ht::RenderSettings::ListChoice::Lists;
     rs.shadow_lists = ht::RenderSettings::ShadowLists::Lists;
     const ht::Film a = render(s, rs, &lists);
-    rs.camera_lists = false;
+    rs.camera_lists = ht::RenderSettings::ListChoice::Tree;
     rs.shadow_lists = ht::RenderSettings::ShadowLists::Tree;
     const ht::Film b = render(s, rs, &tree);
     EXPECT_EQ(a.rgba, b.rgba) << what;
@@ -94,15 +94,38 @@ TEST(CandidateLists, NoListsWhenNothingCanBeProved) {
     EXPECT_EQ(st.candidate_entries, 0u);
 }
 
-// On the command line: lists (the default) and tree write the same image; bad values exit 2.
+// On the command line: lists, tree and auto (the default) write the same image; bad values exit 2.
 TEST(CandidateListsCli, ListsAndTreeWriteTheSameImage) {
     clitest::TempDir d("ht_candidate_lists_");
-    clitest::expect_same_image_and_usage_errors(d, clitest::kSmallStrandRender + " --spp 3", " --camera-rays tree", "",
+    clitest::expect_same_image_and_usage_errors(d, clitest::kSmallStrandRender + " --spp 3", " --camera-rays tree",
+                                                " --camera-rays lists",
                                                 {" --camera-rays", " --camera-rays bvh", " --camera-rays 1"});
+    clitest::expect_same_image_and_usage_errors(d, clitest::kSmallStrandRender + " --spp 3", " --camera-rays auto", "", {});
     // a scene without lights gets the default view's three directional lights
     clitest::expect_same_image_and_usage_errors(
         d, std::string(HT_BINARY) + " render " + HT_SOURCE_DIR + "/tests/data/interleaved_lines.gltf --width 32 --height 24 --spp 3 --max-depth 3 --quiet",
         " --shadow-rays tree --camera-rays tree", " --shadow-rays lists", {" --shadow-rays", " --shadow-rays bvh"});
+}
+
+// --camera-rays auto: lists once spp x the image's pixels reaches kCameraListRaysPerPrimitive per
+// segment, the tree below; lists and tree as asked whatever the count.
+TEST(CandidateLists, AutoMakesCameraListsWhereEnoughRaysUseThem) {
+    const ht::Scene s = scene("builtin:ball?hairs=300&segments=8");
+    ht::RenderSettings rs = small_settings(1, 7, 1);
+    const double threshold = ht::kCameraListRaysPerPrimitive * double(ht::prepare_scene(s, rs).geometry.segments.size());
+    const int spp_lists = int(std::ceil(threshold / (double(rs.width) * rs.height)));
+    ASSERT_GT(spp_lists, 1);
+    const auto lists_at = [&](int spp, ht::RenderSettings::ListChoice choice) {
+        ht::RenderSettings r = rs;
+        r.spp = spp;
+        r.camera_lists = choice;
+        return ht::prepare_scene(s, r).candidates.enabled;
+    };
+    using LC = ht::RenderSettings::ListChoice;
+    EXPECT_FALSE(lists_at(spp_lists - 1, LC::Auto));
+    EXPECT_TRUE(lists_at(spp_lists, LC::Auto));
+    EXPECT_TRUE(lists_at(1, LC::Lists));
+    EXPECT_FALSE(lists_at(4 * spp_lists, LC::Tree));
 }
 
 // The lists are what the rays use: emptied, every camera ray misses (the film is the background)
@@ -113,6 +136,7 @@ TEST(CandidateLists, TheRaysUseTheLists) {
     s.lights.erase(s.lights.begin(), s.lights.end() - 2);  // the suns alone
     s.environment.color = {0.25f, 0.5f, 0.75f};
     ht::RenderSettings rs = small_settings(2, 7, 1);
+    rs.camera_lists = ht::RenderSettings::ListChoice::Lists;
     rs.shadow_lists = ht::RenderSettings::ShadowLists::Lists;
     ht::PreparedScene prepared = ht::prepare_scene(s, rs);
     ASSERT_TRUE(prepared.candidates.enabled);
@@ -151,7 +175,7 @@ TEST(CandidateLists, ListsThatDoNotFitTheDeviceAreLeftOut) {
     };
     // the least --max-memory that holds the render without lists
     ht::RenderSettings bare = rs;
-    bare.camera_lists = false;
+    bare.camera_lists = ht::RenderSettings::ListChoice::Tree;
     bare.shadow_lists = ht::RenderSettings::ShadowLists::Tree;
     uint64_t lo = 1, hi = uint64_t(1) << 32;  // fits at hi, not at lo
     bare.max_device_bytes = hi;
@@ -160,7 +184,7 @@ TEST(CandidateLists, ListsThatDoNotFitTheDeviceAreLeftOut) {
         bare.max_device_bytes = lo + (hi - lo) / 2;
         (fits(bare) ? hi : lo) = bare.max_device_bytes;
     }
-    rs.camera_lists = true;
+    rs.camera_lists = ht::RenderSettings::ListChoice::Lists;
     rs.shadow_lists = ht::RenderSettings::ShadowLists::Lists;
     ht::RenderStats full, tight;
     const ht::Film with_lists = render(s, rs, &full);

@@ -19,7 +19,7 @@ TEST(EmptyPixels, SkippedPixelsHoldTheTracedBitsAndAreNotTraced) {
         SCOPED_TRACE(lists ? "empty pixels from the camera's lists" : "empty pixels from the images");
         const ht::Scene s = sparse_strand();
         ht::RenderSettings rs = small_settings(6, 11, 3);
-        rs.camera_lists = lists;
+        rs.camera_lists = lists ? ht::RenderSettings::ListChoice::Lists : ht::RenderSettings::ListChoice::Tree;
         rs.first_hit_splits = 2;
         rs.target_error = 0.01f;  // the even half film is filled too
         ht::RenderStats skipped, traced;
