@@ -621,7 +621,8 @@ int bench_main(const std::vector<std::string>& args, const SceneSource& source_i
         }
 
         // ---- device program
-        const DeviceGeometry dgeo = upload_geometry(cl, geo);
+        // in the memory the renderer's geometry has (GeometryMemory::Shared); geo outlives it
+        const DeviceGeometry dgeo = upload_geometry(cl, geo, 0, GeometryMemory::Shared);
         DeviceTracer tracer(cl, dgeo, options);
         const double first_ms = tracer.build_ms();
         const bool first_cached = tracer.build_cached();

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <stdexcept>
 
@@ -24,12 +25,16 @@ template <typename F> void device_step(const char* what, F&& f) {
 namespace {
 static_assert(kMaxGeometryPages == HT_MAX_GEOMETRY_PAGES, "one page limit for host and kernels");
 
-cl::Buffer make_buffer(ClContext& cl, const std::string& what, const void* data, size_t bytes) {
+cl::Buffer make_buffer(ClContext& cl, const std::string& what, const void* data, size_t bytes,
+                       GeometryMemory memory) {
     // A zero-sized buffer is invalid in OpenCL; an empty array still gets one element.
     const size_t n = bytes ? bytes : 16;
+    constexpr size_t kHugePage = BulkAllocator<unsigned char>::kHugePage;
+    const bool shared = memory == GeometryMemory::Shared && cl.info().type == "CPU" && bytes >= kHugePage &&
+                        reinterpret_cast<uintptr_t>(data) % kHugePage == 0;
     try {
         if (!bytes) return cl::Buffer(cl.context(), CL_MEM_READ_ONLY, n);
-        return cl::Buffer(cl.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, n,
+        return cl::Buffer(cl.context(), CL_MEM_READ_ONLY | (shared ? CL_MEM_USE_HOST_PTR : CL_MEM_COPY_HOST_PTR), n,
                           const_cast<void*>(data));
     } catch (const cl::Error& e) {
         throw DeviceError(std::string("cannot allocate the ") + what + " buffer (" +
@@ -42,22 +47,22 @@ cl::Buffer make_buffer(ClContext& cl, const std::string& what, const void* data,
 // no index reaches them, but every kernel argument must be a valid buffer).
 template <typename T, typename Allocator>
 std::vector<cl::Buffer> make_pages(ClContext& cl, const char* what, const std::vector<T, Allocator>& v,
-                                   const GeometryPaging& paging) {
+                                   const GeometryPaging& paging, GeometryMemory memory) {
     const size_t bytes = v.size() * sizeof(T);
-    if (paging.pages == 1) return {make_buffer(cl, what, v.data(), bytes)};
+    if (paging.pages == 1) return {make_buffer(cl, what, v.data(), bytes, memory)};
     const size_t per_page = size_t(paging.page_bytes() / sizeof(T));
     std::vector<cl::Buffer> out;
     for (size_t first = 0; first < v.size() || out.empty(); first += per_page) {
         const size_t n = std::min(per_page, v.size() - first);
         out.push_back(make_buffer(cl, std::string(what) + " page " + std::to_string(out.size()),
-                                  v.data() + first, n * sizeof(T)));
+                                  v.data() + first, n * sizeof(T), memory));
     }
     while (out.size() < paging.pages) out.push_back(out.back());
     return out;
 }
 }  // namespace
 
-DeviceGeometry upload_geometry(ClContext& cl, const SceneGeometry& geo, uint64_t max_alloc) {
+DeviceGeometry upload_geometry(ClContext& cl, const SceneGeometry& geo, uint64_t max_alloc, GeometryMemory memory) {
     DeviceGeometry d;
     const size_t nb = geo.nodes.size() * sizeof(HtBvhNode);
     const size_t sb = geo.segments.size() * sizeof(HtSegment);
@@ -69,10 +74,10 @@ DeviceGeometry upload_geometry(ClContext& cl, const SceneGeometry& geo, uint64_t
     } catch (const DeviceError& e) {
         throw DeviceError(std::string(e.what()) + " (device: " + cl.info().name + ")");
     }
-    d.nodes = make_pages(cl, "BVH node", geo.nodes, d.paging);
-    d.segments = make_pages(cl, "segment", geo.segments, d.paging);
-    d.points = make_pages(cl, "point", geo.points, d.paging);
-    d.triangles = make_pages(cl, "triangle shading", geo.triangles, d.paging);
+    d.nodes = make_pages(cl, "BVH node", geo.nodes, d.paging, memory);
+    d.segments = make_pages(cl, "segment", geo.segments, d.paging, memory);
+    d.points = make_pages(cl, "point", geo.points, d.paging, memory);
+    d.triangles = make_pages(cl, "triangle shading", geo.triangles, d.paging, memory);
     d.triangle_count = geo.triangles.size();
     d.bytes = nb + sb + pb + tb;
     return d;

@@ -19,10 +19,19 @@ struct DeviceGeometry {
     size_t bytes = 0;
 };
 
-// Copies the arrays into read-only device buffers, paged (plan_geometry_pages) when one exceeds
-// max_alloc (0: the device's maximum allocation, which HAIRTRACE_MAX_ALLOC may lower).  Throws
-// DeviceError naming the array and the sizes when even kMaxGeometryPages pages are too few.
-DeviceGeometry upload_geometry(ClContext& cl, const SceneGeometry& geo, uint64_t max_alloc = 0);
+// How upload_geometry gives the arrays to the device.  Copy: read-only device buffers of their
+// own, the arrays may go when it returns.  Shared: on a CPU device, an array (or page) of 2 MiB or
+// more that starts on a 2 MiB boundary (SceneGeometry's BulkVectors do) is the buffer itself
+// (CL_MEM_USE_HOST_PTR): no copy, no second set of pages to fault in (the anchor's head: 115 MB,
+// ~30,000 faults), half the memory; the arrays must then outlive the DeviceGeometry unchanged.
+// Elsewhere, Shared copies.
+enum class GeometryMemory { Copy, Shared };
+
+// The arrays as read-only device buffers, paged (plan_geometry_pages) when one exceeds max_alloc
+// (0: the device's maximum allocation, which HAIRTRACE_MAX_ALLOC may lower).  Throws DeviceError
+// naming the array and the sizes when even kMaxGeometryPages pages are too few.
+DeviceGeometry upload_geometry(ClContext& cl, const SceneGeometry& geo, uint64_t max_alloc = 0,
+                               GeometryMemory memory = GeometryMemory::Copy);
 
 // Sets one paged array's kernel arguments from index `arg` on; returns the next free index.
 cl_uint set_paged_args(cl::Kernel& k, cl_uint arg, const std::vector<cl::Buffer>& pages);

@@ -208,7 +208,9 @@ struct Renderer::Impl {
     Impl(ClContext& c, std::unique_ptr<PreparedScene> own, const PreparedScene& p)
         : cl(c), owned(std::move(own)), prepared(p), settings(p.settings) {
         const RenderSettings& s = settings;
-        device_geometry = upload_geometry(cl, p.geometry);
+        // the prepared scene outlives the renderer (prepared is read throughout), so its arrays
+        // can be the buffers
+        device_geometry = upload_geometry(cl, p.geometry, 0, GeometryMemory::Shared);
         scene.strand_material = device_array(cl.context(), p.strand_material);
         scene.materials = device_array(cl.context(), p.materials);
         scene.light_count = cl_uint(p.lights.size());

@@ -747,6 +747,37 @@ TEST(BvhKernel, PagedGeometryGivesIdenticalHits) {
     EXPECT_EQ(t_flat.trace_shadow(rays), t_paged.trace_shadow(rays));
 }
 
+// GeometryMemory::Shared: on a CPU device the arrays of 2 MiB or more are the buffers themselves
+// (no copy); the hits are the copies' bit for bit, also paged (pages on 2 MiB boundaries share).
+TEST(BvhKernel, SharedGeometryGivesTheCopiesHits) {
+    const SceneGeometry g = ht::build_geometry(random_strands(41, 6000, 24, 0.02, 0.002));  // 144,000 segments
+    const size_t huge = ht::BulkAllocator<unsigned char>::kHugePage;
+    ASSERT_GE(g.points.size() * sizeof(HtPoint), huge);
+    ht::DeviceGeometry copied = ht::upload_geometry(cl(), g);
+    ht::DeviceGeometry shared = ht::upload_geometry(cl(), g, 0, ht::GeometryMemory::Shared);
+    ht::DeviceGeometry shared_paged = ht::upload_geometry(cl(), g, huge, ht::GeometryMemory::Shared);
+    ASSERT_GE(shared_paged.paging.pages, 2u);
+    const auto uses_host = [](cl::Buffer& b) { return (b.getInfo<CL_MEM_FLAGS>() & CL_MEM_USE_HOST_PTR) != 0; };
+    const bool cpu = cl().info().type == "CPU";
+    EXPECT_EQ(uses_host(shared.points[0]), cpu);
+    EXPECT_EQ(uses_host(shared_paged.points[0]), cpu);  // the first page starts where the array does
+    EXPECT_FALSE(uses_host(copied.points[0]));
+    ht::DeviceTracer t_copied(cl(), copied), t_shared(cl(), shared), t_paged(cl(), shared_paged);
+    const auto rays = random_rays(42, 20000, 1.0);
+    const auto a = t_copied.trace_closest(rays), b = t_shared.trace_closest(rays), c = t_paged.trace_closest(rays);
+    size_t hits = 0, differ = 0;
+    for (size_t i = 0; i < a.size(); ++i) {
+        hits += a[i].segment != HT_NO_HIT;
+        differ += std::memcmp(&a[i], &b[i], sizeof(HtHit)) != 0;
+        differ += std::memcmp(&a[i], &c[i], sizeof(HtHit)) != 0;
+    }
+    EXPECT_GT(hits, 2000u);
+    EXPECT_EQ(differ, 0u);
+    const auto occluded = t_copied.trace_shadow(rays);
+    EXPECT_EQ(occluded, t_shared.trace_shadow(rays));
+    EXPECT_EQ(occluded, t_paged.trace_shadow(rays));
+}
+
 TEST(BvhKernel, ThinFibres) {
     // r = 1e-5 of the segment length (L = 1, r = 1e-5) in a scene of coordinates |x| < ~6, so
     // one float ulp of a coordinate is ~5 % of r: rays aimed clearly inside (|offset| <= 0.8 r)
