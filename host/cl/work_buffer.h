@@ -2,7 +2,7 @@
 // (render/path_buffers.h).  On a CPU device the buffer's memory is the host's own, 2 MiB-aligned and
 // advised as huge pages (core/bulk_vector.h), handed to the runtime with CL_MEM_USE_HOST_PTR, which
 // PoCL's CPU driver takes as the buffer itself: the kernels' first writes then fault in one 2 MiB
-// page at a time instead of the runtime's own 4 KiB pages, each a fault of ~10 us on a virtual
+// page at a time instead of the runtime's own 4 KiB pages, each a fault of several us on a virtual
 // machine (about 30,000 in a 256x256, 16-spp render of pbrt's lock: docs/PERFORMANCE.md section 3
 // "Path buffers in huge pages").  Smaller buffers and other devices get the runtime's memory.
 // The owner must let the queue finish before it drops or replaces a WorkBuffer that commands may
@@ -42,7 +42,6 @@ public:
 private:
     BulkVector<unsigned char> host_;  // empty unless the buffer uses it
     cl::Buffer buffer_;               // declared after host_, so released before it
-
 };
 
 }  // namespace ht

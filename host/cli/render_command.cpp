@@ -104,7 +104,9 @@ void open_devices(PreparedRender& job, const RenderRequest& request, bool quiet)
         for (auto& c : job.contexts) prefetch_render_program(*c, recipe, job.scene);
     };
     job.prepared = std::make_unique<PreparedScene>(prepare_scene(job.scene, job.settings, start_builds));
-    for (auto& c : job.contexts) job.renderers.push_back(std::make_unique<Renderer>(*c, *job.prepared));
+    // one device may render from the prepared scene's own arrays; several each take a copy
+    const GeometryMemory geometry = job.contexts.size() > 1 ? GeometryMemory::Copy : GeometryMemory::Shared;
+    for (auto& c : job.contexts) job.renderers.push_back(std::make_unique<Renderer>(*c, *job.prepared, geometry));
     // --first-hit-splits auto: one pilot, on the first device; every device uses its choice
     if (job.settings.first_hit_splits == kAutoFirstHitSplits) {
         const SplitChoice choice = job.renderers.front()->choose_first_hit_splits();

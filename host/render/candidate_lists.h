@@ -22,6 +22,7 @@ constexpr uint32_t kCandidatesUseTree = 0xFFFFFFFFu;  // kernels/stages/intersec
 // pixels hold ~900 and still beat the tree) and the lists' budget, 8 bytes an entry: beyond it
 // the cap halves until they fit, and below 8 no lists are made.
 constexpr uint32_t kMaxCandidatesPerPixel = 1024;
+constexpr uint64_t kMaxCandidateEntries = uint64_t(1) << 24;
 // RenderSettings::ListChoice::Auto for camera rays: lists when spp x the image's pixels reaches
 // this many per primitive.  Making them costs about as much per primitive as they save per
 // camera ray (0.3 us each on pbrt's lock, docs/PERFORMANCE.md section 8), and the pixels that see
@@ -30,7 +31,6 @@ constexpr uint32_t kMaxCandidatesPerPixel = 1024;
 // costing time on pbrt's lock and builtin:ball (~16 spp at 256^2) and the anchor's head (beyond
 // 64 spp).
 constexpr double kCameraListRaysPerPrimitive = 4.0;
-constexpr uint64_t kMaxCandidateEntries = uint64_t(1) << 24;
 // The lists' margin: the bounds are exact but for double rounding; what they must cover is the
 // float arithmetic of the kernels' camera rays and capsule roots, relative errors of ~1e-7 of the
 // distance, i.e. ~1e-7 radians, against 1/64 of a pixel's angle (3e-5 radians at 256 pixels

@@ -205,12 +205,12 @@ struct Renderer::Impl {
         }
     }
 
-    Impl(ClContext& c, std::unique_ptr<PreparedScene> own, const PreparedScene& p)
+    Impl(ClContext& c, std::unique_ptr<PreparedScene> own, const PreparedScene& p, GeometryMemory geometry)
         : cl(c), owned(std::move(own)), prepared(p), settings(p.settings) {
         const RenderSettings& s = settings;
         // the prepared scene outlives the renderer (prepared is read throughout), so its arrays
         // can be the buffers
-        device_geometry = upload_geometry(cl, p.geometry, 0, GeometryMemory::Shared);
+        device_geometry = upload_geometry(cl, p.geometry, 0, geometry);
         scene.strand_material = device_array(cl.context(), p.strand_material);
         scene.materials = device_array(cl.context(), p.materials);
         scene.light_count = cl_uint(p.lights.size());
@@ -840,9 +840,9 @@ struct Renderer::Impl {
     }
 };
 
-Renderer::Renderer(ClContext& cl, const PreparedScene& prepared) {
+Renderer::Renderer(ClContext& cl, const PreparedScene& prepared, GeometryMemory geometry) {
     try {
-        impl_ = new Impl(cl, nullptr, prepared);
+        impl_ = new Impl(cl, nullptr, prepared, geometry);
     } catch (const cl::Error& e) {
         throw DeviceError(std::string("OpenCL setup failed in ") + e.what() + ": " + cl_error_name(e.err()));
     }
@@ -854,7 +854,7 @@ Renderer::Renderer(ClContext& cl, const Scene& scene, const RenderSettings& sett
             scene, settings, [&](const PreparedScene& recipe) { prefetch_render_program(cl, recipe, scene); }));
         const PreparedScene& p = *own;
         try {
-            impl_ = new Impl(cl, std::move(own), p);
+            impl_ = new Impl(cl, std::move(own), p, GeometryMemory::Shared);
         } catch (const cl::Error& e) {
             throw DeviceError(std::string("OpenCL setup failed in ") + e.what() + ": " + cl_error_name(e.err()));
         }

@@ -1,6 +1,7 @@
 // The wavefront path tracer on one OpenCL device.
 #pragma once
 
+#include "bvh/device_geometry.h"
 #include "cl/device.h"
 #include "core/film.h"
 #include "render/features.h"
@@ -88,7 +89,10 @@ void prefetch_render_program(ClContext& cl, const PreparedScene& recipe, const S
 class Renderer {
 public:
     // Uploads `prepared` (which must outlive the renderer) and builds the kernels for this device.
-    Renderer(ClContext& cl, const PreparedScene& prepared);
+    // geometry: how its BVH arrays reach the device (bvh/device_geometry.h).  Shared makes them
+    // the buffers on a CPU device; renderers that use one prepared scene at the same time pass
+    // Copy, as OpenCL leaves several buffers made on one host region undefined.
+    Renderer(ClContext& cl, const PreparedScene& prepared, GeometryMemory geometry = GeometryMemory::Shared);
     // The same for a scene prepared for this renderer alone (tests, single-device tools).
     Renderer(ClContext& cl, const Scene& scene, const RenderSettings& settings);
     ~Renderer();
