@@ -951,7 +951,9 @@ struct Flattener {
         return m;
     }
 
-    // Records the 8-wide subtree of intermediate node id can take: one per node, two if oriented.
+    // Records the 8-wide subtree of intermediate node id can take: one per node, two if oriented
+    // (a parallel part's range; the whole output is bounded by the binary node count instead, so
+    // that the tree is counted once).
     static size_t records_below(const BNode* in, uint32_t id, bool oriented) {
         Slot slot[W];
         const int m = collapse(in, id, slot);
@@ -1214,12 +1216,12 @@ void build_bvh_from(const BulkVector<HtSegment>& base, SceneGeometry& geo, const
                     opt.obb_split > 0 && geo.triangle_count == 0);
     const uint32_t root = builder.run();
 
-    // The records the tree can take, counted on the binary tree (two per node where it may be
-    // oriented), are allocated but not touched (BulkVector); the flattening fills them in preorder
-    // and the rest is cut off.  Not one per reference: with 256-byte records that reservation (64
-    // MB for the strand anchor) made the build ~1.4x slower (host/bvh/NOTES.md "8-wide nodes").
+    // Each output node stems from its own binary node (two records if oriented): that many are
+    // allocated but not touched (BulkVector), the flattening fills them in preorder and the rest
+    // is cut off.  Not one per reference: with 256-byte records that reservation (64 MB for the
+    // strand anchor) made the build ~1.4x slower (host/bvh/NOTES.md "8-wide nodes").
     geo.nodes.clear();
-    const size_t records = Flattener::records_below(builder.nodes(), root, opt.obb_ratio > 0);
+    const size_t records = size_t(builder.used()) * (opt.obb_ratio > 0 ? 2 : 1) + 1;
     if (records >= HT_NODE_ORIENTED) throw std::runtime_error("BVH: too many nodes");
     geo.nodes.resize(records);
     BulkVector<Moments> moments;
