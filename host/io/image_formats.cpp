@@ -1,6 +1,6 @@
 #include "io/image_formats.h"
 
-#include <OpenImageIO/imageio.h>
+#include "core/image_files.h"
 
 #include <algorithm>
 #include <sstream>
@@ -20,9 +20,8 @@ std::vector<std::string> split(const std::string& s, char sep) {
 // "extension_list" maps every format to its extensions ("openexr:exr,sxr;png:png;..."),
 // "output_format_list" names the formats that can write.  "null" and "term" write no file.
 std::vector<std::string> query_writable_extensions() {
-    std::string extensions, writers;
-    OIIO::getattribute("extension_list", extensions);
-    OIIO::getattribute("output_format_list", writers);
+    const std::string extensions = image_files::global_attribute("extension_list");
+    const std::string writers = image_files::global_attribute("output_format_list");
     const std::vector<std::string> can_write = split(writers, ',');
     std::vector<std::string> out;
     for (const std::string& format : split(extensions, ';')) {

@@ -1,7 +1,6 @@
 #include "io/image_io.h"
 
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imageio.h>
+#include "core/image_files.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,7 +10,6 @@
 
 namespace ht {
 namespace fs = std::filesystem;
-using namespace OIIO;
 
 namespace {
 std::string lower_ext(const std::string& path) {
@@ -148,12 +146,17 @@ void write_image(const std::string& path, const Film& film, const ImageMetadata&
     std::vector<float> rgb = film_to_rgb(film);
     const size_t pixels = size_t(film.width) * size_t(film.height);
     const int channels = linear ? 3 + int(extra.size()) : alpha_8bit ? 4 : 3;
-    ImageSpec spec(film.width, film.height, channels, linear ? TypeDesc::FLOAT : TypeDesc::UINT8);
+    ImageFileSpec spec;
+    spec.width = film.width;
+    spec.height = film.height;
+    spec.channels = channels;
+    spec.bytes = !linear;
+    ImageAttributes& attrs = spec.attributes;
     if (alpha_8bit) {
-        spec.channelnames = {"R", "G", "B", "A"};
+        spec.channel_names = {"R", "G", "B", "A"};
         spec.alpha_channel = 3;
         // The bytes are straight alpha already; OpenImageIO would otherwise divide them once more.
-        spec.attribute("oiio:UnassociatedAlpha", 1);
+        attrs.ints.emplace_back("oiio:UnassociatedAlpha", 1);
     } else if (linear && channels > 3) {
         std::vector<float> all(pixels * size_t(channels));
         for (size_t i = 0; i < pixels; ++i) {
@@ -161,13 +164,13 @@ void write_image(const std::string& path, const Film& film, const ImageMetadata&
             for (size_t e = 0; e < extra.size(); ++e) all[i * channels + 3 + e] = extra[e].values.at(i);
         }
         rgb.swap(all);
-        spec.channelnames = {"R", "G", "B"};
-        for (const ImageChannel& e : extra) spec.channelnames.push_back(e.name);
+        spec.channel_names = {"R", "G", "B"};
+        for (const ImageChannel& e : extra) spec.channel_names.push_back(e.name);
         for (size_t e = 0; e < extra.size(); ++e)
             if (extra[e].name == "A") spec.alpha_channel = int(3 + e);
             else if (extra[e].name == "Z") spec.z_channel = int(3 + e);
     }
-    if (ext == ".exr") spec.attribute("compression", "zip");
+    if (ext == ".exr") attrs.text.emplace_back("compression", "zip");
     // EXR keeps typed attributes; OIIO's PNG writer keeps only text ones (tEXt chunks) and drops
     // numbers silently, and its JPEG and TIFF writers keep neither, only standard tags.  So
     // other formats get the numbers as text, and every entry once more as "key: value" lines in
@@ -175,19 +178,22 @@ void write_image(const std::string& path, const Film& film, const ImageMetadata&
     const bool typed = ext == ".exr";
     std::string description;
     auto put_text = [&](const std::string& k, const std::string& v) {
-        spec.attribute(k, v);
+        attrs.text.emplace_back(k, v);
         description += k + ": " + v + "\n";
     };
     for (auto& [k, v] : meta.text) put_text(k, v);
-    for (auto& [k, v] : meta.ints) typed ? spec.attribute(k, v) : put_text(k, std::to_string(v));
+    for (auto& [k, v] : meta.ints)
+        if (typed) attrs.ints.emplace_back(k, v);
+        else put_text(k, std::to_string(v));
     for (auto& [k, v] : meta.floats) {
         char text[32];
         std::snprintf(text, sizeof text, "%.9g", double(v));
-        typed ? spec.attribute(k, v) : put_text(k, text);
+        if (typed) attrs.floats.emplace_back(k, v);
+        else put_text(k, text);
     }
-    if (!typed && !description.empty()) spec.attribute("ImageDescription", description);
-    spec.attribute("oiio:ColorSpace", linear ? "Linear" : "sRGB");
-    spec.attribute("Software", std::string("hairtrace ") + HT_VERSION);
+    if (!typed && !description.empty()) attrs.text.emplace_back("ImageDescription", description);
+    attrs.text.emplace_back("oiio:ColorSpace", linear ? "Linear" : "sRGB");
+    attrs.text.emplace_back("Software", std::string("hairtrace ") + HT_VERSION);
 
     std::vector<unsigned char> bytes;
     const void* data = rgb.data();
@@ -201,16 +207,9 @@ void write_image(const std::string& path, const Film& film, const ImageMetadata&
     // Write beside the target and rename: a failure never destroys the previous image.
     fs::path target(path);
     fs::path tmp = target.parent_path() / (".tmp." + std::to_string(::getpid()) + "." + target.filename().string());
-    auto out = ImageOutput::create(path);  // format from the real name's extension
-    if (!out) throw ImageError(path + ": no image format for extension '" + ext + "'");
-    if (!out->open(tmp.string(), spec)) {
-        std::string err = out->geterror();
-        throw ImageError(path + ": cannot write: " + err);
-    }
-    bool ok = out->write_image(linear ? TypeDesc::FLOAT : TypeDesc::UINT8, data);
-    std::string err = out->geterror();
-    ok = out->close() && ok;
-    if (ok) {
+    // format from the real name's extension
+    const ImageFileResult written = image_files::write(path, tmp.string(), spec, data);
+    if (written.ok()) {
         std::error_code ec;
         fs::rename(tmp, target, ec);
         if (ec) {
@@ -219,25 +218,25 @@ void write_image(const std::string& path, const Film& film, const ImageMetadata&
         }
         return;
     }
-    if (err.empty()) err = out->geterror();
+    if (written.status == ImageFileStatus::NoFormat)
+        throw ImageError(path + ": no image format for extension '" + ext + "'");
+    if (written.status == ImageFileStatus::OpenFailed) throw ImageError(path + ": cannot write: " + written.error);
     std::error_code ec;
     fs::remove(tmp, ec);
-    throw ImageError(path + ": write failed" + (err.empty() ? std::string() : ": " + err) +
+    throw ImageError(path + ": write failed" + (written.error.empty() ? std::string() : ": " + written.error) +
                      " (any previous file was kept)");
 }
 
 std::vector<float> read_rgb_image(const std::string& path, int& width, int& height,
                                   std::vector<float>* alpha) {
-    auto in = ImageInput::open(path);
-    if (!in) throw ImageError(path + ": cannot read: " + OIIO::geterror());
-    const ImageSpec& spec = in->spec();
+    ImageFileSpec spec;
+    std::vector<float> all;
+    const ImageFileResult r = image_files::read(path, nullptr, &spec, &all);
+    if (r.status == ImageFileStatus::OpenFailed) throw ImageError(path + ": cannot read: " + r.error);
+    if (!r.ok()) throw ImageError(path + ": read failed: " + r.error);
     width = spec.width;
     height = spec.height;
-    int nc = spec.nchannels;
-    std::vector<float> all(size_t(width) * height * nc);
-    if (!in->read_image(0, 0, 0, nc, TypeDesc::FLOAT, all.data()))
-        throw ImageError(path + ": read failed: " + in->geterror());
-    in->close();
+    const int nc = spec.channels;
     std::vector<float> rgb(size_t(width) * height * 3);
     for (size_t i = 0; i < size_t(width) * height; ++i)
         for (int c = 0; c < 3; ++c) rgb[3 * i + c] = all[i * nc + std::min(c, nc - 1)];

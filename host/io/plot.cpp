@@ -2,8 +2,7 @@
 
 #include "io/image_io.h"
 
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
+#include "core/image_files.h"
 
 #include <algorithm>
 #include <cmath>
@@ -12,7 +11,6 @@
 #include <limits>
 
 namespace ht {
-using namespace OIIO;
 
 namespace {
 const char* kFont = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
@@ -118,8 +116,7 @@ void write_plot_png(const std::string& path, const PlotSpec& spec) {
     auto px = [&](double x) { return left + ax.map(x) * (W - left - right); };
     auto py = [&](double y) { return H - bottom - ay.map(y) * (H - top - bottom); };
     const std::array<float, 3> black{0, 0, 0}, grid{0.88f, 0.88f, 0.88f};
-    struct Label { int x, y; std::string text; int size; };
-    std::vector<Label> labels;
+    std::vector<ImageTextLabel> labels;
     for (double t : ax.ticks()) {
         double x = px(t);
         c.line(x, top, x, H - bottom, grid, 1);
@@ -155,14 +152,8 @@ void write_plot_png(const std::string& path, const PlotSpec& spec) {
     labels.push_back({left + (W - left - right) / 2 - 40, H - 20, spec.xlabel, 15});
     labels.push_back({8, top - 16, spec.ylabel, 15});
 
-    ImageBuf buf(ImageSpec(W, H, 3, TypeDesc::FLOAT), c.rgb.data());
-    ImageBuf img;
-    img.copy(buf);
-    if (std::filesystem::exists(kFont))
-        for (auto& l : labels)
-            if (!l.text.empty()) ImageBufAlgo::render_text(img, l.x, l.y, l.text, l.size, kFont, {0.f, 0.f, 0.f});
-    std::vector<float> out(size_t(W) * H * 3);
-    img.get_pixels(ROI(0, W, 0, H, 0, 1, 0, 3), TypeDesc::FLOAT, out.data());
+    std::vector<float> out = c.rgb;
+    if (std::filesystem::exists(kFont)) image_files::render_text(out, W, H, labels, kFont);
     // reuse the image writer (8-bit sRGB, atomic rename) through a film of means
     Film film;
     film.width = W;

@@ -1,7 +1,6 @@
 #include "scene/texture_image.h"
 
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imageio.h>
+#include "core/image_files.h"
 
 #include <array>
 #include <cstring>
@@ -74,43 +73,35 @@ DecodedImage decode_texture_image(const std::vector<unsigned char>& bytes, Image
     if (format == ImageFormat::Unknown)
         scene_fail(file, what, ": not a PNG or JPEG image (", bytes.size(), " bytes)");
     if (format == ImageFormat::Png) check_png_chunks(bytes, file, what);
-    // OIIO reads through the proxy, never from the disk, and only with the plugin named here:
-    // no other of OIIO's many readers ever sees the bytes.
     const char* format_name = format == ImageFormat::Png ? "png" : "jpeg";
-    OIIO::Filesystem::IOMemReader proxy(bytes.data(), bytes.size());
-    auto in = OIIO::ImageInput::create(format_name, false, nullptr, &proxy);
-    OIIO::ImageSpec config, opened;
-    void* proxy_ptr = &proxy;
-    config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy_ptr);
-    // The PNG reader premultiplies colour by alpha unless told not to; alpha is not coverage here.
-    config.attribute("oiio:UnassociatedAlpha", 1);
-    if (!in || !in->open("texture", opened, config)) {
-        std::string err = in ? in->geterror() : OIIO::geterror();
-        scene_fail(file, what, ": cannot decode the ", format == ImageFormat::Png ? "PNG" : "JPEG",
-                   " image: ", one_line(err.empty() ? std::string("unknown error") : err));
-    }
-    const OIIO::ImageSpec spec = in->spec();
-    if (spec.width <= 0 || spec.height <= 0 || spec.depth != 1)
-        scene_fail(file, what, ": image has no pixels (", spec.width, " x ", spec.height, ")");
-    const uint64_t w = uint64_t(spec.width), h = uint64_t(spec.height);
-    if (w > kMaxTextureSide || h > kMaxTextureSide)
-        scene_fail(file, what, ": image of ", w, " x ", h, " pixels is larger than ",
-                   kMaxTextureSide, " on a side");
-    if (w * h > max_texels)
-        scene_fail(file, what, ": image of ", w, " x ", h, " pixels (", w * h * 4,
-                   " bytes as texels) exceeds the memory limit for textures (--max-memory)");
-    const int channels = spec.nchannels;
-    if (channels < 1 || channels > 4)
-        scene_fail(file, what, ": image has ", channels, " channels (1 to 4 are supported)");
+    // Limits are checked on the header, before any pixel is allocated.
+    auto accept = [&](const ImageFileSpec& spec) {
+        if (spec.width <= 0 || spec.height <= 0)
+            scene_fail(file, what, ": image has no pixels (", spec.width, " x ", spec.height, ")");
+        const uint64_t w = uint64_t(spec.width), h = uint64_t(spec.height);
+        if (w > kMaxTextureSide || h > kMaxTextureSide)
+            scene_fail(file, what, ": image of ", w, " x ", h, " pixels is larger than ",
+                       kMaxTextureSide, " on a side");
+        if (w * h > max_texels)
+            scene_fail(file, what, ": image of ", w, " x ", h, " pixels (", w * h * 4,
+                       " bytes as texels) exceeds the memory limit for textures (--max-memory)");
+        if (spec.channels < 1 || spec.channels > 4)
+            scene_fail(file, what, ": image has ", spec.channels, " channels (1 to 4 are supported)");
+        return true;
+    };
     // The 8-bit pixels live only while they are repacked: at most 4 more bytes a texel, for one
     // image at a time, on top of what the limit above counts.
-    std::vector<unsigned char> pixels(w * h * size_t(channels));
-    if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::UINT8, pixels.data())) {
-        std::string err = in->geterror();
+    ImageFileSpec spec;
+    std::vector<unsigned char> pixels;
+    const ImageFileResult decoded = image_files::decode(bytes.data(), bytes.size(), format_name, accept, &spec, &pixels);
+    if (decoded.status == ImageFileStatus::OpenFailed)
+        scene_fail(file, what, ": cannot decode the ", format == ImageFormat::Png ? "PNG" : "JPEG",
+                   " image: ", one_line(decoded.error.empty() ? std::string("unknown error") : decoded.error));
+    if (!decoded.ok())
         scene_fail(file, what, ": cannot decode the image: ",
-                   one_line(err.empty() ? std::string("unknown error") : err));
-    }
-    in->close();
+                   one_line(decoded.error.empty() ? std::string("unknown error") : decoded.error));
+    const uint64_t w = uint64_t(spec.width), h = uint64_t(spec.height);
+    const int channels = spec.channels;
     DecodedImage out;
     out.width = uint32_t(w);
     out.height = uint32_t(h);

@@ -3,7 +3,7 @@
 #include "core/hash.h"
 #include "render/aovs.h"
 
-#include <OpenImageIO/imageio.h>
+#include "core/image_files.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -13,7 +13,6 @@
 
 namespace ht {
 namespace fs = std::filesystem;
-using namespace OIIO;
 
 namespace {
 constexpr int kFormat = 2;  // hairtrace:partial; see partial_image.h
@@ -78,26 +77,30 @@ void write_partial_exr(const std::string& path, const PartialImage& part, const 
         held += s.count;
     }
     const int nc = int(names.size());
-    ImageSpec spec(part.width, part.height, nc, TypeDesc::FLOAT);
-    spec.channelnames = names;
-    spec.attribute("compression", "zip");  // lossless: the sums must come back bit for bit
-    for (auto& [k, v] : extra.text) spec.attribute(k, v);
-    for (auto& [k, v] : extra.ints) spec.attribute(k, v);
-    for (auto& [k, v] : extra.floats) spec.attribute(k, v);
-    spec.attribute("hairtrace:partial", kFormat);
-    spec.attribute("hairtrace:sample_first", nseg ? part.segments[0].first : 0);
-    spec.attribute("hairtrace:sample_count", held);
-    spec.attribute("hairtrace:spp_target", part.spp_target);
-    spec.attribute("hairtrace:chunk", part.chunk);
-    spec.attribute("hairtrace:seed", int(part.seed));
-    spec.attribute("hairtrace:max_depth", part.max_depth);
-    spec.attribute("hairtrace:render_identity", part.identity.to_text());
-    spec.attribute("hairtrace:render_key", hex64(part.identity.key()));
-    spec.attribute("hairtrace:segments", seg_list);
-    spec.attribute("hairtrace:scene", part.scene);
-    spec.attribute("hairtrace:aovs", joined(part.aovs));
-    spec.attribute("oiio:ColorSpace", "Linear");
-    spec.attribute("Software", std::string("hairtrace ") + HT_VERSION);
+    ImageFileSpec spec;
+    spec.width = part.width;
+    spec.height = part.height;
+    spec.channels = nc;
+    spec.channel_names = names;
+    ImageAttributes& a = spec.attributes;
+    a.text.emplace_back("compression", "zip");  // lossless: the sums must come back bit for bit
+    for (auto& [k, v] : extra.text) a.text.emplace_back(k, v);
+    for (auto& [k, v] : extra.ints) a.ints.emplace_back(k, v);
+    for (auto& [k, v] : extra.floats) a.floats.emplace_back(k, v);
+    a.ints.emplace_back("hairtrace:partial", kFormat);
+    a.ints.emplace_back("hairtrace:sample_first", nseg ? part.segments[0].first : 0);
+    a.ints.emplace_back("hairtrace:sample_count", held);
+    a.ints.emplace_back("hairtrace:spp_target", part.spp_target);
+    a.ints.emplace_back("hairtrace:chunk", part.chunk);
+    a.ints.emplace_back("hairtrace:seed", int(part.seed));
+    a.ints.emplace_back("hairtrace:max_depth", part.max_depth);
+    a.text.emplace_back("hairtrace:render_identity", part.identity.to_text());
+    a.text.emplace_back("hairtrace:render_key", hex64(part.identity.key()));
+    a.text.emplace_back("hairtrace:segments", seg_list);
+    a.text.emplace_back("hairtrace:scene", part.scene);
+    a.text.emplace_back("hairtrace:aovs", joined(part.aovs));
+    a.text.emplace_back("oiio:ColorSpace", "Linear");
+    a.text.emplace_back("Software", std::string("hairtrace ") + HT_VERSION);
 
     std::vector<float> data(pixels * nc);
     for (size_t p = 0; p < pixels; ++p) {
@@ -111,60 +114,60 @@ void write_partial_exr(const std::string& path, const PartialImage& part, const 
 
     fs::path target(path);
     fs::path tmp = target.parent_path() / (".tmp." + std::to_string(::getpid()) + "." + target.filename().string());
-    auto out = ImageOutput::create(path);
-    if (!out) throw ImageError(path + ": OpenImageIO has no EXR writer");
-    if (!out->open(tmp.string(), spec)) throw ImageError(path + ": cannot write: " + out->geterror());
-    bool ok = out->write_image(TypeDesc::FLOAT, data.data());
-    std::string err = out->geterror();
-    ok = out->close() && ok;
+    const ImageFileResult written = image_files::write(path, tmp.string(), spec, data.data());
+    if (written.status == ImageFileStatus::NoFormat) throw ImageError(path + ": OpenImageIO has no EXR writer");
+    if (written.status == ImageFileStatus::OpenFailed) throw ImageError(path + ": cannot write: " + written.error);
     std::error_code ec;
-    if (ok) fs::rename(tmp, target, ec);
-    if (!ok || ec) {
+    if (written.ok()) fs::rename(tmp, target, ec);
+    if (!written.ok() || ec) {
         fs::remove(tmp, ec);
-        throw ImageError(path + ": write failed" + (err.empty() ? std::string() : ": " + err));
+        throw ImageError(path + ": write failed" + (written.error.empty() ? std::string() : ": " + written.error));
     }
 }
 
 PartialImage read_partial_exr(const std::string& path) {
-    auto in = ImageInput::open(path);
-    if (!in) throw SceneError(path + ": cannot read: " + OIIO::geterror());
-    const ImageSpec spec = in->spec();
-    const int format = spec.get_int_attribute("hairtrace:partial", 0);
-    if (format == 1)
-        throw SceneError(path + ": a partial render of an older hairtrace (format 1, without AOV sums); render it "
-                                "again with this one");
-    if (format != kFormat) throw SceneError(path + ": not a partial render (render it with --sample-range A:B)");
     PartialImage p;
-    p.width = spec.width;
-    p.height = spec.height;
-    p.spp_target = spec.get_int_attribute("hairtrace:spp_target", 0);
-    p.chunk = spec.get_int_attribute("hairtrace:chunk", 0);
-    p.max_depth = spec.get_int_attribute("hairtrace:max_depth", 0);
-    p.seed = uint32_t(spec.get_int_attribute("hairtrace:seed", 0));
-    p.scene = spec.get_string_attribute("hairtrace:scene");
-    p.aovs = aov_list(spec.get_string_attribute("hairtrace:aovs"), path);
-    const int aov_sums = aov_sums_per_pixel(p.aovs);
-    p.command_line = spec.get_string_attribute("hairtrace:command_line");
-    const std::string identity = spec.get_string_attribute("hairtrace:render_identity");
-    const std::string segs = spec.get_string_attribute("hairtrace:segments");
-    if (p.spp_target < 1 || p.chunk < 1)
-        throw SceneError(path + ": partial render metadata is missing or corrupt");
-    if (identity.empty())
-        throw SceneError(path + ": no hairtrace:render_identity: the part was written by an older hairtrace; "
-                                "render it again with this one");
-    try {
-        p.identity = RenderIdentity::from_text(identity);
-    } catch (const std::invalid_argument& e) {
-        throw SceneError(path + ": corrupt hairtrace:render_identity: " + e.what());
-    }
-
-    std::vector<float> all(size_t(p.width) * p.height * spec.nchannels);
-    if (!in->read_image(0, 0, 0, spec.nchannels, TypeDesc::FLOAT, all.data()))
-        throw SceneError(path + ": read failed: " + in->geterror());
-    in->close();
+    int aov_sums = 0;
+    std::string segs;
+    // The metadata is checked on the header, before the pixels are read.
+    auto check_metadata = [&](const ImageFileSpec& spec) {
+        const int format = spec.attributes.int_or("hairtrace:partial", 0);
+        if (format == 1)
+            throw SceneError(path + ": a partial render of an older hairtrace (format 1, without AOV sums); render "
+                                    "it again with this one");
+        if (format != kFormat) throw SceneError(path + ": not a partial render (render it with --sample-range A:B)");
+        p.width = spec.width;
+        p.height = spec.height;
+        p.spp_target = spec.attributes.int_or("hairtrace:spp_target", 0);
+        p.chunk = spec.attributes.int_or("hairtrace:chunk", 0);
+        p.max_depth = spec.attributes.int_or("hairtrace:max_depth", 0);
+        p.seed = uint32_t(spec.attributes.int_or("hairtrace:seed", 0));
+        p.scene = spec.attributes.text_or("hairtrace:scene");
+        p.aovs = aov_list(spec.attributes.text_or("hairtrace:aovs"), path);
+        aov_sums = aov_sums_per_pixel(p.aovs);
+        p.command_line = spec.attributes.text_or("hairtrace:command_line");
+        const std::string identity = spec.attributes.text_or("hairtrace:render_identity");
+        segs = spec.attributes.text_or("hairtrace:segments");
+        if (p.spp_target < 1 || p.chunk < 1)
+            throw SceneError(path + ": partial render metadata is missing or corrupt");
+        if (identity.empty())
+            throw SceneError(path + ": no hairtrace:render_identity: the part was written by an older hairtrace; "
+                                    "render it again with this one");
+        try {
+            p.identity = RenderIdentity::from_text(identity);
+        } catch (const std::invalid_argument& e) {
+            throw SceneError(path + ": corrupt hairtrace:render_identity: " + e.what());
+        }
+        return true;
+    };
+    ImageFileSpec spec;
+    std::vector<float> all;
+    const ImageFileResult r = image_files::read(path, check_metadata, &spec, &all);
+    if (r.status == ImageFileStatus::OpenFailed) throw SceneError(path + ": cannot read: " + r.error);
+    if (!r.ok()) throw SceneError(path + ": read failed: " + r.error);
     auto channel = [&](const std::string& name) {
-        for (int c = 0; c < spec.nchannels; ++c)
-            if (spec.channelnames[c] == name) return c;
+        for (int c = 0; c < spec.channels; ++c)
+            if (spec.channel_names[c] == name) return c;
         throw SceneError(path + ": channel " + name + " is missing");
     };
     std::stringstream ss(segs);
@@ -188,7 +191,7 @@ PartialImage read_partial_exr(const std::string& path) {
         s.film.aov.resize(size_t(aov_sums) * pixels);
         for (size_t px = 0; px < pixels; ++px)
             for (size_t j = 0; j < ch.size(); ++j)
-                film_sum(s.film, px, int(j), aov_sums) = all[px * spec.nchannels + ch[j]];
+                film_sum(s.film, px, int(j), aov_sums) = all[px * spec.channels + ch[j]];
         p.segments.push_back(std::move(s));
     }
     if (p.segments.empty()) throw SceneError(path + ": the partial render holds no samples");
