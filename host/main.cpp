@@ -42,7 +42,8 @@ const char* kTopHelp =
     "exit codes: 0 ok, 2 bad input or usage, 3 device or runtime failure,\n"
     "            128+N interrupted by signal N (render saves its checkpoint and images first).\n"
     "environment: HAIRTRACE_KERNEL_DIR (load kernels from a folder instead of the embedded\n"
-    "copies), HAIRTRACE_CACHE_DIR (compiled-kernel cache, 'off' to disable).\n";
+    "copies), HAIRTRACE_CACHE_DIR (compiled kernels and the image formats this build writes, 'off' to\n"
+    "disable).\n";
 
 using Command = int (*)(const std::vector<std::string>&);
 

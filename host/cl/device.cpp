@@ -2,6 +2,7 @@
 
 #include "cl/kernel_source.h"
 #include "core/byte_size.h"
+#include "core/cache_dir.h"
 #include "core/errors.h"
 #include "core/hash.h"
 
@@ -123,13 +124,6 @@ std::vector<DeviceInfo> list_devices() {
     return out;
 }
 
-std::string program_cache_dir() {
-    if (const char* d = std::getenv("HAIRTRACE_CACHE_DIR")) return d;
-    if (const char* x = std::getenv("XDG_CACHE_HOME")) return std::string(x) + "/hairtrace";
-    if (const char* h = std::getenv("HOME")) return std::string(h) + "/.cache/hairtrace";
-    return "off";
-}
-
 ClContext::ClContext(int device_index) {
     auto found = enumerate();
     const Found* pick = nullptr;
@@ -208,7 +202,7 @@ ProgramBuild ClContext::compile(const std::string& main_file, const std::string&
                                  info_.platform_version;
     char key[32];
     std::snprintf(key, sizeof key, "%016llx", (unsigned long long)fnv1a(key_text));
-    std::string dir = program_cache_dir();
+    std::string dir = cache_dir();  // compiled programs: one file per key
     fs::path bin_path;
     if (dir != "off") bin_path = fs::path(dir) / (std::string(key) + ".bin");
 

@@ -92,10 +92,6 @@ private:
     ProgramBuild compile(const std::string& main_file, const std::string& options);
 };
 
-// Where compiled program binaries are kept: $HAIRTRACE_CACHE_DIR, else $XDG_CACHE_HOME/hairtrace,
-// else ~/.cache/hairtrace.  "off" disables the cache.
-std::string program_cache_dir();
-
 // Build options every hairtrace program uses.  -cl-single-precision-constant: portable headers
 // write literals without an f suffix (they are double on the host), and a double constant would
 // otherwise promote float math to double on devices with fp64 (slow) and warn on devices without.

@@ -32,8 +32,7 @@ void check_image_extension(const std::string& what, const std::string& path) {
     if (ext.empty())
         throw UsageError(what + " " + path + ": no file extension to choose the image format from (" +
                          image_format_hint() + ")");
-    const auto& known = writable_image_extensions();
-    if (!std::binary_search(known.begin(), known.end(), ext))
+    if (!writes_image_extension(ext))
         throw UsageError(what + " " + path + ": '." + ext + "' is not an image format this build can write (" +
                          image_format_hint() + ")");
 }

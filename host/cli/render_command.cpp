@@ -7,6 +7,7 @@
 #include "cli/render_request.h"
 #include "core/errors.h"
 #include "core/hash.h"
+#include "core/image_files.h"
 #include "io/image_io.h"
 #include "render/adaptive.h"
 #include "render/aovs.h"
@@ -486,6 +487,12 @@ int render_main(const std::vector<std::string>& args, DistContext& dist) {
         std::cout << p.help();
         return kExitOk;
     }
+    // OpenImageIO loads (~0.45 s) on the other core while the scene loads and the BVH builds;
+    // parse() checked the outputs' formats against the kept list (host/io/image_formats.h), or
+    // loaded it already.  The OpenCL runtime's libraries first: the dynamic loader takes one
+    // library at a time, and the devices would wait for OpenImageIO's (docs/PERFORMANCE.md §3).
+    (void)list_devices();
+    ImageFilesPreload image_files_loading;
     RenderRequest request = parse_render_request(p);
     request.command_line = {"hairtrace", "render"};
     request.command_line.insert(request.command_line.end(), args.begin(), args.end());

@@ -99,6 +99,31 @@ std::string global_attribute(const std::string& name) { return api().global_attr
 
 void load() { (void)api(); }
 
+std::string module_stamp() {
+    if (ht_image_files_api) return "";
+    for (const fs::path& path : module_candidates()) {
+        std::error_code ec;
+        const auto size = fs::file_size(path, ec);
+        if (ec) continue;
+        const auto mtime = fs::last_write_time(path, ec);
+        if (ec) continue;
+        return path.string() + " " + std::to_string(size) + " " +
+               std::to_string(mtime.time_since_epoch().count());
+    }
+    return "";
+}
+
 }  // namespace image_files
+
+ImageFilesPreload::ImageFilesPreload()
+    : thread_([] {
+          try {
+              image_files::load();
+          } catch (const std::exception&) {
+              // the first image call reports it
+          }
+      }) {}
+
+ImageFilesPreload::~ImageFilesPreload() { thread_.join(); }
 
 }  // namespace ht

@@ -4,8 +4,9 @@
 // codecs: OpenEXR, ffmpeg, OpenCV, GDAL, DICOM, ...) before main: ~0.45 s of every process here,
 // `--help` included (docs/PERFORMANCE.md §3 "Image files loaded on first use").  So only the
 // module libhairtrace_image.so (host/image_files/) links it, and this file loads the module
-// the first time an image is read or written, or a command checks an output's format.  The rest
-// of the renderer decides what goes into a file (host/io/image_io.cpp,
+// the first time an image is read or written, or a command checks an output's format that the
+// kept list does not name (host/io/image_formats.h), or in the background (ImageFilesPreload).
+// The rest of the renderer decides what goes into a file (host/io/image_io.cpp,
 // host/split/partial_image.cpp, ...); the module only moves pixels and attributes between memory
 // and OpenImageIO.
 #pragma once
@@ -13,6 +14,7 @@
 #include <cstddef>
 #include <functional>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -91,7 +93,25 @@ std::string global_attribute(const std::string& name);
 // Loads the module now (a no-op once loaded).  Throws ImageError naming the paths tried.
 void load();
 
+// The module file load() would open, as "path size mtime" ("" when the program links the module's
+// code itself or there is none): what a list taken from the module is kept under.
+std::string module_stamp();
+
 }  // namespace image_files
+
+// Loads the image module on a thread of its own, joined by the destructor: `render` overlaps the
+// loading with its scene's set-up when the kept list of formats (host/io/image_formats.h) has
+// already answered its output checks.  A failure is left for the first image call to report.
+class ImageFilesPreload {
+public:
+    ImageFilesPreload();
+    ~ImageFilesPreload();
+    ImageFilesPreload(const ImageFilesPreload&) = delete;
+    ImageFilesPreload& operator=(const ImageFilesPreload&) = delete;
+
+private:
+    std::thread thread_;
+};
 
 // The module's entry point: the functions above, as the module implements them.
 struct ImageFilesApi {

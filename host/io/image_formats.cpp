@@ -1,9 +1,16 @@
 #include "io/image_formats.h"
 
+#include "core/cache_dir.h"
+#include "core/hash.h"
 #include "core/image_files.h"
 
 #include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
 #include <sstream>
+#include <unistd.h>
 
 namespace ht {
 
@@ -36,11 +43,68 @@ std::vector<std::string> query_writable_extensions() {
     return out;
 }
 
+namespace fs = std::filesystem;
+
+// The kept list's file for the module that is installed now ("" for none: no cache, or no module
+// file, as in programs that link the module's code).
+fs::path kept_list_path() {
+    const std::string dir = cache_dir();
+    const std::string stamp = image_files::module_stamp();
+    if (dir == "off" || stamp.empty()) return {};
+    char key[32];
+    std::snprintf(key, sizeof key, "%016llx", (unsigned long long)fnv1a(stamp));
+    return fs::path(dir) / ("image_formats_" + std::string(key) + ".txt");
+}
+
+// One extension per line, sorted; empty when there is none or it cannot be read.
+std::vector<std::string> read_kept_list(const fs::path& path) {
+    std::vector<std::string> out;
+    if (path.empty()) return out;
+    std::ifstream f(path);
+    for (std::string line; std::getline(f, line);)
+        if (!line.empty()) out.push_back(line);
+    if (!std::is_sorted(out.begin(), out.end())) out.clear();
+    return out;
+}
+
+// Written beside and renamed into place, so a reader sees a whole list or none; a cache that
+// cannot be written is only a slower next start.
+void keep_list(const fs::path& path, const std::vector<std::string>& extensions) {
+    if (path.empty()) return;
+    std::error_code ec;
+    fs::create_directories(path.parent_path(), ec);
+    const fs::path tmp = path.parent_path() / (".tmp." + std::to_string(::getpid()) + "." + path.filename().string());
+    {
+        std::ofstream f(tmp);
+        for (const std::string& e : extensions) f << e << '\n';
+        if (!f) {
+            fs::remove(tmp, ec);
+            return;
+        }
+    }
+    fs::rename(tmp, path, ec);
+    if (ec) fs::remove(tmp, ec);
+}
+
 }  // namespace
 
 const std::vector<std::string>& writable_image_extensions() {
     static const std::vector<std::string> extensions = query_writable_extensions();
     return extensions;
+}
+
+bool writes_image_extension(const std::string& ext) {
+    static std::once_flag once;
+    static fs::path path;
+    static std::vector<std::string> kept;
+    std::call_once(once, [] {
+        path = kept_list_path();
+        kept = read_kept_list(path);
+    });
+    if (std::binary_search(kept.begin(), kept.end(), ext)) return true;
+    const std::vector<std::string>& known = writable_image_extensions();
+    if (known != kept) keep_list(path, known);
+    return std::binary_search(known.begin(), known.end(), ext);
 }
 
 }  // namespace ht

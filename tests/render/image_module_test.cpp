@@ -5,6 +5,7 @@
 #include "cli_test_util.h"
 
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 #ifdef HT_BINARY
@@ -43,12 +44,37 @@ TEST(ImageModule, OnlyCommandsWithImagesLoadOpenImageIO) {
     EXPECT_TRUE(fs::exists(d / "a.exr"));
 }
 
+TEST(ImageModule, RenderChecksItsOutputsAgainstTheKeptListOfFormats) {
+    TempDir d("ht_image_module_");
+    const std::string env = "HAIRTRACE_CACHE_DIR=" + (d / "cache") + " ";
+    ASSERT_EQ(run(env + kBin + kTinyRender + " -o " + (d / "a.exr") + " -o " + (d / "a.png")), 0);
+    // the module's list, kept under the module file's stamp
+    std::vector<fs::path> kept;
+    for (const auto& entry : fs::directory_iterator(d.path / "cache"))
+        if (entry.path().filename().string().rfind("image_formats_", 0) == 0) kept.push_back(entry.path());
+    ASSERT_EQ(kept.size(), 1u);
+    const std::string list = slurp(kept[0].string());
+    EXPECT_NE(list.find("exr\n"), std::string::npos) << list;
+    EXPECT_NE(list.find("png\n"), std::string::npos) << list;
+    // an extension the list lacks is looked up in the module: still refused before any work
+    const std::string err = d / "err.txt";
+    EXPECT_EQ(run(env + kBin + kTinyRender + " -o " + (d / "b.foo") + " 2>" + err), 2);
+    EXPECT_NE(slurp(err).find("'.foo' is not an image format this build can write"), std::string::npos) << slurp(err);
+    // a list naming a format the module cannot write: the outputs before it are written, then a
+    // clear error
+    std::ofstream(kept[0]) << "exr\nfoo\npng\n";
+    EXPECT_EQ(run(env + kBin + kTinyRender + " -o " + (d / "c.exr") + " -o " + (d / "c.foo") + " 2>" + err), 3);
+    EXPECT_NE(slurp(err).find("no image format for extension '.foo'"), std::string::npos) << slurp(err);
+    EXPECT_TRUE(fs::exists(d / "c.exr"));
+    EXPECT_FALSE(fs::exists(d / "c.foo"));
+}
+
 TEST(ImageModule, ABinaryWithoutItsModuleExits3NamingIt) {
     TempDir d("ht_image_module_");
     fs::create_directories(d.path / "bin");
-    const std::string bin = d / "bin/hairtrace";
-    fs::copy_file(kBin, bin);
-    fs::permissions(bin, fs::perms::owner_exec, fs::perm_options::add);
+    fs::copy_file(kBin, d / "bin/hairtrace");
+    fs::permissions(d / "bin/hairtrace", fs::perms::owner_exec, fs::perm_options::add);
+    const std::string bin = "HAIRTRACE_CACHE_DIR=off " + d / "bin/hairtrace";  // nothing kept, nothing left behind
     EXPECT_EQ(run(bin + " --help >/dev/null 2>&1"), 0);
     const std::string err = d / "err.txt";
     EXPECT_EQ(run(bin + kTinyRender + " -o " + (d / "a.png") + " 2>" + err), 3);
