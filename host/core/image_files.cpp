@@ -7,8 +7,8 @@
 #include <filesystem>
 #include <mutex>
 
-// A program that links the module's code itself (the fuzz targets, tests/fuzz/CMakeLists.txt)
-// defines the entry point; the renderer does not and loads the module.
+// Weak: a program that links the module's code itself (the fuzz targets, tests/fuzz/CMakeLists.txt)
+// defines the entry point; the renderer does not (its address is null) and loads the module.
 extern "C" const ht::ImageFilesApi* ht_image_files_api() __attribute__((weak));
 
 namespace ht {
@@ -21,9 +21,9 @@ namespace fs = std::filesystem;
 std::vector<fs::path> module_candidates() {
     std::error_code ec;
     const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-    if (ec) return {fs::path(HT_IMAGE_FILES_MODULE)};
+    if (ec) return {fs::path(kImageFilesModule)};
     const fs::path dir = exe.parent_path();
-    return {dir / HT_IMAGE_FILES_MODULE, dir.parent_path() / "lib" / "hairtrace" / HT_IMAGE_FILES_MODULE};
+    return {dir / kImageFilesModule, dir.parent_path() / "lib" / "hairtrace" / kImageFilesModule};
 }
 
 const ImageFilesApi* open_module() {
@@ -43,7 +43,7 @@ const ImageFilesApi* open_module() {
             continue;
         }
         using Entry = const ImageFilesApi* (*)();
-        auto entry = reinterpret_cast<Entry>(dlsym(handle, HT_IMAGE_FILES_ENTRY));
+        auto entry = reinterpret_cast<Entry>(dlsym(handle, kImageFilesEntry));
         const ImageFilesApi* api = entry ? entry() : nullptr;
         if (!api || api->abi != kImageFilesAbi) {
             tried += "\n  " + path.string() + ": not this hairtrace's image module (rebuild or reinstall)";

@@ -127,7 +127,11 @@ struct ImageFilesApi {
 };
 // Raised whenever ImageFilesApi or the types it passes change, so a stale module is refused.
 constexpr int kImageFilesAbi = 1;
-#define HT_IMAGE_FILES_ENTRY "ht_image_files_api"
-#define HT_IMAGE_FILES_MODULE "libhairtrace_image.so"
+// The module's file name (CMakeLists.txt's hairtrace_image) and its entry point's name.
+constexpr const char* kImageFilesModule = "libhairtrace_image.so";
+constexpr const char* kImageFilesEntry = "ht_image_files_api";
 
 }  // namespace ht
+
+// The entry point (named by kImageFilesEntry), defined by host/image_files/oiio_image_files.cpp.
+extern "C" const ht::ImageFilesApi* ht_image_files_api();
