@@ -3,6 +3,7 @@
 #include "core/cache_dir.h"
 #include "core/hash.h"
 #include "core/image_files.h"
+#include "core/temporary_path.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -10,7 +11,6 @@
 #include <fstream>
 #include <mutex>
 #include <sstream>
-#include <unistd.h>
 
 namespace ht {
 
@@ -73,7 +73,7 @@ void keep_list(const fs::path& path, const std::vector<std::string>& extensions)
     if (path.empty()) return;
     std::error_code ec;
     fs::create_directories(path.parent_path(), ec);
-    const fs::path tmp = path.parent_path() / (".tmp." + std::to_string(::getpid()) + "." + path.filename().string());
+    const fs::path tmp = temporary_beside(path);
     {
         std::ofstream f(tmp);
         for (const std::string& e : extensions) f << e << '\n';

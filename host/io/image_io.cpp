@@ -1,12 +1,12 @@
 #include "io/image_io.h"
 
 #include "core/image_files.h"
+#include "core/temporary_path.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <unistd.h>
 
 namespace ht {
 namespace fs = std::filesystem;
@@ -206,7 +206,7 @@ void write_image(const std::string& path, const Film& film, const ImageMetadata&
 
     // Write beside the target and rename: a failure never destroys the previous image.
     fs::path target(path);
-    fs::path tmp = target.parent_path() / (".tmp." + std::to_string(::getpid()) + "." + target.filename().string());
+    fs::path tmp = temporary_beside(target);
     // format from the real name's extension
     const ImageFileResult written = image_files::write(path, tmp.string(), spec, data);
     if (written.ok()) {

@@ -4,12 +4,12 @@
 #include "render/aovs.h"
 
 #include "core/image_files.h"
+#include "core/temporary_path.h"
 
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <sstream>
-#include <unistd.h>
 
 namespace ht {
 namespace fs = std::filesystem;
@@ -113,7 +113,7 @@ void write_partial_exr(const std::string& path, const PartialImage& part, const 
     }
 
     fs::path target(path);
-    fs::path tmp = target.parent_path() / (".tmp." + std::to_string(::getpid()) + "." + target.filename().string());
+    fs::path tmp = temporary_beside(target);
     const ImageFileResult written = image_files::write(path, tmp.string(), spec, data.data());
     if (written.status == ImageFileStatus::NoFormat) throw ImageError(path + ": OpenImageIO has no EXR writer");
     if (written.status == ImageFileStatus::OpenFailed) throw ImageError(path + ": cannot write: " + written.error);
