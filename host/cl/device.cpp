@@ -8,7 +8,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -200,11 +199,9 @@ ProgramBuild ClContext::compile(const std::string& main_file, const std::string&
     const std::string key_text = source + "\n--options " + options + "\n--device " + info_.name +
                                  "\n--driver " + info_.driver + "\n--platform " +
                                  info_.platform_version;
-    char key[32];
-    std::snprintf(key, sizeof key, "%016llx", (unsigned long long)fnv1a(key_text));
     std::string dir = cache_dir();  // compiled programs: one file per key
     fs::path bin_path;
-    if (dir != "off") bin_path = fs::path(dir) / (std::string(key) + ".bin");
+    if (dir != "off") bin_path = fs::path(dir) / (hex64(fnv1a(key_text)) + ".bin");
 
     ProgramBuild out;
     cl::Program& program = out.program;

@@ -6,7 +6,6 @@
 #include "core/temporary_path.h"
 
 #include <algorithm>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
@@ -51,9 +50,7 @@ fs::path kept_list_path() {
     const std::string dir = cache_dir();
     const std::string stamp = image_files::module_stamp();
     if (dir == "off" || stamp.empty()) return {};
-    char key[32];
-    std::snprintf(key, sizeof key, "%016llx", (unsigned long long)fnv1a(stamp));
-    return fs::path(dir) / ("image_formats_" + std::string(key) + ".txt");
+    return fs::path(dir) / ("image_formats_" + hex64(fnv1a(stamp)) + ".txt");
 }
 
 // One extension per line, sorted; empty when there is none or it cannot be read.
@@ -94,16 +91,22 @@ const std::vector<std::string>& writable_image_extensions() {
 }
 
 bool writes_image_extension(const std::string& ext) {
-    static std::once_flag once;
+    static std::mutex mutex;
+    static bool read = false;
     static fs::path path;
     static std::vector<std::string> kept;
-    std::call_once(once, [] {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (!read) {
         path = kept_list_path();
         kept = read_kept_list(path);
-    });
+        read = true;
+    }
     if (std::binary_search(kept.begin(), kept.end(), ext)) return true;
     const std::vector<std::string>& known = writable_image_extensions();
-    if (known != kept) keep_list(path, known);
+    if (known != kept) {  // written once: kept is the module's list from here on
+        keep_list(path, known);
+        kept = known;
+    }
     return std::binary_search(known.begin(), known.end(), ext);
 }
 
