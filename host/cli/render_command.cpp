@@ -25,6 +25,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <ctime>
 #include <csignal>
 #include <cstdio>
@@ -41,6 +42,8 @@ extern "C" void on_stop_signal(int sig) { g_stop_signal = sig; }
 
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+// A channel's mean over the reference's (NaN for a black reference channel: no ratio to print).
+double ratio_or_nan(double x, double ref) { return ref != 0 ? x / ref : std::nan(""); }
 
 int exit_code() { return g_stop_signal ? 128 + int(g_stop_signal) : kExitOk; }
 
@@ -458,9 +461,13 @@ void write_outputs(const PreparedRender& job, const RenderRequest& request, cons
     if (job.reference.empty()) return;
     const ErrorMetrics m = compare_images(film_to_rgb(film), job.reference, film.width, film.height);
     std::printf("error vs %s: RMSE %.6g  relMSE %.6g  max %.6g  mean %.6g (reference %.6g)  non-finite %zu  "
-                "sparkles %.4g %% (%zu px > %gx local noise)  time %.3f s  spp %d\n",
+                "sparkles %.4g %% (%zu px > %gx local noise)  time %.3f s  spp %d  "
+                "rgb mean / reference %.4f / %.4f / %.4f\n",
                 request.reference.c_str(), m.rmse, m.relmse, m.max_abs, m.mean, m.ref_mean, m.nonfinite,
-                100.0 * m.sparkle_share, m.sparkles, kSparkleFactor, since(out.start), job.acc->samples());
+                100.0 * m.sparkle_share, m.sparkles, kSparkleFactor, since(out.start), job.acc->samples(),
+                ratio_or_nan(m.channel_mean[0], m.ref_channel_mean[0]),
+                ratio_or_nan(m.channel_mean[1], m.ref_channel_mean[1]),
+                ratio_or_nan(m.channel_mean[2], m.ref_channel_mean[2]));
 }
 
 // --dump-rays on the first device of rank 0; the files are named after the scene.

@@ -46,8 +46,8 @@ ErrorMetrics compare_images(const std::vector<float>& rgb, const std::vector<flo
     if (rgb.size() != ref.size()) throw std::invalid_argument("image and reference differ in size");
     const std::vector<float> noise = local_noise(ref, width, height);
     ErrorMetrics m;
-    double se = 0, rel = 0, sum = 0, rsum = 0;
-    size_t n = 0;
+    double se = 0, rel = 0, sum = 0, rsum = 0, csum[3] = {0, 0, 0}, crsum[3] = {0, 0, 0};
+    size_t n = 0, cn[3] = {0, 0, 0};
     for (size_t p = 0; p < rgb.size() / 3; ++p) {
         bool sparkle = false;
         for (size_t i = 3 * p; i < 3 * p + 3; ++i) {
@@ -63,6 +63,9 @@ ErrorMetrics compare_images(const std::vector<float>& rgb, const std::vector<flo
             sum += x;
             rsum += r;
             ++n;
+            csum[i - 3 * p] += x;
+            crsum[i - 3 * p] += r;
+            ++cn[i - 3 * p];
         }
         m.sparkles += sparkle;
     }
@@ -72,6 +75,11 @@ ErrorMetrics compare_images(const std::vector<float>& rgb, const std::vector<flo
         m.mean = sum / double(n);
         m.ref_mean = rsum / double(n);
     }
+    for (int c = 0; c < 3; ++c)
+        if (cn[c]) {
+            m.channel_mean[c] = csum[c] / double(cn[c]);
+            m.ref_channel_mean[c] = crsum[c] / double(cn[c]);
+        }
     if (!rgb.empty()) m.sparkle_share = double(m.sparkles) / double(rgb.size() / 3);
     return m;
 }

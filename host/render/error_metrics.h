@@ -15,6 +15,7 @@ struct ErrorMetrics {
     double relmse = 0;    // mean of (x - ref)^2 / (ref^2 + 1e-2), robust to dark pixels (Rousselle et al.)
     double max_abs = 0;   // largest |x - ref|
     double mean = 0, ref_mean = 0;
+    double channel_mean[3] = {0, 0, 0}, ref_channel_mean[3] = {0, 0, 0};  // the same, per rgb channel
     size_t nonfinite = 0; // NaN/Inf values in the image (counted, excluded from the rest)
     size_t sparkles = 0;  // pixels with max_c |x_c - ref_c| / local_noise_c > kSparkleFactor
     double sparkle_share = 0;  // sparkles / pixels (a pixel with a non-finite value counts as one)

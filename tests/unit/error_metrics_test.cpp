@@ -62,3 +62,16 @@ TEST(ErrorMetrics, RefusesSizesThatDoNotMatch) {
     const std::vector<float> ref(3 * 12, 1.0f);
     EXPECT_THROW(ht::compare_images(ref, ref, 4, 4), std::invalid_argument);
 }
+
+TEST(ErrorMetrics, ChannelMeansLeaveOutNonFiniteValues) {
+    // pixel 0 (1, 2, 4) against (2, 2, 2); pixel 1 (3, NaN, 0) against (2, 2, 2): red and blue
+    // average both pixels, green only the finite one, on both sides.
+    const std::vector<float> img{1, 2, 4, 3, std::numeric_limits<float>::quiet_NaN(), 0};
+    const std::vector<float> ref{2, 2, 2, 2, 2, 2};
+    const auto m = ht::compare_images(img, ref, 2, 1);
+    EXPECT_DOUBLE_EQ(m.channel_mean[0], 2.0);
+    EXPECT_DOUBLE_EQ(m.channel_mean[1], 2.0);
+    EXPECT_DOUBLE_EQ(m.channel_mean[2], 2.0);
+    for (int c = 0; c < 3; ++c) EXPECT_DOUBLE_EQ(m.ref_channel_mean[c], 2.0);
+    EXPECT_DOUBLE_EQ(m.mean, 10.0 / 5.0);
+}

@@ -7,9 +7,9 @@ HT_RUNTIME_PACKAGES=(build-essential cmake pkg-config pocl-opencl-icd ocl-icd-op
                      libopenimageio-dev libglm-dev libtinygltf-dev libtinyobjloader-dev zlib1g-dev nlohmann-json3-dev)
 # Everything the tests use besides (tools/test, CI): GoogleTest and Benchmark, clang for the
 # kernel portability check and the sanitizers, the converge plot's font, Open MPI for the MPI
-# equality tests, clinfo and git.
+# equality tests, clinfo and git, Python for tools/pbrt-compare's check against pbrt-v4's images.
 HT_TEST_PACKAGES=(git clinfo libgtest-dev libgmock-dev libbenchmark-dev clang libclang-rt-14-dev fonts-dejavu-core
-                  libopenmpi-dev openmpi-bin)
+                  libopenmpi-dev openmpi-bin python3)
 HT_PACKAGES=("${HT_RUNTIME_PACKAGES[@]}" "${HT_TEST_PACKAGES[@]}")
 
 ht_missing_packages() {
