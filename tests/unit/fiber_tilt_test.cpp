@@ -53,7 +53,7 @@ TEST(FiberTilt, MarschnerAndZinkeShiftRTowardsTheRootAndTTTowardsTheTip) {
     }
 }
 
-TEST(FiberChiang, ShiftsRTowardsTheTipAndTTTowardsTheRoot) {
+TEST(FiberTilt, ChiangShiftsRTowardsTheTipAndTTTowardsTheRoot) {
     // Default alpha = 2 degrees: R at theta_h about +alpha, TT at about -alpha/2 (measured +1.35
     // and -1.2: d'Eon's M_p is not symmetric in theta_h, so the peaks sit within 0.7 degrees of
     // the rotation's centre).  The sign is what matters: opposite to marschner's.
