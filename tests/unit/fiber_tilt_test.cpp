@@ -55,12 +55,13 @@ TEST(FiberTilt, MarschnerAndZinkeShiftRTowardsTheRootAndTTTowardsTheTip) {
 
 TEST(FiberTilt, ChiangShiftsRTowardsTheTipAndTTTowardsTheRoot) {
     // Default alpha = 2 degrees: R at theta_h about +alpha, TT at about -alpha/2 (measured +1.35
-    // and -1.2: d'Eon's M_p is not symmetric in theta_h, so the peaks sit within 0.7 degrees of
-    // the rotation's centre).  The sign is what matters: opposite to marschner's.
+    // and -1.2: d'Eon's M_p is not symmetric in theta_h, so the peaks sit off the rotation's
+    // centre; 1 degree allows for that and for the scan's 0.05-degree steps).  The sign is what
+    // matters: opposite to marschner's (a tilt of -2 degrees puts R at -2.9).
     const HtMaterial m = blond("chiang");
     const double r = lobe_peak_theta_h(m, 0, 0.0, 0.0), tt = lobe_peak_theta_h(m, 1, HT_PI - 0.1, 0.05);
-    EXPECT_NEAR(r, 2.0, 0.7);
-    EXPECT_NEAR(tt, -1.0, 0.7);
+    EXPECT_NEAR(r, 2.0, 1.0);
+    EXPECT_NEAR(tt, -1.0, 1.0);
     EXPECT_GT(r, 0.5);
     EXPECT_LT(tt, -0.3);
 }
