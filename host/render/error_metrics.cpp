@@ -46,8 +46,8 @@ ErrorMetrics compare_images(const std::vector<float>& rgb, const std::vector<flo
     if (rgb.size() != ref.size()) throw std::invalid_argument("image and reference differ in size");
     const std::vector<float> noise = local_noise(ref, width, height);
     ErrorMetrics m;
-    double se = 0, rel = 0, sum = 0, rsum = 0, csum[3] = {0, 0, 0}, crsum[3] = {0, 0, 0};
-    size_t n = 0, cn[3] = {0, 0, 0};
+    double se = 0, rel = 0, sum[3] = {0, 0, 0}, rsum[3] = {0, 0, 0};
+    size_t n[3] = {0, 0, 0};
     for (size_t p = 0; p < rgb.size() / 3; ++p) {
         bool sparkle = false;
         for (size_t i = 3 * p; i < 3 * p + 3; ++i) {
@@ -60,25 +60,24 @@ ErrorMetrics compare_images(const std::vector<float>& rgb, const std::vector<flo
             m.max_abs = std::max(m.max_abs, std::fabs(d));
             // noise[i] == 0 only when the whole reference is 0: then any error is a sparkle
             if (std::fabs(d) > kSparkleFactor * noise[i] && d != 0) sparkle = true;
-            sum += x;
-            rsum += r;
-            ++n;
-            csum[i - 3 * p] += x;
-            crsum[i - 3 * p] += r;
-            ++cn[i - 3 * p];
+            sum[i - 3 * p] += x;
+            rsum[i - 3 * p] += r;
+            ++n[i - 3 * p];
         }
         m.sparkles += sparkle;
     }
-    if (n) {
-        m.rmse = std::sqrt(se / double(n));
-        m.relmse = rel / double(n);
-        m.mean = sum / double(n);
-        m.ref_mean = rsum / double(n);
+    // the whole image's mean from the channels' sums: one sum per channel, not a second one over all
+    const double all = double(n[0] + n[1] + n[2]);
+    if (all > 0) {
+        m.rmse = std::sqrt(se / all);
+        m.relmse = rel / all;
+        m.mean = (sum[0] + sum[1] + sum[2]) / all;
+        m.ref_mean = (rsum[0] + rsum[1] + rsum[2]) / all;
     }
     for (int c = 0; c < 3; ++c)
-        if (cn[c]) {
-            m.channel_mean[c] = csum[c] / double(cn[c]);
-            m.ref_channel_mean[c] = crsum[c] / double(cn[c]);
+        if (n[c]) {
+            m.channel_mean[c] = sum[c] / double(n[c]);
+            m.ref_channel_mean[c] = rsum[c] / double(n[c]);
         }
     if (!rgb.empty()) m.sparkle_share = double(m.sparkles) / double(rgb.size() / 3);
     return m;

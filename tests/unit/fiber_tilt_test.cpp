@@ -9,6 +9,7 @@
 
 #include "fiber/material.h"
 #include "kernels/fiber/bcsdf.h"
+#include "scene/scene.h"
 
 #include "fiber_test_util.h"
 
@@ -33,11 +34,10 @@ double lobe_peak_theta_h(const HtMaterial& m, int p, double phi, double h) {
     return 0.5 * (best_theta_i + theta_o);
 }
 
+// The material a hair file without one gets (scene/scene.h), in the given model.
 HtMaterial blond(const char* model) {
-    HairMaterialDesc d;
+    HairMaterialDesc d = blond_hair_material();
     d.model = model;
-    d.has_melanin = true;
-    d.eumelanin = 0.3f;
     return make_kernel_material(d);
 }
 
