@@ -25,9 +25,9 @@ uint64_t PreparedScene::extra_scene_bytes() const {
 
 namespace {
 
-// RenderSettings::shadow_lists: whether the lists will save more than they cost.  On pbrt's lock
-// (docs/PERFORMANCE.md section 8) they took 65-77 ms for 250 k segments and saved 0.06-0.1 s per
-// million shadow rays: even at about 4 first-vertex shadow rays per primitive and grid.
+// RenderSettings::shadow_lists: whether the lists will save more than they cost: the shadow rays
+// that would use them against the entries they would hold (render/shadow_lists.h; measured in
+// docs/PERFORMANCE.md section 8 "Shadow rays from per-cell lists").
 bool wants_shadow_lists(const RenderSettings& s, const PreparedScene& p) {
     using Mode = RenderSettings::ShadowLists;
     if (s.shadow_lists != Mode::Auto) return s.shadow_lists == Mode::Lists;
@@ -36,8 +36,10 @@ bool wants_shadow_lists(const RenderSettings& s, const PreparedScene& p) {
     grids = std::min(grids, kMaxShadowGrids);
     const double pixels = p.footprint.seen.empty() && p.footprint.empty.empty() ? double(s.width) * s.height
                                                                                   : double(p.footprint.seen.size());
-    return grids > 0 &&
-           double(s.spp) * pixels >= kShadowListRaysPerPrimitive * double(p.geometry.segments.size()) * double(grids);
+    const double rays = double(s.spp) * pixels * list_shadow_rays_per_path(s), per_entry = kShadowListRaysPerEntry;
+    // every primitive is listed in a cell of every grid at least: fewer rays need no estimate
+    if (grids == 0 || rays <= 0 || rays < per_entry * double(p.geometry.segments.size()) * double(grids)) return false;
+    return rays >= per_entry * estimate_shadow_list_entries(p.geometry, p.lights);
 }
 
 // RenderSettings::camera_lists: whether the lists will save more than they cost (decided before

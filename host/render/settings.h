@@ -146,9 +146,10 @@ struct RenderSettings {
     uint32_t camera_list_cap = 0;  // a pixel's longest list (0: kMaxCandidatesPerPixel); tests set less
     // --shadow-rays lists: shadow rays toward a directional light test the list of their cell in a
     // grid across the light's direction (render/shadow_lists.h) -- the same answers.  Tree: every
-    // shadow ray traverses the tree.  Auto: lists when the render's first-vertex shadow rays, spp
-    // times the pixels that see geometry, reach kShadowListRaysPerPrimitive per primitive and grid
-    // (below that, building them costs more than they save).
+    // shadow ray traverses the tree.  Auto: lists when the first-vertex shadow rays that would use
+    // them, spp times the pixels that see geometry times list_shadow_rays_per_path, reach
+    // kShadowListRaysPerEntry per entry the lists would hold (estimate_shadow_list_entries; below
+    // that, making them costs more than they save).
     using ShadowLists = ListChoice;
     ShadowLists shadow_lists = ShadowLists::Auto;
 

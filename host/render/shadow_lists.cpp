@@ -2,6 +2,7 @@
 
 #include "render/candidate_lists.h"
 #include "render/primitive_images.h"
+#include "render/settings.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,12 +11,94 @@
 
 namespace ht {
 
+double list_shadow_rays_per_path(const RenderSettings& s) {
+    using Indirect = RenderSettings::Indirect;
+    const bool own_stage = s.indirect == Indirect::Dual || (s.indirect == Indirect::Afs && s.max_depth <= 1);
+    return own_stage ? 0.0 : double(std::max(s.first_hit_light_samples, 1));
+}
+
 uint64_t ShadowLists::bytes() const {
     return grids.size() * sizeof(HtShadowGrid) + (start.size() + count.size() + primitive.size()) * sizeof(uint32_t) +
            key.size() * sizeof(float);
 }
 
 namespace {
+
+// The grid across direction w (unit vectors u, v across it): the extent of the points' balls in
+// u and v and the cell's side; finite is false when a point is not finite.
+struct GridFrame {
+    double lo_u = HUGE_VAL, hi_u = -HUGE_VAL, lo_v = HUGE_VAL, hi_v = -HUGE_VAL, cell = 0;
+    bool finite = true;
+};
+
+// point i's u, v, w and its ball radius widened by the margin (made again for each primitive at
+// the point, rather than kept per point: the array cost more in fresh pages than the arithmetic
+// twice)
+glm::dvec4 point_along(const SceneGeometry& g, size_t i, const glm::dvec3& w, const glm::dvec3& u, const glm::dvec3& v, double margin) {
+    const glm::dvec3 p(g.points[i].x, g.points[i].y, g.points[i].z);
+    return {glm::dot(p, u), glm::dot(p, v), glm::dot(p, w), ball_radius(g, i) + margin};
+}
+
+// Every step-th point (1: every point, as the lists need; more: an estimate's frame).
+GridFrame grid_frame(const SceneGeometry& g, const glm::dvec3& w, const glm::dvec3& u, const glm::dvec3& v, double margin,
+                     double cell_radii, size_t step = 1) {
+    // per thread: the extent of the balls' boxes, the radii's sum, whether all is finite
+    struct Share {
+        GridFrame f;
+        double radius_sum = 0;
+        size_t radius_count = 0;
+    };
+    std::vector<Share> shares(static_cast<size_t>(host_threads()));
+    in_parallel((g.points.size() + step - 1) / step, [&](int t, size_t begin, size_t end) {
+        Share& sh = shares[size_t(t)];
+        for (size_t i = begin * step; i < end * step && i < g.points.size(); i += step) {
+            const glm::dvec4 a = point_along(g, i, w, u, v, margin);
+            sh.f.finite = sh.f.finite && std::isfinite(a[0] + a[1] + a[2] + a[3]);
+            sh.f.lo_u = std::min(sh.f.lo_u, a[0] - a[3]), sh.f.hi_u = std::max(sh.f.hi_u, a[0] + a[3]);
+            sh.f.lo_v = std::min(sh.f.lo_v, a[1] - a[3]), sh.f.hi_v = std::max(sh.f.hi_v, a[1] + a[3]);
+            if (g.points[i].r > 0) sh.radius_sum += g.points[i].r, ++sh.radius_count;
+        }
+    });
+    GridFrame all;
+    double radius_sum = 0;
+    size_t radius_count = 0;
+    for (const Share& sh : shares) {
+        all.lo_u = std::min(all.lo_u, sh.f.lo_u), all.hi_u = std::max(all.hi_u, sh.f.hi_u);
+        all.lo_v = std::min(all.lo_v, sh.f.lo_v), all.hi_v = std::max(all.hi_v, sh.f.hi_v);
+        radius_sum += sh.radius_sum, radius_count += sh.radius_count;
+        all.finite = all.finite && sh.f.finite;
+    }
+    if (!all.finite) return all;
+    // cells of cell_radii mean radii (or a 1024th of the extent without fibres), fewer than
+    // kMaxShadowGridSide a side, and one more than the extent needs: every box lies inside the
+    // grid, so a ray whose cell is outside it meets nothing (kernels/geometry/candidate_list.h)
+    const double extent = std::max(all.hi_u - all.lo_u, all.hi_v - all.lo_v);
+    double cell = radius_count ? cell_radii * radius_sum / double(radius_count) : extent / 1024;
+    // no more cells than kShadowCellsPerPrimitive per primitive: thin, sparse fibres over a wide
+    // extent would otherwise spend megabytes on empty cells
+    const double cells = std::max(1024.0, kShadowCellsPerPrimitive * double(g.segments.size()));
+    all.cell = std::max({cell, std::sqrt((all.hi_u - all.lo_u) * (all.hi_v - all.lo_v) / cells),
+                         extent / (kMaxShadowGridSide - 2), 1e-30});
+    return all;
+}
+
+// The unit vectors across w (w itself normalised first); false when w is not finite.
+bool light_frame(const HtShadowGrid& grid, glm::dvec3* w, glm::dvec3* u, glm::dvec3* v) {
+    *w = glm::normalize(glm::dvec3(grid.dir[0], grid.dir[1], grid.dir[2]));
+    if (!std::isfinite(w->x + w->y + w->z)) return false;
+    const glm::dvec3 other = std::fabs(w->x) < 0.6 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+    *u = glm::normalize(glm::cross(*w, other)), *v = glm::cross(*w, *u);
+    return true;
+}
+
+// the kernel's float rounding of a ray origin's coordinates and of the capsule roots: a few ulps
+// of the scene's largest coordinate, covered by far (every step-th point's, as grid_frame)
+double shadow_margin(const SceneGeometry& g, size_t step = 1) {
+    double scale = 1;
+    for (size_t i = 0; i < g.points.size(); i += step)
+        scale = std::max({scale, std::fabs(double(g.points[i].x)), std::fabs(double(g.points[i].y)), std::fabs(double(g.points[i].z))});
+    return 1e-5 * scale;
+}
 
 // The primitives' shadows across direction `dir` as images on a grid (cell units), keyed by how
 // far along dir each reaches, rounded up; false when a point is not finite.  The same bounds as
@@ -24,50 +107,10 @@ namespace {
 // boxes.  The boxes are widened by `margin` (world units) for the kernel's float arithmetic.
 bool project_along(const SceneGeometry& g, const PrimitiveStarts& starts, const glm::dvec3& w, const glm::dvec3& u, const glm::dvec3& v, double margin,
                    double cell_radii, HtShadowGrid* grid, ProjectedPrimitives* out) {
-    const size_t np = g.points.size();
-    if (np == 0 || g.segments.empty()) return false;
-    // point i's u, v, w and its ball radius widened by the margin (made again for each primitive
-    // at the point, rather than kept per point: the array cost more in fresh pages than the
-    // arithmetic twice)
-    const auto point_at = [&](size_t i, double* a) {
-        const glm::dvec3 p(g.points[i].x, g.points[i].y, g.points[i].z);
-        a[0] = glm::dot(p, u), a[1] = glm::dot(p, v), a[2] = glm::dot(p, w), a[3] = ball_radius(g, i) + margin;
-    };
-    // per thread: the extent of the balls' boxes, the radii's sum, whether all is finite
-    struct Share {
-        double lo_u = HUGE_VAL, hi_u = -HUGE_VAL, lo_v = HUGE_VAL, hi_v = -HUGE_VAL, radius_sum = 0;
-        size_t radius_count = 0;
-        bool finite = true;
-    };
-    std::vector<Share> shares(static_cast<size_t>(host_threads()));
-    in_parallel(np, [&](int t, size_t begin, size_t end) {
-        Share& sh = shares[size_t(t)];
-        for (size_t i = begin; i < end; ++i) {
-            double a[4];
-            point_at(i, a);
-            sh.finite = sh.finite && std::isfinite(a[0] + a[1] + a[2] + a[3]);
-            sh.lo_u = std::min(sh.lo_u, a[0] - a[3]), sh.hi_u = std::max(sh.hi_u, a[0] + a[3]);
-            sh.lo_v = std::min(sh.lo_v, a[1] - a[3]), sh.hi_v = std::max(sh.hi_v, a[1] + a[3]);
-            if (g.points[i].r > 0) sh.radius_sum += g.points[i].r, ++sh.radius_count;
-        }
-    });
-    Share all;
-    for (const Share& sh : shares) {
-        all.lo_u = std::min(all.lo_u, sh.lo_u), all.hi_u = std::max(all.hi_u, sh.hi_u);
-        all.lo_v = std::min(all.lo_v, sh.lo_v), all.hi_v = std::max(all.hi_v, sh.hi_v);
-        all.radius_sum += sh.radius_sum, all.radius_count += sh.radius_count;
-        all.finite = all.finite && sh.finite;
-    }
+    if (g.points.empty() || g.segments.empty()) return false;
+    const GridFrame all = grid_frame(g, w, u, v, margin, cell_radii);
     if (!all.finite) return false;
-    // cells of cell_radii mean radii (or a 1024th of the extent without fibres), fewer than
-    // kMaxShadowGridSide a side, and one more than the extent needs: every box lies inside the
-    // grid, so a ray whose cell is outside it meets nothing (kernels/geometry/candidate_list.h)
-    const double extent = std::max(all.hi_u - all.lo_u, all.hi_v - all.lo_v);
-    double cell = all.radius_count ? cell_radii * all.radius_sum / double(all.radius_count) : extent / 1024;
-    // no more cells than kShadowCellsPerPrimitive per primitive: thin, sparse fibres over a wide
-    // extent would otherwise spend megabytes on empty cells
-    const double cells = std::max(1024.0, kShadowCellsPerPrimitive * double(g.segments.size()));
-    cell = std::max({cell, std::sqrt((all.hi_u - all.lo_u) * (all.hi_v - all.lo_v) / cells), extent / (kMaxShadowGridSide - 2), 1e-30});
+    const double cell = all.cell;
     const uint32_t nx = std::min(kMaxShadowGridSide, uint32_t(std::floor((all.hi_u - all.lo_u) / cell)) + 2);
     const uint32_t ny = std::min(kMaxShadowGridSide, uint32_t(std::floor((all.hi_v - all.lo_v) / cell)) + 2);
     for (int i = 0; i < 3; ++i) grid->u[i] = float(u[i]), grid->v[i] = float(v[i]);
@@ -82,8 +125,7 @@ bool project_along(const SceneGeometry& g, const PrimitiveStarts& starts, const 
         im->primitive = k;
         double key = -HUGE_VAL, box[4] = {HUGE_VAL, -HUGE_VAL, HUGE_VAL, -HUGE_VAL};
         for (uint32_t j = 0; j < n; ++j) {
-            double p[4];
-            point_at(first + j, p);
+            const glm::dvec4 p = point_along(g, first + j, w, u, v, margin);
             const double e[4] = {(p[0] - p[3] - u0) * inv, (p[0] + p[3] - u0) * inv, (p[1] - p[3] - v0) * inv,
                                  (p[1] + p[3] - v0) * inv};
             box[0] = std::min(box[0], e[0]), box[1] = std::max(box[1], e[1]);
@@ -109,11 +151,7 @@ bool project_along(const SceneGeometry& g, const PrimitiveStarts& starts, const 
 ShadowLists build_shadow_lists(const SceneGeometry& g, const std::vector<HtLight>& lights, double cell_radii,
                                const PrimitiveStarts* given) {
     ShadowLists out;
-    // the kernel's float rounding of a ray origin's coordinates and of the capsule roots: a few
-    // ulps of the scene's largest coordinate, covered by far
-    double scale = 1;
-    for (const HtPoint& p : g.points) scale = std::max({scale, std::fabs(double(p.x)), std::fabs(double(p.y)), std::fabs(double(p.z))});
-    const double margin = 1e-5 * scale;
+    const double margin = shadow_margin(g);
     PrimitiveStarts made;
     const PrimitiveStarts* starts = given;
     for (const HtLight& light : lights) {
@@ -121,10 +159,8 @@ ShadowLists build_shadow_lists(const SceneGeometry& g, const std::vector<HtLight
         HtShadowGrid grid{};
         // the shadow ray's direction as the kernel makes it (kernels/lights.h): the light's, negated
         for (int i = 0; i < 3; ++i) grid.dir[i] = -light.direction[i];
-        const glm::dvec3 w = glm::normalize(glm::dvec3(grid.dir[0], grid.dir[1], grid.dir[2]));
-        if (!std::isfinite(w.x + w.y + w.z)) continue;
-        const glm::dvec3 other = std::fabs(w.x) < 0.6 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
-        const glm::dvec3 u = glm::normalize(glm::cross(w, other)), v = glm::cross(w, u);
+        glm::dvec3 w, u, v;
+        if (!light_frame(grid, &w, &u, &v)) continue;
         ProjectedPrimitives projected;
         if (!starts) made = primitive_starts(g), starts = &made;  // once for every light
         if (!project_along(g, *starts, w, u, v, margin, cell_radii, &grid, &projected)) continue;
@@ -145,6 +181,52 @@ ShadowLists build_shadow_lists(const SceneGeometry& g, const std::vector<HtLight
         out.grids.push_back(grid);
     }
     return out;
+}
+
+double estimate_shadow_list_entries(const SceneGeometry& g, const std::vector<HtLight>& lights, double cell_radii) {
+    if (g.points.empty() || g.segments.empty()) return 0;
+    // a sample of kEstimateSample points and primitives, evenly strided: a few milliseconds on the
+    // anchor's 3.2 M-segment head, where every primitive took half a second
+    constexpr size_t kEstimateSample = size_t(1) << 14;
+    const size_t point_step = std::max<size_t>(1, g.points.size() / kEstimateSample);
+    const size_t step = std::max<size_t>(1, g.segments.size() / kEstimateSample);
+    const size_t sampled = (g.segments.size() + step - 1) / step;
+    const double margin = shadow_margin(g, point_step);
+    double entries = 0;
+    size_t grids = 0;
+    for (const HtLight& light : lights) {
+        if (light.type != HT_LIGHT_DIRECTIONAL || grids == kMaxShadowGrids) continue;
+        HtShadowGrid grid{};
+        for (int i = 0; i < 3; ++i) grid.dir[i] = -light.direction[i];
+        glm::dvec3 w, u, v;
+        if (!light_frame(grid, &w, &u, &v)) continue;
+        const GridFrame f = grid_frame(g, w, u, v, margin, cell_radii, point_step);
+        if (!f.finite) continue;
+        ++grids;
+        std::vector<double> sums(static_cast<size_t>(host_threads()), 0.0);
+        in_parallel(sampled, [&](int t, size_t begin, size_t end) {
+            double sum = 0;
+            for (size_t k = begin * step; k < end * step && k < g.segments.size(); k += step) {
+                const HtSegment& seg = g.segments[k];
+                const uint32_t n = ht_seg_flags(seg) & HT_SEG_TRIANGLE ? 3u : 2u;
+                // the cells of the hull of the vertices' boxes, each box a cell wider for its
+                // ends' rounding to cells: side² + side·(du + dv) for a capsule, the box for a
+                // triangle
+                double lo_u = HUGE_VAL, hi_u = -HUGE_VAL, lo_v = HUGE_VAL, hi_v = -HUGE_VAL, side = 0;
+                for (uint32_t j = 0; j < n; ++j) {
+                    const glm::dvec4 p = point_along(g, seg.point + j, w, u, v, margin);
+                    lo_u = std::min(lo_u, p[0]), hi_u = std::max(hi_u, p[0]);
+                    lo_v = std::min(lo_v, p[1]), hi_v = std::max(hi_v, p[1]);
+                    side = std::max(side, 2 * p[3] / f.cell + 1);
+                }
+                const double du = (hi_u - lo_u) / f.cell, dv = (hi_v - lo_v) / f.cell;
+                sum += n == 3 ? (du + side) * (dv + side) : side * side + side * (du + dv);
+            }
+            sums[size_t(t)] += sum;
+        });
+        for (const double x : sums) entries += x * double(g.segments.size()) / double(sampled);
+    }
+    return entries;
 }
 
 }  // namespace ht

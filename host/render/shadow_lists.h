@@ -22,8 +22,11 @@ constexpr double kShadowCellRadii = 4.0;
 constexpr uint32_t kMaxShadowGridSide = 4096;
 constexpr size_t kMaxShadowGrids = 4;
 constexpr double kShadowCellsPerPrimitive = 4.0;
-// RenderSettings::ShadowLists::Auto's threshold: first-vertex shadow rays per primitive and grid
-constexpr double kShadowListRaysPerPrimitive = 4.0;
+// RenderSettings::ShadowLists::Auto: lists when the render's first-vertex shadow rays through
+// them (list_shadow_rays_per_path below) reach this many per entry they would hold
+// (estimate_shadow_list_entries): between the break-evens measured on four locks at depths 1 and
+// 5 (docs/PERFORMANCE.md section 8 "`auto` weighs rays against entries")
+constexpr double kShadowListRaysPerEntry = 0.6;
 
 struct ShadowLists {
     std::vector<HtShadowGrid> grids;  // one per directional light with lists, at most kMaxShadowGrids
@@ -45,5 +48,18 @@ struct ShadowLists {
 struct PrimitiveStarts;
 ShadowLists build_shadow_lists(const SceneGeometry& geometry, const std::vector<HtLight>& lights,
                                double cell_radii = kShadowCellRadii, const PrimitiveStarts* starts = nullptr);
+
+// About as many entries as build_shadow_lists would make (each primitive counted in the cells of
+// its shadow's bounding hull), from one pass over the points and one over the primitives per
+// light: what the lists would cost, before they are made (RenderSettings::ShadowLists::Auto).
+double estimate_shadow_list_entries(const SceneGeometry& geometry, const std::vector<HtLight>& lights,
+                                    double cell_radii = kShadowCellRadii);
+
+// The shadow rays a camera path sends through intersect_shadow at its first vertex, which the
+// lists serve: its light samples; none when --indirect afs or dual takes that vertex's rays into
+// its own stage (afs at depth 1, dual always).  Later vertices are left out: they add 0.1-1.2 rays
+// per camera path on the locks measured, and fewer the more lights share one pick.
+struct RenderSettings;
+double list_shadow_rays_per_path(const RenderSettings& settings);
 
 }  // namespace ht

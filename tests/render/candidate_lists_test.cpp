@@ -128,6 +128,71 @@ TEST(CandidateLists, AutoMakesCameraListsWhereEnoughRaysUseThem) {
     EXPECT_FALSE(lists_at(4 * spp_lists, LC::Tree));
 }
 
+// The shadow rays a camera path sends through the lists at its first vertex: its light samples,
+// at any depth; none where AFS (at depth 1) or dual scattering takes them into its own stage.
+TEST(ShadowListsAuto, CountsTheRaysThatUseTheLists) {
+    ht::RenderSettings rs = small_settings(1, 7, 1);
+    EXPECT_EQ(ht::list_shadow_rays_per_path(rs), 1.0);
+    rs.first_hit_light_samples = 4;
+    EXPECT_EQ(ht::list_shadow_rays_per_path(rs), 4.0);
+    rs.max_depth = 5;
+    EXPECT_EQ(ht::list_shadow_rays_per_path(rs), 4.0);
+    rs.indirect = ht::RenderSettings::Indirect::Afs;
+    EXPECT_EQ(ht::list_shadow_rays_per_path(rs), 4.0);
+    rs.max_depth = 1;
+    EXPECT_EQ(ht::list_shadow_rays_per_path(rs), 0.0);
+    rs.indirect = ht::RenderSettings::Indirect::Dual;
+    EXPECT_EQ(ht::list_shadow_rays_per_path(rs), 0.0);
+}
+
+// What auto weighs the rays against: the entries the lists would hold, estimated from the cells
+// of each primitive's hull before any is made -- within 15 % of the entries made (2-3 % below them
+// on four locks, docs/PERFORMANCE.md section 8; the estimate rounds each box's ends by one cell
+// where the lists round them to the cells they touch).
+TEST(ShadowListsAuto, EstimatesTheEntries) {
+    for (const char* name : {"builtin:ball?hairs=300&segments=8", "builtin:strand?hairs=40&segments=12"}) {
+        const ht::Scene s = with_sun(scene(name));
+        const ht::PreparedScene p = ht::prepare_scene(s, small_settings(1, 7, 1));
+        const double made = double(ht::build_shadow_lists(p.geometry, p.lights).primitive.size());
+        const double estimate = ht::estimate_shadow_list_entries(p.geometry, p.lights);
+        ASSERT_GT(made, 0) << name;
+        EXPECT_NEAR(estimate / made, 1.0, 0.15) << name << ": " << estimate << " estimated, " << made << " made";
+    }
+}
+
+// --shadow-rays auto: lists once spp x the pixels that see geometry x those rays per path reach
+// kShadowListRaysPerEntry per estimated entry -- with three light samples at a third of one's
+// samples; never with dual scattering, whose shadow stage does not read them.
+TEST(ShadowListsAuto, MakesListsWhereEnoughRaysUseThem) {
+    const ht::Scene s = with_sun(scene("builtin:ball?hairs=300&segments=8"));
+    // the camera's lists, made at every spp, keep the pixels that see geometry the same
+    const auto settings = [](int spp, int depth) {
+        ht::RenderSettings r = small_settings(spp, 7, depth);
+        r.camera_lists = ht::RenderSettings::ListChoice::Lists;
+        return r;
+    };
+    const auto lists_at = [&](int spp, int depth, ht::RenderSettings::Indirect indirect) {
+        ht::RenderSettings r = settings(spp, depth);
+        r.indirect = indirect;
+        return ht::prepare_scene(s, r).shadow_lists.enabled();
+    };
+    const ht::PreparedScene p = ht::prepare_scene(s, settings(1, 1));
+    const double pixels = p.footprint.seen.empty() ? 48.0 * 48.0 : double(p.footprint.seen.size());
+    const double threshold = ht::kShadowListRaysPerEntry * ht::estimate_shadow_list_entries(p.geometry, p.lights);
+    using Indirect = ht::RenderSettings::Indirect;
+    for (const int light_samples : {1, 3}) {
+        ht::RenderSettings r = settings(1, 5);
+        r.first_hit_light_samples = light_samples;
+        const int spp_lists = int(std::ceil(threshold / (pixels * ht::list_shadow_rays_per_path(r))));
+        ASSERT_GT(spp_lists, 1) << light_samples;
+        for (const int spp : {spp_lists - 1, spp_lists}) {
+            r.spp = spp;
+            EXPECT_EQ(ht::prepare_scene(s, r).shadow_lists.enabled(), spp == spp_lists) << light_samples << " " << spp;
+        }
+    }
+    EXPECT_FALSE(lists_at(1000, 1, Indirect::Dual));
+}
+
 // The lists are what the rays use: emptied, every camera ray misses (the film is the background)
 // and no shadow ray toward the suns is blocked (more light) -- so the tests above compare the
 // lists' answers, not the tree's twice.
