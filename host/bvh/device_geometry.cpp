@@ -22,11 +22,8 @@ template <typename F> void device_step(const char* what, F&& f) {
 }
 }  // namespace
 
-namespace {
-static_assert(kMaxGeometryPages == HT_MAX_GEOMETRY_PAGES, "one page limit for host and kernels");
-
-cl::Buffer make_buffer(ClContext& cl, const std::string& what, const void* data, size_t bytes,
-                       GeometryMemory memory) {
+cl::Buffer read_only_buffer(ClContext& cl, const std::string& what, const void* data, size_t bytes,
+                            GeometryMemory memory) {
     // A zero-sized buffer is invalid in OpenCL; an empty array still gets one element.
     const size_t n = bytes ? bytes : 16;
     constexpr size_t kHugePage = BulkAllocator<unsigned char>::kHugePage;
@@ -43,18 +40,22 @@ cl::Buffer make_buffer(ClContext& cl, const std::string& what, const void* data,
     }
 }
 
+namespace {
+static_assert(kMaxGeometryPages == HT_MAX_GEOMETRY_PAGES, "one page limit for host and kernels");
+
+
 // The array as paging.pages buffers; pages past its end repeat its last buffer (never read:
 // no index reaches them, but every kernel argument must be a valid buffer).
 template <typename T, typename Allocator>
 std::vector<cl::Buffer> make_pages(ClContext& cl, const char* what, const std::vector<T, Allocator>& v,
                                    const GeometryPaging& paging, GeometryMemory memory) {
     const size_t bytes = v.size() * sizeof(T);
-    if (paging.pages == 1) return {make_buffer(cl, what, v.data(), bytes, memory)};
+    if (paging.pages == 1) return {read_only_buffer(cl, what, v.data(), bytes, memory)};
     const size_t per_page = size_t(paging.page_bytes() / sizeof(T));
     std::vector<cl::Buffer> out;
     for (size_t first = 0; first < v.size() || out.empty(); first += per_page) {
         const size_t n = std::min(per_page, v.size() - first);
-        out.push_back(make_buffer(cl, std::string(what) + " page " + std::to_string(out.size()),
+        out.push_back(read_only_buffer(cl, std::string(what) + " page " + std::to_string(out.size()),
                                   v.data() + first, n * sizeof(T), memory));
     }
     while (out.size() < paging.pages) out.push_back(out.back());

@@ -133,6 +133,9 @@ struct Renderer::Impl {
     } candidate_lists;
     bool use_candidate_lists = false;
     uint64_t dropped_list_bytes = 0;  // lists the memory plan left on the host (plan_memory_dropping_lists)
+    // how the prepared scene's large arrays reach the device: the geometry's and the lists' alike
+    // (bvh/device_geometry.h; the prepared scene outlives the renderer, unchanged)
+    GeometryMemory memory = GeometryMemory::Copy;
     // The directional lights' shadow lists (render/shadow_lists.h), when the scene has them
     struct ShadowListBuffers {
         cl::Buffer grids, start, count, primitive, key;
@@ -206,7 +209,7 @@ struct Renderer::Impl {
     }
 
     Impl(ClContext& c, std::unique_ptr<PreparedScene> own, const PreparedScene& p, GeometryMemory geometry)
-        : cl(c), owned(std::move(own)), prepared(p), settings(p.settings) {
+        : cl(c), owned(std::move(own)), prepared(p), settings(p.settings), memory(geometry) {
         const RenderSettings& s = settings;
         // the prepared scene outlives the renderer (prepared is read throughout), so its arrays
         // can be the buffers
@@ -320,13 +323,19 @@ struct Renderer::Impl {
         if (stats.camera_lists_dropped) return;
         candidate_lists.start = device_array(cl.context(), c.start);
         candidate_lists.count = device_array(cl.context(), c.count);
-        candidate_lists.primitive = device_array(cl.context(), c.primitive);
-        candidate_lists.depth = device_array(cl.context(), c.depth);
+        candidate_lists.primitive = list_array("camera lists' primitives", c.primitive);
+        candidate_lists.depth = list_array("camera lists' depths", c.depth);
         candidate_lists.leaf_node = device_array(cl.context(), c.leaf_node);
         candidate_lists.depth_row = cl_float4{{c.depth_row[0], c.depth_row[1], c.depth_row[2], 0.0f}};
         use_candidate_lists = true;
         stats.candidate_tree_pixels = c.tree_pixels;
         stats.candidate_entries = c.primitive.size();
+    }
+
+    // A list's entries, tens of megabytes on a lock: on a CPU device the prepared scene's own
+    // pages where `memory` shares them (no copy, no fresh pages to fault in, the huge pages kept).
+    template <typename T> cl::Buffer list_array(const char* what, const BulkVector<T>& v) {
+        return read_only_buffer(cl, what, v.data(), v.size() * sizeof(T), memory);
     }
 
     void upload_shadow_lists() {
@@ -337,8 +346,8 @@ struct Renderer::Impl {
         shadow_lists.grids = device_array(cl.context(), l.grids);
         shadow_lists.start = device_array(cl.context(), l.start);
         shadow_lists.count = device_array(cl.context(), l.count);
-        shadow_lists.primitive = device_array(cl.context(), l.primitive);
-        shadow_lists.key = device_array(cl.context(), l.key);
+        shadow_lists.primitive = list_array("shadow lists' primitives", l.primitive);
+        shadow_lists.key = list_array("shadow lists' keys", l.key);
         shadow_lists.grid_count = cl_uint(l.grids.size());
         stats.shadow_list_entries = l.primitive.size();
     }

@@ -50,15 +50,16 @@ ShadowLists build_shadow_lists(const SceneGeometry& geometry, const std::vector<
                                double cell_radii = kShadowCellRadii, const PrimitiveStarts* starts = nullptr);
 
 // About as many entries as build_shadow_lists would make (each primitive counted in the cells of
-// its shadow's bounding hull), from one pass over the points and one over the primitives per
-// light: what the lists would cost, before they are made (RenderSettings::ShadowLists::Auto).
+// its shadow's bounding hull), from an even sample of the points and primitives per light: what
+// the lists would cost, before they are made (RenderSettings::ShadowLists::Auto).
 double estimate_shadow_list_entries(const SceneGeometry& geometry, const std::vector<HtLight>& lights,
                                     double cell_radii = kShadowCellRadii);
 
 // The shadow rays a camera path sends through intersect_shadow at its first vertex, which the
 // lists serve: its light samples; none when --indirect afs or dual takes that vertex's rays into
-// its own stage (afs at depth 1, dual always).  Later vertices are left out: they add 0.1-1.2 rays
-// per camera path on the locks measured, and fewer the more lights share one pick.
+// its own stage (afs at depth 1, dual always).  Later vertices are left out: they added 0.1-1.2
+// rays per camera path at depth 5 on the four locks measured, and the threshold was fitted without
+// them.
 struct RenderSettings;
 double list_shadow_rays_per_path(const RenderSettings& settings);
 

@@ -75,6 +75,17 @@ TEST(CandidateLists, SameFilmAsTheTree) {
     EXPECT_GT(floor.shadow_list_entries, 0u);
 }
 
+// Lists of 2 MiB and more go to a CPU device as the prepared scene's own pages (CL_MEM_USE_HOST_PTR,
+// bvh/device_geometry.h read_only_buffer), smaller ones as copies: the large ones give the tree's
+// film too.
+TEST(CandidateLists, ListsInTheScenesOwnPagesGiveTheTreesFilm) {
+    ht::RenderSettings rs = small_settings(2, 29, 2);
+    rs.width = rs.height = 32;
+    const ht::RenderStats big =
+        expect_same_film(with_sun(scene("builtin:ball?hairs=2000&segments=24")), rs, "a ball with lists of megabytes");
+    EXPECT_GE(big.shadow_list_entries * sizeof(float), size_t(2) << 20);
+}
+
 // A small cap: the ball's dense pixels traverse the tree beside pixels with lists, in one launch.
 TEST(CandidateLists, PixelsThatKeepTheTree) {
     ht::RenderSettings rs = small_settings(3, 23, 2);
