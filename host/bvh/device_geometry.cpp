@@ -43,7 +43,6 @@ cl::Buffer read_only_buffer(ClContext& cl, const std::string& what, const void* 
 namespace {
 static_assert(kMaxGeometryPages == HT_MAX_GEOMETRY_PAGES, "one page limit for host and kernels");
 
-
 // The array as paging.pages buffers; pages past its end repeat its last buffer (never read:
 // no index reaches them, but every kernel argument must be a valid buffer).
 template <typename T, typename Allocator>

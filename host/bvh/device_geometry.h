@@ -20,11 +20,11 @@ struct DeviceGeometry {
 };
 
 // How upload_geometry (and read_only_buffer, below, for the renderer's lists) gives the arrays to
-// the device.  Copy: read-only device buffers of their own, the arrays may go when it returns.  Shared: on a CPU device, an array (or page) of 2 MiB or
-// more that starts on a 2 MiB boundary (SceneGeometry's BulkVectors do) is the buffer itself
-// (CL_MEM_USE_HOST_PTR): no copy, no second set of pages to fault in (the anchor's head: 115 MB,
-// ~30,000 faults), half the memory; the arrays must then outlive the DeviceGeometry unchanged.
-// Elsewhere, Shared copies.
+// the device.  Copy: read-only device buffers of their own, the arrays may go when it returns.
+// Shared: on a CPU device, an array (or page) of 2 MiB or more that starts on a 2 MiB boundary
+// (SceneGeometry's BulkVectors do) is the buffer itself (CL_MEM_USE_HOST_PTR): no copy, no second
+// set of pages to fault in (the anchor's head: 115 MB, ~30,000 faults), half the memory; the
+// arrays must then outlive the DeviceGeometry unchanged.  Elsewhere, Shared copies.
 enum class GeometryMemory { Copy, Shared };
 
 // One array of `bytes` at `data` as a read-only device buffer, given as `memory` says (Shared: the

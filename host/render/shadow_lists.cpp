@@ -82,9 +82,12 @@ GridFrame grid_frame(const SceneGeometry& g, const glm::dvec3& w, const glm::dve
     return all;
 }
 
-// The unit vectors across w (w itself normalised first); false when w is not finite.
-bool light_frame(const HtShadowGrid& grid, glm::dvec3* w, glm::dvec3* u, glm::dvec3* v) {
-    *w = glm::normalize(glm::dvec3(grid.dir[0], grid.dir[1], grid.dir[2]));
+// The shadow ray's direction toward `light` as the kernel makes it (kernels/lights.h: the light's,
+// negated) into grid->dir, and w (it, normalised) with the unit vectors u, v across it; false
+// when it is not finite.
+bool light_frame(const HtLight& light, HtShadowGrid* grid, glm::dvec3* w, glm::dvec3* u, glm::dvec3* v) {
+    for (int i = 0; i < 3; ++i) grid->dir[i] = -light.direction[i];
+    *w = glm::normalize(glm::dvec3(grid->dir[0], grid->dir[1], grid->dir[2]));
     if (!std::isfinite(w->x + w->y + w->z)) return false;
     const glm::dvec3 other = std::fabs(w->x) < 0.6 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
     *u = glm::normalize(glm::cross(*w, other)), *v = glm::cross(*w, *u);
@@ -157,10 +160,8 @@ ShadowLists build_shadow_lists(const SceneGeometry& g, const std::vector<HtLight
     for (const HtLight& light : lights) {
         if (light.type != HT_LIGHT_DIRECTIONAL || out.grids.size() == kMaxShadowGrids) continue;
         HtShadowGrid grid{};
-        // the shadow ray's direction as the kernel makes it (kernels/lights.h): the light's, negated
-        for (int i = 0; i < 3; ++i) grid.dir[i] = -light.direction[i];
         glm::dvec3 w, u, v;
-        if (!light_frame(grid, &w, &u, &v)) continue;
+        if (!light_frame(light, &grid, &w, &u, &v)) continue;
         ProjectedPrimitives projected;
         if (!starts) made = primitive_starts(g), starts = &made;  // once for every light
         if (!project_along(g, *starts, w, u, v, margin, cell_radii, &grid, &projected)) continue;
@@ -197,9 +198,8 @@ double estimate_shadow_list_entries(const SceneGeometry& g, const std::vector<Ht
     for (const HtLight& light : lights) {
         if (light.type != HT_LIGHT_DIRECTIONAL || grids == kMaxShadowGrids) continue;
         HtShadowGrid grid{};
-        for (int i = 0; i < 3; ++i) grid.dir[i] = -light.direction[i];
         glm::dvec3 w, u, v;
-        if (!light_frame(grid, &w, &u, &v)) continue;
+        if (!light_frame(light, &grid, &w, &u, &v)) continue;
         const GridFrame f = grid_frame(g, w, u, v, margin, cell_radii, point_step);
         if (!f.finite) continue;
         ++grids;
