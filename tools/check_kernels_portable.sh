@@ -75,7 +75,7 @@ done
 # their code is compiled only when the command line asks for it, so compile it here with every one
 # on, once with the scene features on and once with them off.
 estimator=(-DHT_CLAMP_INDIRECT=3.0f -DHT_REGULARIZE_WIDTH=0.1f -DHT_LIGHT_THRESHOLD=0.1f -DHT_SPAWN_PBRT=1
-           -DHT_SAMPLER_SOBOL=1 -DHT_LIGHT_PICK_IMPORTANCE=1 -DHT_LIGHT_GUIDE=0.2f)
+           -DHT_SAMPLER_SOBOL=1 -DHT_LIGHT_PICK_IMPORTANCE=1 -DHT_LIGHT_GUIDE=0.2f -DHT_LIGHT_VERTICES=1)
 for rest in "" "${off[*]}"; do
     # shellcheck disable=SC2086
     if ! "$clang" -x cl -cl-std="$std" -target spir64-unknown-unknown -Xclang -finclude-default-header \

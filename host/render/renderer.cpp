@@ -257,7 +257,6 @@ struct Renderer::Impl {
         trace_program = build(kTraceProgram);
         stats.kernel_options = build_options;
         k_generate = cl::Kernel(trace_program, "generate_camera_rays");
-        k_closest = cl::Kernel(trace_program, "intersect_closest");
         k_closest_paths = cl::Kernel(trace_program, "intersect_closest_paths");
         k_camera = cl::Kernel(trace_program, "intersect_camera");
         k_shadow_lists = cl::Kernel(trace_program, "intersect_shadow_lists");
@@ -269,7 +268,10 @@ struct Renderer::Impl {
         k_compact_count = cl::Kernel(trace_program, "compact_count");
         k_compact_scan = cl::Kernel(trace_program, "compact_scan");
         k_compact_scatter = cl::Kernel(trace_program, "compact_scatter");
-        if (light_vertices) k_generate_light = cl::Kernel(trace_program, "generate_light_rays");
+        if (light_vertices) {  // the program holds them only then (kernels/stages/trace.cl)
+            k_generate_light = cl::Kernel(trace_program, "generate_light_rays");
+            k_closest = cl::Kernel(trace_program, "intersect_closest");
+        }
         if (splits_pending) {
             k_pilot_record = cl::Kernel(trace_program, "pilot_record_first_vertex");
             k_pilot_accumulate = cl::Kernel(trace_program, "pilot_accumulate");
@@ -591,7 +593,7 @@ struct Renderer::Impl {
     }
 
     // The rays of queue q, each starting its traversal at the node of its path's last hit
-    // (kernels/stages/intersect_closest.cl).
+    // (kernels/stages/intersect_closest_paths.cl).
     void intersect_closest(int q, uint32_t count) {
         set_closest_queue_args(k_closest_paths, q, count);
         launch(k_closest_paths, count);

@@ -5,11 +5,17 @@
  * translucent shadow stage of --indirect afs, which needs the fibre's lobes, is a program of its
  * own (stages/intersect_shadow_afs.cl). */
 #include "generate_camera_rays.cl"
-#include "generate_light_rays.cl"
-#include "intersect_closest.cl"
+#include "intersect_closest_paths.cl"
 #include "intersect_camera.cl"
 #include "intersect_shadow.cl"
 #include "resolve_shadows.cl"
 #include "compact.cl"
 #include "accumulate.cl"
 #include "split_pilot.cl"
+/* Only where they run: PoCL compiles every kernel of a program whose binary is read (which the
+ * binary cache does), and each traversal kernel costs about 0.8 s of a cold build
+ * (docs/PERFORMANCE.md section 2). */
+#ifdef HT_LIGHT_VERTICES
+#include "generate_light_rays.cl"
+#include "intersect_closest.cl"
+#endif
