@@ -27,8 +27,9 @@ for f in $(sed -n 's/^ *X(\([A-Z_]*\),.*/\1/p' "$root/kernels/features.h" | grep
     off+=("-DHT_FEATURE_$f=0")
 done
 [ ${#off[@]} -ge 10 ] || { echo "FAILED: could not read the feature list of kernels/features.h"; exit 1; }
-# the render program's three builds (host/render/renderer.cpp)
-render_programs=("$root/kernels/stages/trace.cl" "$root/kernels/stages/shade.cl" "$root/kernels/stages/intersect_shadow_afs.cl")
+# the render program's four builds (host/render/renderer.cpp)
+render_programs=("$root/kernels/stages/trace.cl" "$root/kernels/stages/shade.cl" "$root/kernels/stages/intersect_shadow_afs.cl"
+                 "$root/kernels/stages/lists.cl")
 extra=()
 [ "$std" = CL3.0 ] && extra=(-Xclang -cl-ext=-all)
 if ! "$clang" -x cl -cl-std="$std" -target spir64-unknown-unknown -Xclang -finclude-default-header \

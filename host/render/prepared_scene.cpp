@@ -53,6 +53,26 @@ bool wants_camera_lists(const RenderSettings& s, const SceneGeometry& geometry) 
 
 }  // namespace
 
+bool may_make_lists(const RenderSettings& s, const Scene& scene) {
+    using Lists = RenderSettings::ListChoice;
+    using Shadow = RenderSettings::ShadowLists;
+    double primitives = double(scene.strands.segment_count());
+    for (const Mesh& m : scene.meshes) primitives += double(m.triangle_count());
+    const double pixels = double(s.width) * s.height;  // at least the pixels that see geometry
+    // wants_camera_lists with the primitives the BVH will hold
+    const bool camera = s.camera_lists == Lists::Auto ? double(s.spp) * pixels >= kCameraListRaysPerPrimitive * primitives
+                                                      : s.camera_lists == Lists::Lists;
+    // wants_shadow_lists' first test: every primitive is listed in a cell of every grid at least
+    size_t grids = 0;
+    for (const Light& l : scene.lights) grids += l.type == LightType::Directional;
+    grids = std::min(grids, kMaxShadowGrids);
+    const double rays = double(s.spp) * pixels * list_shadow_rays_per_path(s);
+    const bool shadow = s.shadow_lists == Shadow::Auto
+                            ? grids > 0 && rays > 0 && rays >= kShadowListRaysPerEntry * primitives * double(grids)
+                            : s.shadow_lists == Shadow::Lists;
+    return camera || shadow;
+}
+
 namespace {
 
 // PreparedScene::light_vertices for `count` light rays per camera sample.

@@ -65,6 +65,13 @@ struct PreparedScene {
 // bounce).  The command line reports it as a usage error, prepare_scene throws it.
 std::string light_vertices_refusal(const Scene& scene, const RenderSettings& settings);
 
+// Whether prepare_scene may make camera or shadow lists for `scene` under `settings`: their rules
+// (RenderSettings::camera_lists, shadow_lists) bounded from the image's size and the scene's
+// counts alone, before the BVH exists, so that the program of the stages that read lists
+// (kernels/stages/lists.cl) is compiled only for renders that may use it.  False: none will be
+// made while the scene's segments and triangles all reach the BVH.
+bool may_make_lists(const RenderSettings& settings, const Scene& scene);
+
 // Called once the kernels' recipe (features, estimator_options) is known and before the BVH is
 // built, which takes most of the preparation: program builds started there overlap it
 // (render/renderer.h prefetch_render_program).  Only those two fields and `settings` are set.

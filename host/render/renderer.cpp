@@ -62,11 +62,14 @@ cl::Buffer device_array(cl::Context& ctx, const std::vector<T, Allocator>& v) {
 constexpr const char* kTraceProgram = "stages/trace.cl";
 constexpr const char* kShadeProgram = "stages/shade.cl";
 constexpr const char* kAfsShadowProgram = "stages/intersect_shadow_afs.cl";  // --indirect afs and dual only
+constexpr const char* kListsProgram = "stages/lists.cl";  // camera or shadow lists only
 
-// The builds a scene with `features` needs, shade first (the longest: it starts first).
-std::vector<const char*> render_program_files(const KernelFeatures& features) {
+// The builds a scene with `features` needs, shade first (the longest: it starts first); the lists'
+// stages where the render may make lists.
+std::vector<const char*> render_program_files(const KernelFeatures& features, bool lists) {
     std::vector<const char*> files = {kShadeProgram, kTraceProgram};
     if (features[Feature::INDIRECT_AFS] || features[Feature::INDIRECT_DUAL]) files.push_back(kAfsShadowProgram);
+    if (lists) files.push_back(kListsProgram);
     return files;
 }
 
@@ -98,7 +101,8 @@ std::string render_program_options(KernelFeatures features, const std::string& e
 void prefetch_render_program(ClContext& cl, const PreparedScene& recipe, const Scene& scene) {
     if (!surely_unpaged(scene, cl.info().max_alloc)) return;
     const std::string options = render_program_options(recipe.features, recipe.estimator_options, GeometryPaging{});
-    for (const char* file : render_program_files(recipe.features)) cl.prefetch(file, options);
+    for (const char* file : render_program_files(recipe.features, may_make_lists(recipe.settings, scene)))
+        cl.prefetch(file, options);
 }
 
 // Test hook: HAIRTRACE_INJECT_FAULT=alloc|launch makes the device layer fail the way a driver
@@ -258,8 +262,6 @@ struct Renderer::Impl {
         stats.kernel_options = build_options;
         k_generate = cl::Kernel(trace_program, "generate_camera_rays");
         k_closest_paths = cl::Kernel(trace_program, "intersect_closest_paths");
-        k_camera = cl::Kernel(trace_program, "intersect_camera");
-        k_shadow_lists = cl::Kernel(trace_program, "intersect_shadow_lists");
         k_shade = cl::Kernel(shade_program, "shade");
         k_shadow = cl::Kernel(trace_program, "intersect_shadow");
         k_resolve = cl::Kernel(trace_program, "resolve_shadows");
@@ -292,6 +294,11 @@ struct Renderer::Impl {
         const MemoryPlan plan = plan_memory_dropping_lists();
         upload_candidate_lists();
         upload_shadow_lists();
+        if (use_candidate_lists || shadow_lists.grid_count > 0) {  // lists that reach the device
+            const cl::Program lists_program = build(kListsProgram);
+            if (use_candidate_lists) k_camera = cl::Kernel(lists_program, "intersect_camera");
+            if (shadow_lists.grid_count > 0) k_shadow_lists = cl::Kernel(lists_program, "intersect_shadow_lists");
+        }
         upload_textures();
         use_plan(plan);
         pixel_list = device_array(cl.context(), std::vector<cl_uint>{});

@@ -1,9 +1,9 @@
 // Shadow rays toward a directional light all run along one direction, so each stays in one cell
 // of a grid laid across it: only the primitives whose shadow covers the cell can block it.  The
 // lists per cell (render/candidate_lists.h's builder, the cells in place of pixels, sorted by how
-// far towards the light each primitive reaches) let kernels/stages/intersect_shadow.cl answer
-// such a ray without the tree, with the tree's answer (docs/PERFORMANCE.md section 8 "Shadow
-// rays from per-cell lists").
+// far towards the light each primitive reaches) let kernels/stages/intersect_shadow_lists.cl
+// answer such a ray without the tree, with the tree's answer (docs/PERFORMANCE.md section 8
+// "Shadow rays from per-cell lists").
 #pragma once
 
 #include "bvh/bvh.h"

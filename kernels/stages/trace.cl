@@ -3,10 +3,10 @@
  * accumulation (and the --first-hit-splits auto pilot's accumulation).  They read few of the
  * scene features, so one build of them serves most scenes (host/render/renderer.cpp); the
  * translucent shadow stage of --indirect afs, which needs the fibre's lobes, is a program of its
- * own (stages/intersect_shadow_afs.cl). */
+ * own (stages/intersect_shadow_afs.cl), and so are the stages that read the camera's and the
+ * shadow rays' candidate lists (stages/lists.cl). */
 #include "generate_camera_rays.cl"
 #include "intersect_closest_paths.cl"
-#include "intersect_camera.cl"
 #include "intersect_shadow.cl"
 #include "resolve_shadows.cl"
 #include "compact.cl"

@@ -1,6 +1,6 @@
 // RenderSettings::camera_lists and shadow_lists: camera rays test their pixel's candidate list
 // (render/candidate_lists.h, kernels/stages/intersect_camera.cl), shadow rays toward a
-// directional light their cell's (render/shadow_lists.h, kernels/stages/intersect_shadow.cl),
+// directional light their cell's (render/shadow_lists.h, kernels/stages/intersect_shadow_lists.cl),
 // instead of traversing the tree, and must find the very answers the tree finds -- so the film is
 // the same bits, on sparse and dense hair, with triangles, with pixels that keep the tree beside
 // pixels with lists, with splits and several bounces.  Where nothing can be proved there are no
@@ -202,6 +202,40 @@ TEST(ShadowListsAuto, MakesListsWhereEnoughRaysUseThem) {
         }
     }
     EXPECT_FALSE(lists_at(1000, 1, Indirect::Dual));
+}
+
+// may_make_lists, which decides before the BVH exists whether the lists' stages are compiled
+// (kernels/stages/lists.cl), is true wherever prepare_scene makes lists, and false for a render
+// of few rays per primitive, which then compiles neither stage.
+TEST(CandidateLists, MayMakeListsWherePrepareSceneMakesThem) {
+    using LC = ht::RenderSettings::ListChoice;
+    using SL = ht::RenderSettings::ShadowLists;
+    int made = 0;
+    for (const char* name : {"builtin:ball?hairs=300&segments=8", "builtin:strand?hairs=40&segments=12"}) {
+        const ht::Scene s = with_sun(scene(name));
+        for (const int spp : {1, 3, 8, 24, 64, 200})
+            for (const int light_samples : {1, 3}) {
+                ht::RenderSettings r = small_settings(spp, 7, 5);
+                r.first_hit_light_samples = light_samples;
+                const ht::PreparedScene p = ht::prepare_scene(s, r);
+                const bool lists = p.candidates.enabled || p.shadow_lists.enabled();
+                made += lists;
+                EXPECT_TRUE(!lists || ht::may_make_lists(r, s)) << name << " spp " << spp << " " << light_samples;
+            }
+        // an 8 x 8 preview: fewer camera rays than primitives, fewer shadow rays than primitives x grids
+        ht::RenderSettings r = small_settings(1, 7, 5);
+        r.width = r.height = 8;
+        EXPECT_FALSE(ht::may_make_lists(r, s)) << name;
+        r.camera_lists = LC::Lists;
+        EXPECT_TRUE(ht::may_make_lists(r, s)) << name;
+        r.camera_lists = LC::Tree;
+        r.shadow_lists = SL::Lists;
+        EXPECT_TRUE(ht::may_make_lists(r, s)) << name;
+        r.spp = 100000;
+        r.shadow_lists = SL::Tree;
+        EXPECT_FALSE(ht::may_make_lists(r, s)) << name;
+    }
+    EXPECT_GE(made, 6);  // the sweep reaches both rules' lists
 }
 
 // The lists are what the rays use: emptied, every camera ray misses (the film is the background)

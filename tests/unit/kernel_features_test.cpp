@@ -30,10 +30,10 @@ std::set<std::string> defined_names(const std::string& options) {
     return out;
 }
 
-// The render program's source: both of its builds (host/render/renderer.cpp).
+// The render program's source: all of its builds (host/render/renderer.cpp).
 std::string render_program_source() {
     return assemble_kernel_source("stages/trace.cl") + assemble_kernel_source("stages/shade.cl") +
-           assemble_kernel_source("stages/intersect_shadow_afs.cl");
+           assemble_kernel_source("stages/intersect_shadow_afs.cl") + assemble_kernel_source("stages/lists.cl");
 }
 
 }  // namespace
