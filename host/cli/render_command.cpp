@@ -107,7 +107,11 @@ void open_devices(PreparedRender& job, const RenderRequest& request, bool quiet)
     const auto start_builds = [&](const PreparedScene& recipe) {
         for (auto& c : job.contexts) prefetch_render_program(*c, recipe, job.scene);
     };
-    job.prepared = std::make_unique<PreparedScene>(prepare_scene(job.scene, job.settings, start_builds));
+    const auto start_lists_build = [&](const PreparedScene& recipe) {
+        for (auto& c : job.contexts) prefetch_lists_program(*c, recipe, job.scene);
+    };
+    job.prepared =
+        std::make_unique<PreparedScene>(prepare_scene(job.scene, job.settings, start_builds, start_lists_build));
     // one device may render from the prepared scene's own arrays; several each take a copy
     const GeometryMemory geometry = job.contexts.size() > 1 ? GeometryMemory::Copy : GeometryMemory::Shared;
     for (auto& c : job.contexts) job.renderers.push_back(std::make_unique<Renderer>(*c, *job.prepared, geometry));

@@ -53,26 +53,6 @@ bool wants_camera_lists(const RenderSettings& s, const SceneGeometry& geometry) 
 
 }  // namespace
 
-bool may_make_lists(const RenderSettings& s, const Scene& scene) {
-    using Lists = RenderSettings::ListChoice;
-    using Shadow = RenderSettings::ShadowLists;
-    double primitives = double(scene.strands.segment_count());
-    for (const Mesh& m : scene.meshes) primitives += double(m.triangle_count());
-    const double pixels = double(s.width) * s.height;  // at least the pixels that see geometry
-    // wants_camera_lists with the primitives the BVH will hold
-    const bool camera = s.camera_lists == Lists::Auto ? double(s.spp) * pixels >= kCameraListRaysPerPrimitive * primitives
-                                                      : s.camera_lists == Lists::Lists;
-    // wants_shadow_lists' first test: every primitive is listed in a cell of every grid at least
-    size_t grids = 0;
-    for (const Light& l : scene.lights) grids += l.type == LightType::Directional;
-    grids = std::min(grids, kMaxShadowGrids);
-    const double rays = double(s.spp) * pixels * list_shadow_rays_per_path(s);
-    const bool shadow = s.shadow_lists == Shadow::Auto
-                            ? grids > 0 && rays > 0 && rays >= kShadowListRaysPerEntry * primitives * double(grids)
-                            : s.shadow_lists == Shadow::Lists;
-    return camera || shadow;
-}
-
 namespace {
 
 // PreparedScene::light_vertices for `count` light rays per camera sample.
@@ -109,7 +89,8 @@ std::string light_vertices_refusal(const Scene& scene, const RenderSettings& s) 
     return "";
 }
 
-PreparedScene prepare_scene(const Scene& scene, const RenderSettings& s, const RecipeReady& recipe_ready) {
+PreparedScene prepare_scene(const Scene& scene, const RenderSettings& s, const RecipeReady& recipe_ready,
+                            const RecipeReady& lists_ready) {
     PreparedScene p;
     p.settings = s;
     p.settings.light_guiding = effective_light_guiding(s.light_guiding, !scene.lights.empty(), scene.environment.enabled());
@@ -151,6 +132,12 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& s, const R
     // lights' alike, by whichever comes first
     PrimitiveStarts starts;
     const bool camera_lists = wants_camera_lists(s, p.geometry);
+    bool lists_announced = false;
+    const auto announce_lists = [&] {
+        if (lists_ready && !lists_announced) lists_ready(p);
+        lists_announced = true;
+    };
+    if (camera_lists) announce_lists();
     if (skip_empty || camera_lists) {
         const auto t0 = std::chrono::steady_clock::now();
         starts = primitive_starts(p.geometry);
@@ -170,6 +157,7 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& s, const R
         p.candidates_ms = ms(t1, t2) + (skip_empty ? 0.0 : ms(t0, t1));
     }
     if (wants_shadow_lists(s, p)) {
+        announce_lists();
         const auto t0 = std::chrono::steady_clock::now();
         if (starts.primitive.empty()) starts = primitive_starts(p.geometry);
         p.shadow_lists = build_shadow_lists(p.geometry, p.lights, kShadowCellRadii, &starts);

@@ -65,13 +65,6 @@ struct PreparedScene {
 // bounce).  The command line reports it as a usage error, prepare_scene throws it.
 std::string light_vertices_refusal(const Scene& scene, const RenderSettings& settings);
 
-// Whether prepare_scene may make camera or shadow lists for `scene` under `settings`: their rules
-// (RenderSettings::camera_lists, shadow_lists) bounded from the image's size and the scene's
-// counts alone, before the BVH exists, so that the program of the stages that read lists
-// (kernels/stages/lists.cl) is compiled only for renders that may use it.  False: none will be
-// made while the scene's segments and triangles all reach the BVH.
-bool may_make_lists(const RenderSettings& settings, const Scene& scene);
-
 // Called once the kernels' recipe (features, estimator_options) is known and before the BVH is
 // built, which takes most of the preparation: program builds started there overlap it
 // (render/renderer.h prefetch_render_program).  Only those two fields and `settings` are set.
@@ -79,7 +72,10 @@ using RecipeReady = std::function<void(const PreparedScene& recipe)>;
 
 // Builds everything above from `scene` (after the command line's overrides; it must outlive the
 // result, whose `textures` points into it).  Throws SceneError for an unreadable environment map.
+// lists_ready, with the same recipe, once the render has chosen to make camera or shadow lists and
+// before it makes them, at most once: the program of the stages that read them is started there
+// (render/renderer.h prefetch_lists_program), so a render without lists never compiles it.
 PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
-                            const RecipeReady& recipe_ready = {});
+                            const RecipeReady& recipe_ready = {}, const RecipeReady& lists_ready = {});
 
 }  // namespace ht

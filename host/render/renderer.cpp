@@ -64,12 +64,11 @@ constexpr const char* kShadeProgram = "stages/shade.cl";
 constexpr const char* kAfsShadowProgram = "stages/intersect_shadow_afs.cl";  // --indirect afs and dual only
 constexpr const char* kListsProgram = "stages/lists.cl";  // camera or shadow lists only
 
-// The builds a scene with `features` needs, shade first (the longest: it starts first); the lists'
-// stages where the render may make lists.
-std::vector<const char*> render_program_files(const KernelFeatures& features, bool lists) {
+// The builds a scene with `features` needs, shade first (the longest: it starts first); the
+// lists' stages (kListsProgram) come when the render makes lists (prefetch_lists_program).
+std::vector<const char*> render_program_files(const KernelFeatures& features) {
     std::vector<const char*> files = {kShadeProgram, kTraceProgram};
     if (features[Feature::INDIRECT_AFS] || features[Feature::INDIRECT_DUAL]) files.push_back(kAfsShadowProgram);
-    if (lists) files.push_back(kListsProgram);
     return files;
 }
 
@@ -98,11 +97,21 @@ std::string render_program_options(KernelFeatures features, const std::string& e
     return kernel_build_options(features) + estimator_options;
 }
 
-void prefetch_render_program(ClContext& cl, const PreparedScene& recipe, const Scene& scene) {
+namespace {
+void prefetch_programs(ClContext& cl, const PreparedScene& recipe, const Scene& scene,
+                       const std::vector<const char*>& files) {
     if (!surely_unpaged(scene, cl.info().max_alloc)) return;
     const std::string options = render_program_options(recipe.features, recipe.estimator_options, GeometryPaging{});
-    for (const char* file : render_program_files(recipe.features, may_make_lists(recipe.settings, scene)))
-        cl.prefetch(file, options);
+    for (const char* file : files) cl.prefetch(file, options);
+}
+}  // namespace
+
+void prefetch_render_program(ClContext& cl, const PreparedScene& recipe, const Scene& scene) {
+    prefetch_programs(cl, recipe, scene, render_program_files(recipe.features));
+}
+
+void prefetch_lists_program(ClContext& cl, const PreparedScene& recipe, const Scene& scene) {
+    prefetch_programs(cl, recipe, scene, {kListsProgram});
 }
 
 // Test hook: HAIRTRACE_INJECT_FAULT=alloc|launch makes the device layer fail the way a driver
@@ -869,7 +878,8 @@ Renderer::Renderer(ClContext& cl, const PreparedScene& prepared, GeometryMemory 
 Renderer::Renderer(ClContext& cl, const Scene& scene, const RenderSettings& settings) {
     try {
         auto own = std::make_unique<PreparedScene>(prepare_scene(
-            scene, settings, [&](const PreparedScene& recipe) { prefetch_render_program(cl, recipe, scene); }));
+            scene, settings, [&](const PreparedScene& recipe) { prefetch_render_program(cl, recipe, scene); },
+            [&](const PreparedScene& recipe) { prefetch_lists_program(cl, recipe, scene); }));
         const PreparedScene& p = *own;
         try {
             impl_ = new Impl(cl, std::move(own), p, GeometryMemory::Shared);

@@ -85,6 +85,9 @@ std::string render_program_options(KernelFeatures features, const std::string& e
 // It assumes unpaged geometry and does nothing for scenes whose geometry could approach the
 // device's allocation limit; the Renderer builds whatever the upload needs either way.
 void prefetch_render_program(ClContext& cl, const PreparedScene& recipe, const Scene& scene);
+// The same for the program of the stages that read camera and shadow lists (kernels/stages/lists.cl),
+// from prepare_scene's lists_ready: compiled only for renders that make lists.
+void prefetch_lists_program(ClContext& cl, const PreparedScene& recipe, const Scene& scene);
 
 class Renderer {
 public:

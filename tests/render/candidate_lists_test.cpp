@@ -204,38 +204,32 @@ TEST(ShadowListsAuto, MakesListsWhereEnoughRaysUseThem) {
     EXPECT_FALSE(lists_at(1000, 1, Indirect::Dual));
 }
 
-// may_make_lists, which decides before the BVH exists whether the lists' stages are compiled
-// (kernels/stages/lists.cl), is true wherever prepare_scene makes lists, and false for a render
-// of few rays per primitive, which then compiles neither stage.
-TEST(CandidateLists, MayMakeListsWherePrepareSceneMakesThem) {
-    using LC = ht::RenderSettings::ListChoice;
-    using SL = ht::RenderSettings::ShadowLists;
-    int made = 0;
+// prepare_scene's lists_ready, where the render starts compiling the stages that read lists
+// (kernels/stages/lists.cl), comes once exactly when it makes camera or shadow lists, before it
+// makes them: a render without lists never compiles that program.
+TEST(CandidateLists, ListsReadyComesOnceWhenListsAreMade) {
+    int with_lists = 0, without = 0;
     for (const char* name : {"builtin:ball?hairs=300&segments=8", "builtin:strand?hairs=40&segments=12"}) {
         const ht::Scene s = with_sun(scene(name));
-        for (const int spp : {1, 3, 8, 24, 64, 200})
+        for (const int spp : {1, 8, 64, 1000})
             for (const int light_samples : {1, 3}) {
                 ht::RenderSettings r = small_settings(spp, 7, 5);
                 r.first_hit_light_samples = light_samples;
-                const ht::PreparedScene p = ht::prepare_scene(s, r);
+                int calls = 0;
+                bool made_before = false;
+                const ht::PreparedScene p = ht::prepare_scene(s, r, {}, [&](const ht::PreparedScene& q) {
+                    ++calls;
+                    made_before = q.candidates.enabled || q.shadow_lists.enabled();
+                });
                 const bool lists = p.candidates.enabled || p.shadow_lists.enabled();
-                made += lists;
-                EXPECT_TRUE(!lists || ht::may_make_lists(r, s)) << name << " spp " << spp << " " << light_samples;
+                (lists ? with_lists : without) += 1;
+                EXPECT_EQ(calls, lists ? 1 : 0) << name << " spp " << spp << " light samples " << light_samples;
+                EXPECT_FALSE(made_before) << name << " spp " << spp;
             }
-        // an 8 x 8 preview: fewer camera rays than primitives, fewer shadow rays than primitives x grids
-        ht::RenderSettings r = small_settings(1, 7, 5);
-        r.width = r.height = 8;
-        EXPECT_FALSE(ht::may_make_lists(r, s)) << name;
-        r.camera_lists = LC::Lists;
-        EXPECT_TRUE(ht::may_make_lists(r, s)) << name;
-        r.camera_lists = LC::Tree;
-        r.shadow_lists = SL::Lists;
-        EXPECT_TRUE(ht::may_make_lists(r, s)) << name;
-        r.spp = 100000;
-        r.shadow_lists = SL::Tree;
-        EXPECT_FALSE(ht::may_make_lists(r, s)) << name;
     }
-    EXPECT_GE(made, 6);  // the sweep reaches both rules' lists
+    // the sweep has renders of both kinds
+    EXPECT_GE(with_lists, 4);
+    EXPECT_GE(without, 2);
 }
 
 // The lists are what the rays use: emptied, every camera ray misses (the film is the background)
