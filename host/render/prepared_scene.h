@@ -72,9 +72,10 @@ using RecipeReady = std::function<void(const PreparedScene& recipe)>;
 
 // Builds everything above from `scene` (after the command line's overrides; it must outlive the
 // result, whose `textures` points into it).  Throws SceneError for an unreadable environment map.
-// lists_ready, with the same recipe, once the render has chosen to make camera or shadow lists and
-// before it makes them, at most once: the program of the stages that read them is started there
-// (render/renderer.h prefetch_lists_program), so a render without lists never compiles it.
+// lists_ready, with the scene prepared so far (the recipe's fields among them), once the render has
+// chosen to make camera or shadow lists and before it makes them, at most once: the program of the
+// stages that read them is started there (render/renderer.h prefetch_lists_program), so a render
+// without lists never compiles it.
 PreparedScene prepare_scene(const Scene& scene, const RenderSettings& settings,
                             const RecipeReady& recipe_ready = {}, const RecipeReady& lists_ready = {});
 

@@ -147,7 +147,8 @@ struct Renderer::Impl {
     bool use_candidate_lists = false;
     uint64_t dropped_list_bytes = 0;  // lists the memory plan left on the host (plan_memory_dropping_lists)
     // how the prepared scene's large arrays reach the device: the geometry's and the lists' alike
-    // (bvh/device_geometry.h; the prepared scene outlives the renderer, unchanged)
+    // (bvh/device_geometry.h; the prepared scene outlives the renderer, unchanged, and is read
+    // throughout, so its arrays can be the buffers)
     GeometryMemory memory = GeometryMemory::Copy;
     // The directional lights' shadow lists (render/shadow_lists.h), when the scene has them
     struct ShadowListBuffers {
@@ -224,9 +225,7 @@ struct Renderer::Impl {
     Impl(ClContext& c, std::unique_ptr<PreparedScene> own, const PreparedScene& p, GeometryMemory geometry)
         : cl(c), owned(std::move(own)), prepared(p), settings(p.settings), memory(geometry) {
         const RenderSettings& s = settings;
-        // the prepared scene outlives the renderer (prepared is read throughout), so its arrays
-        // can be the buffers
-        device_geometry = upload_geometry(cl, p.geometry, 0, geometry);
+        device_geometry = upload_geometry(cl, p.geometry, 0, memory);
         scene.strand_material = device_array(cl.context(), p.strand_material);
         scene.materials = device_array(cl.context(), p.materials);
         scene.light_count = cl_uint(p.lights.size());
