@@ -23,7 +23,8 @@
     X(TEXTURES, "base colour textures")                                                            \
     X(LOBE_TT, "lobe TT")                                                                          \
     X(LOBE_TRT, "lobe TRT (chiang: + TRRT+)")                                                      \
-    X(AOVS, "arbitrary output values (render --aovs)")
+    X(AOVS, "arbitrary output values (render --aovs)")                                            \
+    X(PATH_GRID, "path rays from a uniform grid (--path-rays)")
 
 /* Point lights need no switch: their code is the part every positional light shares. */
 #ifndef HT_FEATURE_LIGHT_SPOT
@@ -73,6 +74,12 @@
 /* per-path output records (kernels/aovs.h): a setting, not a scene feature, so off unless asked */
 #ifndef HT_FEATURE_AOVS
 #define HT_FEATURE_AOVS 0
+#endif
+
+/* path rays' closest hits from a uniform grid of capsule lists (kernels/geometry/path_grid.h): a
+ * setting, off unless the render chose it */
+#ifndef HT_FEATURE_PATH_GRID
+#define HT_FEATURE_PATH_GRID 0
 #endif
 
 /* Values (defaults where they are read):

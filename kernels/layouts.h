@@ -17,6 +17,8 @@
     S(HtSegment, 8) F(HtSegment, point, 0) F(HtSegment, strand_flags, 4)                          \
     S(HtBvhNode, 256) F(HtBvhNode, x, 0) F(HtBvhNode, y, 64) F(HtBvhNode, z, 128)               \
         F(HtBvhNode, child, 192) F(HtBvhNode, count, 224)                                     \
+    S(HtPathGrid, 32) F(HtPathGrid, lo, 0) F(HtPathGrid, cell, 12) F(HtPathGrid, dims, 16)        \
+        F(HtPathGrid, inv_cell, 28)                                                                \
     S(HtTriangleShading, 128) F(HtTriangleShading, n0, 0) F(HtTriangleShading, n1, 16)            \
         F(HtTriangleShading, n2, 32) F(HtTriangleShading, albedo, 48) F(HtTriangleShading, uv, 64) \
         F(HtTriangleShading, texture, 88) F(HtTriangleShading, pad1, 96)                           \

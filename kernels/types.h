@@ -75,6 +75,16 @@ typedef struct {
     uint count[HT_BVH_WIDTH];
 } HtBvhNode;
 
+/* A uniform grid over the capsules for the path rays' closest hits (host/render/path_grid.h builds it,
+ * kernels/geometry/path_grid.h walks it): cell (x, y, z) is the box lo + cell * [x, x+1] x ... and
+ * lists every capsule that may meet a ray inside it. */
+typedef struct {
+    float lo[3];
+    float cell;
+    uint dims[3];
+    float inv_cell; /* 1 / cell */
+} HtPathGrid;
+
 /* No texture: HtTriangleShading.texture of an untextured triangle. */
 #define HT_NO_TEXTURE 0xFFFFFFFFu
 

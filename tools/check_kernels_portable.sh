@@ -59,13 +59,13 @@ for lobes in "0 0" "0 1" "1 0"; do
         fi
     done
 done
-# Geometry paged over several buffers (kernels/geometry/pages.h), with the AOV records: the render and tracer programs
-# with 3 pages of 4 KiB and with the maximum of 8, meshes on so every paged array is indexed.
-for pages in 3 8; do
+# Geometry paged over several buffers (kernels/geometry/pages.h), with the AOV records and the path rays' grid: the render and tracer programs
+# unpaged, with 3 pages of 4 KiB and with the maximum of 8, meshes on so every paged array is indexed.
+for pages in 1 3 8; do
     for f in trace.cl shade.cl intersect_shadow_afs.cl intersect.cl; do
         if ! "$clang" -x cl -cl-std="$std" -target spir64-unknown-unknown -Xclang -finclude-default-header \
              -fsyntax-only -cl-single-precision-constant -Werror -Wall -Wno-unused-function -Wno-unused-variable \
-             -DHT_FEATURE_MESHES=1 -DHT_FEATURE_INDIRECT_AFS=1 -DHT_FEATURE_AOVS=1 -DHT_GEOMETRY_PAGES=$pages -DHT_GEOMETRY_PAGE_LOG2=12 \
+             -DHT_FEATURE_MESHES=1 -DHT_FEATURE_INDIRECT_AFS=1 -DHT_FEATURE_AOVS=1 -DHT_FEATURE_PATH_GRID=1 -DHT_GEOMETRY_PAGES=$pages -DHT_GEOMETRY_PAGE_LOG2=12 \
              "${extra[@]}" "$root/kernels/stages/$f"; then
             echo "FAILED: kernels/stages/$f with $pages geometry pages ($std)"
             status=1

@@ -6,6 +6,7 @@
 #include "bench/embree_tracer.h"
 #include "bench/median.h"
 #include "bench/startup.h"
+#include "render/path_grid.h"
 #include "render/renderer.h"
 #include "bench/rays_file.h"
 #include "bvh/bvh.h"
@@ -24,6 +25,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <random>
 #include <stdexcept>
 
@@ -250,7 +252,7 @@ namespace {
 // One ray set through the tracer: the hits checked (against the file's stored answers when it has
 // them; `all_ok` becomes false on a disagreement), then timed.
 nlohmann::json measure_ray_set(DeviceTracer& tracer, const SceneGeometry& geo, const RaySet& s, int reps,
-                               EmbreeTracer* embree, bool json_out, bool& all_ok) {
+                               EmbreeTracer* embree, bool json_out, bool with_grid, bool& all_ok) {
     nlohmann::json jr;
     jr["set"] = s.name;
     jr["rays"] = s.rays.size();
@@ -359,43 +361,52 @@ nlohmann::json measure_ray_set(DeviceTracer& tracer, const SceneGeometry& geo, c
                                    {s.shadow ? "occluded" : "hits", embree_count},
                                    {"ratio", vs_embree(mrays)}};
     }
-    // The render's own traversal of these rays: each started at the node the render started it
-    // at (bvh/start_nodes.h); the same answers as from the root, bit for bit, or MISMATCH.
-    std::string starts_line;
-    if (!s.starts.empty()) {
-        tracer.set_starts(s.starts);
+    // Another traversal of the same rays (set up by `use`), checked against the root's answers
+    // bit for bit (or MISMATCH), then timed as above: its JSON and report line.
+    const auto alternative = [&](const char* key, const std::string& label, const std::function<void()>& use) {
+        use();
         tracer.enqueue_closest();
         tracer.finish();
-        std::vector<HtHit> from_starts;
-        tracer.read_hits(from_starts);
+        std::vector<HtHit> other;
+        tracer.read_hits(other);
         size_t same = 0;
         for (size_t i = 0; i < hits.size(); ++i)
-            same += from_starts[i].segment == hits[i].segment &&
-                    std::memcmp(&from_starts[i].t, &hits[i].t, sizeof(float)) == 0;
+            same += other[i].segment == hits[i].segment && std::memcmp(&other[i].t, &hits[i].t, sizeof(float)) == 0;
         const bool ok = same == hits.size();
         all_ok = all_ok && ok;
-        std::vector<double> st, sc;
-        timed(st, sc);
-        const double sm = median(st);
-        const double smrays = rate(sm), smrays_cpu = rate(median(sc));
-        size_t started = 0;
-        for (uint32_t n : s.starts) started += n != 0u;
-        jr["from_start_nodes"] = {{"rays_not_from_root", started}, {"same_answers", same}, {"ok", ok},
-                                  {"median_ms", sm}, {"mrays_per_s", smrays}, {"mrays_per_cpu_s", smrays_cpu},
-                                  {"pass_ms", st}};
-        if (embree) jr["from_start_nodes"]["ratio_to_embree"] = vs_embree(smrays);
+        std::vector<double> at, ac;
+        timed(at, ac);
+        const double am = median(at), amrays = rate(am), amrays_cpu = rate(median(ac));
+        jr[key] = {{"same_answers", same}, {"ok", ok}, {"median_ms", am}, {"mrays_per_s", amrays},
+                   {"mrays_per_cpu_s", amrays_cpu}, {"pass_ms", at}};
+        if (embree) jr[key]["ratio_to_embree"] = vs_embree(amrays);
         char b[400];
         std::snprintf(b, sizeof b,
-                      "    closest from the render's start nodes (%zu of %zu rays not from the root; answers "
-                      "identical to the root's: %zu/%zu%s): %.2f Mrays/s (median of %d, %.1f ms); %.2f Mrays per "
-                      "CPU-second",
-                      started, s.rays.size(), same, hits.size(), ok ? "" : "  MISMATCH", smrays, reps, sm, smrays_cpu);
-        starts_line = b;
+                      "    closest %s; answers identical to the root's: %zu/%zu%s): %.2f Mrays/s (median of %d, %.1f ms); "
+                      "%.2f Mrays per CPU-second",
+                      label.c_str(), same, hits.size(), ok ? "" : "  MISMATCH", amrays, reps, am, amrays_cpu);
+        std::string line = b;
         if (embree) {
-            std::snprintf(b, sizeof b, "; hairtrace/Embree = %.2f", vs_embree(smrays));
-            starts_line += b;
+            std::snprintf(b, sizeof b, "; hairtrace/Embree = %.2f", vs_embree(amrays));
+            line += b;
         }
+        return line;
+    };
+    // The render's own traversals of these rays: the tree from the node each ray's traversal started
+    // at in the render (bvh/start_nodes.h), and the path rays' grid (render/path_grid.h).
+    std::string starts_line, grid_line;
+    if (!s.starts.empty()) {
+        size_t started = 0;
+        for (uint32_t n : s.starts) started += n != 0u;
+        starts_line = alternative("from_start_nodes",
+                                  "from the render's start nodes (" + std::to_string(started) + " of " +
+                                      std::to_string(s.rays.size()) + " rays not from the root",
+                                  [&] { tracer.set_starts(s.starts); });
+        jr["from_start_nodes"]["rays_not_from_root"] = started;
     }
+    if (with_grid && !s.shadow)
+        grid_line = alternative("by_path_grid", "by the path rays' grid (" + std::to_string(s.rays.size()) + " rays",
+                                [&] { tracer.use_path_grid(); });
     if (!json_out) {
         std::printf("  %-10s %zu rays (%s): %s\n", s.name.c_str(), s.rays.size(),
                     !s.reference ? "generated" : s.reference->scene_hash ? "anchor .rays" : ".rays file",
@@ -410,6 +421,7 @@ nlohmann::json measure_ray_set(DeviceTracer& tracer, const SceneGeometry& geo, c
                         embree_mrays, s.shadow ? "occluded" : "hits", embree_count,
                         vs_embree(mrays));
         if (!starts_line.empty()) std::printf("%s\n", starts_line.c_str());
+        if (!grid_line.empty()) std::printf("%s\n", grid_line.c_str());
     }
     return jr;
 }
@@ -484,7 +496,7 @@ void declare_bench_options(ArgParser& p) {
     p.group("scenes")
         .path("--hair", "FILE.hair", "a Cem Yuksel .hair file to measure", PathKind::Input, "", true)
         .option("--scene", "SCENE", "a scene to measure (file or builtin:NAME; default: builtin:strand builtin:ball)", "", true)
-        .path("--rays", "FILE.rays", "a ray set (the Embree anchor's format) for the scene named before it; without any, <stem>.{primary,incoherent,shadow}.rays beside a .hair file are used if present, else rays are generated from a framing camera; every hit is checked against the file's stored answers before any rate is printed; a closest-hit set's X.starts beside it (written by render --dump-rays) also times the rays from the nodes the render started them at, with the same answers", PathKind::Input, "", true);
+        .path("--rays", "FILE.rays", "a ray set (the Embree anchor's format) for the scene named before it; without any, <stem>.{primary,incoherent,shadow}.rays beside a .hair file are used if present, else rays are generated from a framing camera; every hit is checked against the file's stored answers before any rate is printed; a closest-hit set's X.starts beside it (written by render --dump-rays) also times the rays from the nodes the render started them at, and on a hair-only scene every closest-hit set is also timed by the render's path-ray grid (render --path-rays grid: the renderer's own kernel and grid, whose size and build time are printed), each with the root's answers checked ray by ray", PathKind::Input, "", true);
     p.group("measurement")
         .option("--res", "N", "generated primary rays: N x N (rounded down to a multiple of 4)", "1024")
         .option("--reps", "N", "timed passes per case, median reported", "5")
@@ -634,6 +646,26 @@ int bench_main(const std::vector<std::string>& args, const SceneSource& source_i
                         first_cached ? "binary cache" : "cold", tracer2.build_ms(),
                         tracer2.build_cached() ? "binary cache" : "cold");
 
+        // ---- the render's path-ray grid (render/path_grid.h), for hair-only scenes
+        bool with_grid = false;
+        if (!geo.triangle_count) {
+            const auto t_grid = Clock::now();
+            const PathGrid grid = build_path_grid(geo);
+            const double grid_ms = ms_since(t_grid);
+            if (!grid.empty()) {
+                tracer.set_path_grid(grid.cell_start, grid.entries, grid.grid);
+                with_grid = true;
+                const double per_segment = double(grid.bytes()) / double(std::max<size_t>(geo.segment_count, 1));
+                js["path_grid"] = {{"build_ms", grid_ms}, {"cells", grid.cells()}, {"occupied_cells", grid.occupied_cells()},
+                                   {"entries", grid.entries.size()}, {"bytes_per_segment", per_segment}, {"cell", grid.grid.cell}};
+                if (!json_out)
+                    std::printf("  path rays' grid: %zu cells (%zu hold capsules) of %.3g, %zu entries, %.1f bytes/segment "
+                                "(with the tree's: %.1f), built in %.0f ms\n",
+                                grid.cells(), grid.occupied_cells(), grid.grid.cell, grid.entries.size(), per_segment,
+                                per_segment + st.bytes_per_segment, grid_ms);
+            }
+        }
+
         // ---- ray sets
         if (sa.rays.empty()) sa.rays = sibling_rays(sa.name);
         std::vector<RaysFile> files;
@@ -668,7 +700,7 @@ int bench_main(const std::vector<std::string>& args, const SceneSource& source_i
         }
 
         nlohmann::json jsets = nlohmann::json::array();
-        for (const RaySet& s : sets) jsets.push_back(measure_ray_set(tracer, geo, s, reps, embree.get(), json_out, all_ok));
+        for (const RaySet& s : sets) jsets.push_back(measure_ray_set(tracer, geo, s, reps, embree.get(), json_out, with_grid, all_ok));
         js["sets"] = jsets;
 
         if (wavefront) js["wavefront"] = measure_wavefront(cl, sa.name, strands, !json_out);

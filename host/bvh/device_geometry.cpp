@@ -99,6 +99,7 @@ DeviceTracer::DeviceTracer(ClContext& cl, const DeviceGeometry& geo, const std::
     std::string opts = options;
     if (opts.find("HT_FEATURE_MESHES") == std::string::npos)
         opts += geo.triangle_count ? " -DHT_FEATURE_MESHES=1" : " -DHT_FEATURE_MESHES=0";
+    if (opts.find("HT_FEATURE_PATH_GRID") == std::string::npos) opts += " -DHT_FEATURE_PATH_GRID=1";
     opts += geometry_page_options(geo.paging);
     options_ = opts;
     program_ = cl.build("stages/intersect.cl", opts);  // throws DeviceError with the log
@@ -107,6 +108,7 @@ DeviceTracer::DeviceTracer(ClContext& cl, const DeviceGeometry& geo, const std::
     device_step("creating the intersection kernels", [&] {
         closest_ = cl::Kernel(program_, "intersect_closest");
         closest_from_ = cl::Kernel(program_, "intersect_closest_from");
+        closest_grid_ = cl::Kernel(program_, "intersect_closest_paths");
         shadow_ = cl::Kernel(program_, "intersect_shadow");
     });
 }
@@ -128,7 +130,7 @@ void DeviceTracer::set_rays(const std::vector<HtRay>& rays) {
             starts_ = cl::Buffer(cl_.context(), CL_MEM_READ_ONLY, capacity_ * sizeof(uint32_t));
         });
     }
-    with_starts_ = false;
+    closest_mode_ = Closest::Root;
     if (!count_) return;
     // The kernels clamp tmax too; replacing inf here keeps it out of the device entirely (a
     // program built with -cl-fast-relaxed-math through `bench --options` assumes finite values).
@@ -148,10 +150,24 @@ void DeviceTracer::set_starts(const std::vector<uint32_t>& starts) {
         device_step("uploading start nodes", [&] {
             cl_.queue().enqueueWriteBuffer(starts_, CL_TRUE, 0, count_ * sizeof(uint32_t), starts.data());
         });
-    with_starts_ = true;
+    closest_mode_ = Closest::Starts;
 }
 
-void DeviceTracer::enqueue(cl::Kernel& k, cl::Buffer& out, const cl::Buffer* extra) {
+void DeviceTracer::set_path_grid(const std::vector<uint32_t>& cell_start, const std::vector<uint32_t>& entries,
+                                 const HtPathGrid& grid) {
+    grid_cells_ = read_only_buffer(cl_, "path grid cells", cell_start.data(), cell_start.size() * sizeof(uint32_t),
+                                   GeometryMemory::Copy);
+    grid_entries_ = read_only_buffer(cl_, "path grid entries", entries.data(), entries.size() * sizeof(uint32_t),
+                                     GeometryMemory::Copy);
+    grid_ = grid;
+}
+
+void DeviceTracer::use_path_grid() {
+    if (!grid_cells_()) throw std::logic_error("DeviceTracer::use_path_grid before set_path_grid");
+    closest_mode_ = Closest::Grid;
+}
+
+void DeviceTracer::enqueue(cl::Kernel& k, cl::Buffer& out, const std::function<void(cl::Kernel&, cl_uint)>& extra) {
     if (!count_) return;
     device_step("kernel launch", [&] {
         cl_uint a = set_paged_args(k, 0, geo_.nodes);
@@ -160,7 +176,7 @@ void DeviceTracer::enqueue(cl::Kernel& k, cl::Buffer& out, const cl::Buffer* ext
         k.setArg(a++, rays_);
         k.setArg(a++, out);
         k.setArg(a++, (cl_uint)count_);
-        if (extra) k.setArg(a++, *extra);
+        if (extra) extra(k, a);
         cl_.queue().enqueueNDRangeKernel(k, cl::NullRange,
                                          cl::NDRange(round_up(count_, kLocalSize)),
                                          cl::NDRange(kLocalSize));
@@ -168,10 +184,21 @@ void DeviceTracer::enqueue(cl::Kernel& k, cl::Buffer& out, const cl::Buffer* ext
 }
 
 void DeviceTracer::enqueue_closest() {
-    if (with_starts_)
-        enqueue(closest_from_, hits_, &starts_);
-    else
-        enqueue(closest_, hits_);
+    switch (closest_mode_) {
+    case Closest::Root: enqueue(closest_, hits_); break;
+    case Closest::Starts: enqueue(closest_from_, hits_, [&](cl::Kernel& k, cl_uint a) { k.setArg(a, starts_); }); break;
+    case Closest::Grid:
+        // the path stage's arguments: ray i of path ray_path[i] in paths, which its grid variant
+        // reads neither of (any buffers do), then the grid
+        enqueue(closest_grid_, hits_, [&](cl::Kernel& k, cl_uint a) {
+            k.setArg(a++, starts_);
+            k.setArg(a++, occluded_);
+            k.setArg(a++, grid_cells_);
+            k.setArg(a++, grid_entries_);
+            k.setArg(a++, grid_);
+        });
+        break;
+    }
 }
 void DeviceTracer::enqueue_shadow() { enqueue(shadow_, occluded_); }
 void DeviceTracer::finish() {

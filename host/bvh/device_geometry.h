@@ -6,6 +6,7 @@
 #include "bvh/geometry_paging.h"
 
 #include <string>
+#include <functional>
 #include <vector>
 
 namespace ht {
@@ -75,6 +76,12 @@ public:
     // Where each uploaded ray's closest-hit traversal starts (host/bvh/start_nodes.h), one
     // inner node reference per ray (0: the root); until then, and after set_rays, the root.
     void set_starts(const std::vector<uint32_t>& starts);
+    // The path rays' grid (render/path_grid.h: its cell starts, entries and cells): from then on,
+    // until set_rays, enqueue_closest traces the uploaded rays by it (the renderer's own
+    // intersect_closest_paths with HT_FEATURE_PATH_GRID) instead of the tree.
+    void set_path_grid(const std::vector<uint32_t>& cell_start, const std::vector<uint32_t>& entries,
+                       const HtPathGrid& grid);
+    void use_path_grid();
     // Trace the uploaded rays; the *_enqueue forms do not wait (time them with finish()).
     void enqueue_closest();
     void enqueue_shadow();
@@ -87,14 +94,17 @@ public:
     std::vector<uint32_t> trace_shadow(const std::vector<HtRay>& rays);
 
 private:
-    void enqueue(cl::Kernel& k, cl::Buffer& out, const cl::Buffer* extra = nullptr);
+    // k's arguments: the geometry, the rays, `out`, the count, then extra(k, next index)'s
+    void enqueue(cl::Kernel& k, cl::Buffer& out, const std::function<void(cl::Kernel&, cl_uint)>& extra = {});
 
     ClContext& cl_;
     const DeviceGeometry& geo_;
     cl::Program program_;
-    cl::Kernel closest_, closest_from_, shadow_;
+    cl::Kernel closest_, closest_from_, closest_grid_, shadow_;
+    cl::Buffer grid_cells_, grid_entries_;
+    HtPathGrid grid_{};
     cl::Buffer rays_, hits_, occluded_, starts_;
-    bool with_starts_ = false;
+    enum class Closest { Root, Starts, Grid } closest_mode_ = Closest::Root;
     size_t capacity_ = 0, count_ = 0;
     double build_ms_ = 0;
     bool build_cached_ = false;

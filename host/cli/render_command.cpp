@@ -330,6 +330,9 @@ void report(const PreparedRender& job, const RenderRequest& request, const RunOu
     if (st.shadow_list_entries)
         std::fprintf(stderr, "shadow rays toward directional lights from per-cell lists: %zu entries (made in %.0f ms)\n",
                      st.shadow_list_entries, st.shadow_lists_ms);
+    if (st.path_grid_entries)
+        std::fprintf(stderr, "path rays from a uniform grid: %zu cells (%zu hold capsules), %zu entries (made in %.0f ms)\n",
+                     st.path_grid_cells, st.path_grid_occupied, st.path_grid_entries, st.path_grid_ms);
     if (st.camera_lists_dropped || st.shadow_lists_dropped)
         std::fprintf(stderr, "%s left out: the render fits the device memory only without them (the rays traverse the BVH instead, the same image)\n",
                      st.camera_lists_dropped && st.shadow_lists_dropped ? "camera-ray and shadow-ray lists"

@@ -20,10 +20,22 @@ uint64_t PreparedScene::extra_scene_bytes() const {
     return environment.texels.size() * sizeof(float) +
            (environment.marginal.size() + environment.conditional.size()) * sizeof(float) + texel_bytes +
            texture_headers.size() * sizeof(HtTexture) + (afs_table.size() + dual_table.size()) * sizeof(float) +
-           candidates.bytes() + shadow_lists.bytes();
+           candidates.bytes() + shadow_lists.bytes() + path_grid.bytes();
 }
 
 namespace {
+
+// RenderSettings::path_rays: a grid for the path rays of a hair-only scene whose render traces
+// them, when asked, or (auto) when the path rays the render may trace reach kPathGridRaysPerSegment
+// per segment (docs/PERFORMANCE.md section 1 "Path rays from a uniform grid").
+bool wants_path_grid(const RenderSettings& s, const Scene& scene, const KernelFeatures& f) {
+    using Mode = RenderSettings::PathRays;
+    const size_t segments = scene.strands.segment_count();
+    if (s.path_rays == Mode::Tree || f[Feature::MESHES] || segments == 0 || s.max_depth < 2) return false;
+    if (s.path_rays == Mode::Grid) return true;
+    const double rays = double(s.spp) * double(s.width) * double(s.height) * double(s.max_depth - 1);
+    return rays >= kPathGridRaysPerSegment * double(segments);
+}
 
 // RenderSettings::shadow_lists: whether the lists will save more than they cost: the shadow rays
 // that would use them against the entries they would hold (render/shadow_lists.h; measured in
@@ -103,6 +115,7 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& s, const R
     p.features = scene_features(scene, s.fiber_field, afs, s.features);
     p.features[Feature::AOVS] = s.aovs;
     p.features[Feature::INDIRECT_DUAL] = s.indirect == RenderSettings::Indirect::Dual;
+    p.features[Feature::PATH_GRID] = wants_path_grid(s, scene, p.features);
     p.estimator_options = estimator_build_options(s.clamp_indirect, s.regularize_deg, s.light_threshold,
                                                   s.spawn_offset == RenderSettings::SpawnOffset::Pbrt,
                                                   s.sampler == RenderSettings::Sampler::Sobol,
@@ -116,6 +129,11 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& s, const R
                                            scene.strands.segment_count());
     bvh.obb_split = s.bvh_oriented_splits;
     p.geometry = build_geometry(scene, bvh);
+    if (p.features[Feature::PATH_GRID]) {
+        const auto t0 = std::chrono::steady_clock::now();
+        p.path_grid = build_path_grid(p.geometry);
+        p.path_grid_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    }
     p.strand_material.assign(scene.strands.material.begin(), scene.strands.material.end());
     p.materials = make_kernel_materials(scene.materials);
     p.lights = make_kernel_lights(scene.lights);

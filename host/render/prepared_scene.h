@@ -6,6 +6,7 @@
 #pragma once
 
 #include "bvh/bvh.h"
+#include "render/path_grid.h"
 #include "render/environment.h"
 #include "render/features.h"
 #include "render/candidate_lists.h"
@@ -48,6 +49,10 @@ struct PreparedScene {
     // The directional lights' shadow lists (RenderSettings::shadow_lists) and their time.
     ShadowLists shadow_lists;
     double shadow_lists_ms = 0;
+    // The path rays' grid (RenderSettings::path_rays; features[PATH_GRID] says whether there is
+    // one, decided with the recipe) and its time.
+    PathGrid path_grid;
+    double path_grid_ms = 0;
     std::string estimator_options;           // the estimator's -D values (clamp, sampler, ...)
     // --light-vertices (settings.light_vertices > 0): the sphere around every point of the geometry
     // (strands and triangles, inflated by their radii) that the light rays aim at, and their count

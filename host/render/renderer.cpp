@@ -156,6 +156,11 @@ struct Renderer::Impl {
         cl_uint grid_count = 0;
     } shadow_lists;
     cl::Kernel k_shadow_lists;
+    // The path rays' grid (render/path_grid.h), when the trace program walks it (features[PATH_GRID])
+    struct PathGridBuffers {
+        cl::Buffer cells, entries;
+        HtPathGrid grid{};
+    } path_grid;
     cl::Kernel k_compact_count, k_compact_scan, k_compact_scatter;
     cl::Kernel k_shadow_afs, k_resolve_afs, k_shadow_dual;
     cl::Kernel k_pilot_record, k_pilot_accumulate;  // --first-hit-splits auto's pilot
@@ -302,6 +307,7 @@ struct Renderer::Impl {
         const MemoryPlan plan = plan_memory_dropping_lists();
         upload_candidate_lists();
         upload_shadow_lists();
+        upload_path_grid();
         if (use_candidate_lists || shadow_lists.grid_count > 0) {  // lists that reach the device
             const cl::Program lists_program = build(kListsProgram);
             if (use_candidate_lists) k_camera = cl::Kernel(lists_program, "intersect_camera");
@@ -367,6 +373,21 @@ struct Renderer::Impl {
         shadow_lists.key = list_array("shadow lists' keys", l.key);
         shadow_lists.grid_count = cl_uint(l.grids.size());
         stats.shadow_list_entries = l.primitive.size();
+    }
+
+    // The grid is compiled into the trace program (the recipe chose it), so it reaches the device
+    // or the render fails with the allocation's error; it is counted in the plan's scene bytes.
+    void upload_path_grid() {
+        if (!features[Feature::PATH_GRID]) return;
+        const PathGrid& g = prepared.path_grid;
+        if (g.empty()) throw DeviceError("the path rays' grid was chosen but not made (a scene without capsules)");
+        path_grid.cells = device_array(cl.context(), g.cell_start);
+        path_grid.entries = device_array(cl.context(), g.entries);
+        path_grid.grid = g.grid;
+        stats.path_grid_ms = prepared.path_grid_ms;
+        stats.path_grid_cells = g.cells();
+        stats.path_grid_occupied = g.occupied_cells();
+        stats.path_grid_entries = g.entries.size();
     }
 
     MemoryPlan plan_memory() const {
@@ -485,7 +506,10 @@ struct Renderer::Impl {
             const uint32_t traced = vertices + (scene.environment.enabled ? 1u : 0u);
             for (uint32_t bounce = 0; n > 0 && bounce < traced; ++bounce) {
                 const auto t_bounce = std::chrono::steady_clock::now();
-                const std::vector<uint32_t> starts = dump ? start_nodes(q, n) : std::vector<uint32_t>();
+                // the nodes the tree's traversals start at (none when the path rays walk the grid,
+                // which keeps no node: `bench` then times them from the root and by the grid)
+                const std::vector<uint32_t> starts =
+                    dump && !features[Feature::PATH_GRID] ? start_nodes(q, n) : std::vector<uint32_t>();
                 if (bounce == 0 && use_candidate_lists)
                     intersect_camera(q, n);
                 else
@@ -610,7 +634,12 @@ struct Renderer::Impl {
     // The rays of queue q, each starting its traversal at the node of its path's last hit
     // (kernels/stages/intersect_closest_paths.cl).
     void intersect_closest(int q, uint32_t count) {
-        set_closest_queue_args(k_closest_paths, q, count);
+        cl_uint a = set_closest_queue_args(k_closest_paths, q, count);
+        if (features[Feature::PATH_GRID]) {
+            k_closest_paths.setArg(a++, path_grid.cells);
+            k_closest_paths.setArg(a++, path_grid.entries);
+            k_closest_paths.setArg(a++, path_grid.grid);
+        }
         launch(k_closest_paths, count);
     }
 
@@ -1060,6 +1089,10 @@ void RenderStats::add(const RenderStats& o) {
     candidates_ms = std::max(candidates_ms, o.candidates_ms);
     shadow_list_entries = std::max(shadow_list_entries, o.shadow_list_entries);
     shadow_lists_ms = std::max(shadow_lists_ms, o.shadow_lists_ms);
+    path_grid_cells = std::max(path_grid_cells, o.path_grid_cells);
+    path_grid_occupied = std::max(path_grid_occupied, o.path_grid_occupied);
+    path_grid_entries = std::max(path_grid_entries, o.path_grid_entries);
+    path_grid_ms = std::max(path_grid_ms, o.path_grid_ms);
     camera_lists_dropped = camera_lists_dropped || o.camera_lists_dropped;
     shadow_lists_dropped = shadow_lists_dropped || o.shadow_lists_dropped;
     paths += o.paths;

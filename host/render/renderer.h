@@ -46,6 +46,10 @@ struct RenderStats {
     // (0: none) and build time.
     size_t shadow_list_entries = 0;
     double shadow_lists_ms = 0;
+    // Path rays from the uniform grid (RenderSettings::path_rays): its cells and entries (0: the
+    // tree) and build time.
+    size_t path_grid_cells = 0, path_grid_occupied = 0, path_grid_entries = 0;
+    double path_grid_ms = 0;
     // The lists made but left on the host, because the render fits the device only without them
     // (the rays then traverse the tree: the same hits).
     bool camera_lists_dropped = false, shadow_lists_dropped = false;

@@ -152,6 +152,13 @@ struct RenderSettings {
     // that, making them costs more than they save).
     using ShadowLists = ListChoice;
     ShadowLists shadow_lists = ShadowLists::Auto;
+    // --path-rays: the closest hits of the path rays (every ray after the camera's) from a uniform
+    // grid of capsule lists (Grid; render/path_grid.h) or by the tree from the node of the path's last
+    // hit (Tree); Auto: the grid when the render traces enough path rays per segment to pay for
+    // making it (wants_path_grid, render/prepared_scene.cpp).  The same answers either way; a scene
+    // with triangles keeps the tree (the grid lists capsules only).
+    enum class PathRays { Auto, Grid, Tree };
+    PathRays path_rays = PathRays::Auto;
 
     // --target-error: after adaptive_min_spp samples everywhere, further chunks only for the
     // tiles whose relative error estimate exceeds it (render/adaptive.h); 0: every pixel gets

@@ -1,0 +1,51 @@
+// A uniform grid of capsule lists for the path rays' closest hits (kernels/geometry/path_grid.h
+// walks it).  Path rays start on a fibre inside the hair and their next hit is a few radii away
+// (the anchor strand's bounce-1 rays: median 2.3 radii); the tree finds it by descending from the
+// node of the last hit, then from the root, through boxes that all hold the origin, while a grid
+// reaches the origin's cell in one step and tests the capsules around it in the order the ray
+// meets them (host/bvh/NOTES.md "A uniform grid for path rays").  Extra memory: one start per cell
+// and one entry per capsule and cell it overlaps (about 30-40 bytes per segment at the default cell).
+#pragma once
+
+#include "bvh/bvh.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace ht {
+
+struct PathGrid {
+    HtPathGrid grid{};                // the cells (kernels/types.h)
+    std::vector<uint32_t> cell_start;  // cells + 1 offsets into entries (cell c: [start[c], start[c+1]))
+    std::vector<uint32_t> entries;     // leaf record indices (SceneGeometry::segments), per cell ascending
+
+    bool empty() const { return cell_start.empty(); }
+    size_t cells() const { return cell_start.empty() ? 0 : cell_start.size() - 1; }
+    size_t bytes() const { return 4 * (cell_start.size() + entries.size()); }
+    size_t occupied_cells() const;  // cells with at least one entry
+};
+
+// The cell edge of one segment per cell over the capsules' bounding box: (box volume / segments)^(1/3);
+// 0 for a scene without capsules.
+float path_grid_cell(const SceneGeometry& geometry);
+
+// The grid of `geometry`'s capsules with cells of edge `cell` (at most kMaxPathGridCellsPerSegment
+// cells per segment: a larger cell where the box would need more).  Empty for a scene with
+// triangles (their leaf test is the tree's alone), without capsules, or with cell <= 0.
+constexpr double kMaxPathGridCellsPerSegment = 4.0;
+PathGrid build_path_grid(const SceneGeometry& geometry, float cell);
+
+// The render's grid: cells of kPathGridCellScale x path_grid_cell, 1.25x larger while a sample of the
+// capsules would each be listed in more than kPathGridMaxEntriesPerCapsule cells (long segments in
+// dense hair), then 1.5x larger while fewer than kPathGridMinEntriesPerCell capsules share a cell
+// that holds any (a lock whose box is mostly empty, as a ball of curls: its rays cross many empty
+// cells).  Measured on five scenes (docs/PERFORMANCE.md section 1 "Path rays from a uniform grid").
+constexpr double kPathGridCellScale = 0.7, kPathGridMaxEntriesPerCapsule = 14.0, kPathGridMinEntriesPerCell = 6.0;
+PathGrid build_path_grid(const SceneGeometry& geometry);
+
+// --path-rays auto takes the grid when the path rays a render may trace (spp x pixels x (depth - 1))
+// reach this many per segment (docs/PERFORMANCE.md section 1 "Path rays from a uniform grid").
+constexpr double kPathGridRaysPerSegment = 8.0;
+
+}  // namespace ht

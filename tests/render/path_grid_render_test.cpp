@@ -1,0 +1,92 @@
+// RenderSettings::path_rays: path rays walking the uniform grid (render/path_grid.h,
+// kernels/geometry/path_grid.h) find the tree's hits, so the film is the same bits -- sparse and
+// dense hair, splits, several bounces, directional and point lights; a scene with triangles and a
+// render of depth 1 keep the tree; auto takes the grid once the path rays reach
+// kPathGridRaysPerSegment per segment.
+#include <gtest/gtest.h>
+
+#include "render_test_util.h"
+
+#include "cli_test_util.h"
+
+#include <cmath>
+
+namespace {
+
+using namespace rendertest;
+using PathRays = ht::RenderSettings::PathRays;
+
+ht::Scene scene(const std::string& name) {
+    ht::Scene s = ht::load_scene(name);
+    ht::ensure_camera_and_light(s);
+    return s;
+}
+
+// the grid against the tree: the same film; returns the grid's statistics
+ht::RenderStats expect_same_film(const ht::Scene& s, ht::RenderSettings rs, const char* what) {
+    ht::RenderStats grid, tree;
+    rs.path_rays = PathRays::Grid;
+    const ht::Film a = render(s, rs, &grid);
+    rs.path_rays = PathRays::Tree;
+    const ht::Film b = render(s, rs, &tree);
+    EXPECT_EQ(a.rgba, b.rgba) << what;
+    EXPECT_EQ(tree.path_grid_entries, 0u) << what;
+    EXPECT_EQ(grid.extension_rays, tree.extension_rays) << what;
+    EXPECT_EQ(grid.shadow_rays, tree.shadow_rays) << what;
+    return grid;
+}
+
+}  // namespace
+
+TEST(PathGridRender, SameFilmAsTheTree) {
+    ht::RenderSettings rs = small_settings(4, 31, 4);
+    rs.first_hit_splits = 2;
+    const ht::RenderStats sparse = expect_same_film(scene("builtin:strand?hairs=60&segments=12"), rs, "sparse strand, splits, depth 4");
+    EXPECT_GT(sparse.path_grid_entries, 0u);
+    EXPECT_GT(sparse.path_grid_cells, 0u);
+    const ht::RenderStats dense = expect_same_film(scene("builtin:ball?hairs=1500&segments=16"), small_settings(3, 5, 6), "dense ball, depth 6");
+    EXPECT_GT(dense.path_grid_entries, 0u);
+    EXPECT_GT(dense.extension_rays, 0u);
+}
+
+TEST(PathGridRender, TrianglesAndDepthOneKeepTheTree) {
+    ht::RenderSettings rs = small_settings(2, 9, 3);
+    rs.path_rays = PathRays::Grid;
+    const ht::Scene floor = scene(std::string(HT_SOURCE_DIR) + "/scenes/strand_on_floor.gltf");
+    EXPECT_FALSE(ht::prepare_scene(floor, rs).features[ht::Feature::PATH_GRID]);
+    const ht::Scene s = scene("builtin:strand?hairs=60&segments=12");
+    EXPECT_TRUE(ht::prepare_scene(s, rs).features[ht::Feature::PATH_GRID]);
+    rs.max_depth = 1;
+    EXPECT_FALSE(ht::prepare_scene(s, rs).features[ht::Feature::PATH_GRID]);
+}
+
+// auto: the grid once spp x the image's pixels x (depth - 1) reaches kPathGridRaysPerSegment per
+// segment; grid and tree as asked whatever the count.
+TEST(PathGridRender, AutoTakesTheGridWhereEnoughRaysUseIt) {
+    const ht::Scene s = scene("builtin:ball?hairs=300&segments=8");
+    ht::RenderSettings rs = small_settings(1, 7, 3);
+    const double segments = double(ht::prepare_scene(s, rs).geometry.segments.size());
+    const int spp_grid = int(std::ceil(ht::kPathGridRaysPerSegment * segments / (double(rs.width) * rs.height * 2)));
+    ASSERT_GT(spp_grid, 1);
+    const auto grid_at = [&](int spp, PathRays choice) {
+        ht::RenderSettings r = rs;
+        r.spp = spp;
+        r.path_rays = choice;
+        const ht::PreparedScene p = ht::prepare_scene(s, r);
+        EXPECT_EQ(p.features[ht::Feature::PATH_GRID], !p.path_grid.empty());
+        return p.features[ht::Feature::PATH_GRID];
+    };
+    EXPECT_FALSE(grid_at(spp_grid - 1, PathRays::Auto));
+    EXPECT_TRUE(grid_at(spp_grid, PathRays::Auto));
+    EXPECT_TRUE(grid_at(1, PathRays::Grid));
+    EXPECT_FALSE(grid_at(4 * spp_grid, PathRays::Tree));
+}
+
+// On the command line: grid, tree and auto write the same image; bad values exit 2.
+TEST(PathGridCli, GridAndTreeWriteTheSameImage) {
+    clitest::TempDir d("ht_path_grid_");
+    clitest::expect_same_image_and_usage_errors(d, clitest::kSmallStrandRender + " --spp 3", " --path-rays tree",
+                                                " --path-rays grid",
+                                                {" --path-rays", " --path-rays bvh", " --path-rays 1"});
+    clitest::expect_same_image_and_usage_errors(d, clitest::kSmallStrandRender + " --spp 3", " --path-rays auto", "", {});
+}
