@@ -102,6 +102,21 @@ void capsule_cells(const SceneGeometry& g, const HtSegment& s, const Layout& l, 
                 }
     }
 }
+// Entries per capsule at cells of `cell`, from an even sample of at most 16,384 capsules (the cells
+// of a capsule depend on the cell size and its own length and radius only, not on its neighbours).
+double entries_per_capsule(const SceneGeometry& geometry, const Box& b, double cell) {
+    const Layout l = layout_for(b, cell);
+    const size_t n = geometry.segments.size(), step = std::max<size_t>(1, n / 16384);
+    std::vector<uint32_t> cs;
+    double entries = 0, sampled = 0;
+    for (size_t k = 0; k < n; k += step) {
+        capsule_cells(geometry, geometry.segments[k], l, cs);
+        entries += double(cs.size());
+        sampled += 1;
+    }
+    return sampled > 0 ? entries / sampled : 0.0;
+}
+
 }  // namespace
 
 size_t PathGrid::occupied_cells() const {
@@ -112,30 +127,14 @@ size_t PathGrid::occupied_cells() const {
 
 float path_grid_cell(const SceneGeometry& geometry) { return cell_for(capsule_box(geometry)); }
 
-// Entries per capsule at cells of `cell`, from an even sample of at most 16,384 capsules (the cells
-// of a capsule depend on the cell size and its own length and radius only, not on its neighbours).
-double entries_per_capsule(const SceneGeometry& geometry, const Box& b, double cell) {
-    const Layout l = layout_for(b, cell);
-    const size_t n = geometry.segments.size(), step = std::max<size_t>(1, n / 16384);
-    std::vector<uint32_t> cs;
-    double entries = 0, sampled = 0;
-    for (size_t k = 0; k < n; k += step) {
-        const HtSegment& s = geometry.segments[k];
-        if (ht_seg_flags(s) & HT_SEG_TRIANGLE) continue;
-        capsule_cells(geometry, s, l, cs);
-        entries += double(cs.size());
-        sampled += 1;
-    }
-    return sampled > 0 ? entries / sampled : 0.0;
-}
-
 PathGrid build_path_grid(const SceneGeometry& geometry) {
+    if (geometry.triangle_count) return PathGrid{};
     const Box b = capsule_box(geometry);
     double cell = kPathGridCellScale * cell_for(b);
     if (!(cell > 0)) return PathGrid{};
-    // cells much shorter than the capsules list each in many (a dense head of long segments: 27 per
-    // capsule at the scale above, against 12 on the anchor strand, 13 on straight.hair): larger cells until at most
-    // kPathGridMaxEntriesPerCapsule
+    // cells much shorter than the capsules list each in many (the anchor's dense head of long
+    // segments: 27 per capsule at the scale above, against 12 on the anchor strand and 13 on
+    // straight.hair): larger cells until at most kPathGridMaxEntriesPerCapsule
     for (int grow = 0; grow < 8 && entries_per_capsule(geometry, b, cell) > kPathGridMaxEntriesPerCapsule; ++grow)
         cell *= 1.25;
     PathGrid g = build_path_grid(geometry, float(cell));
@@ -172,9 +171,7 @@ PathGrid build_path_grid(const SceneGeometry& geometry, float cell) {
         offsets.reserve(to - from + 1);
         offsets.push_back(0);
         for (size_t k = from; k < to; ++k) {
-            const HtSegment& s = geometry.segments[k];
-            if (!(ht_seg_flags(s) & HT_SEG_TRIANGLE)) capsule_cells(geometry, s, l, cs);
-            else cs.clear();
+            capsule_cells(geometry, geometry.segments[k], l, cs);  // capsules only (no triangles here)
             for (uint32_t c : cs) ++count[c];
             mine.insert(mine.end(), cs.begin(), cs.end());
             offsets.push_back(uint32_t(mine.size()));
@@ -192,7 +189,7 @@ PathGrid build_path_grid(const SceneGeometry& geometry, float cell) {
             total += k;
         }
     }
-    if (total > 0xFFFFFFFFull) return PathGrid{};  // past 32-bit offsets: no grid (the renderer says so)
+    if (total > 0xFFFFFFFFull) return PathGrid{};  // past 32-bit offsets: no grid
     out.cell_start[cells] = uint32_t(total);
     out.entries.resize(total);
     in_parallel(n, [&](int t, size_t, size_t) {

@@ -4,7 +4,8 @@
 // node of the last hit, then from the root, through boxes that all hold the origin, while a grid
 // reaches the origin's cell in one step and tests the capsules around it in the order the ray
 // meets them (host/bvh/NOTES.md "A uniform grid for path rays").  Extra memory: one start per cell
-// and one entry per capsule and cell it overlaps (about 30-40 bytes per segment at the default cell).
+// and one entry per capsule and cell it overlaps (18-65 bytes per segment on the scenes measured,
+// at most 4 x (kMaxPathGridCellsPerSegment + kPathGridMaxEntriesPerCapsule) = 72).
 #pragma once
 
 #include "bvh/bvh.h"
@@ -45,7 +46,11 @@ constexpr double kPathGridCellScale = 0.7, kPathGridMaxEntriesPerCapsule = 14.0,
 PathGrid build_path_grid(const SceneGeometry& geometry);
 
 // --path-rays auto takes the grid when the path rays a render may trace (spp x pixels x (depth - 1))
-// reach this many per segment (docs/PERFORMANCE.md section 1 "Path rays from a uniform grid").
+// reach this many per segment (docs/PERFORMANCE.md section 1 "Path rays from a uniform grid"), and
+// for at most kPathGridAutoMaxSegments segments: the grid, up to 72 bytes per segment, stays under
+// 256 MiB, so a scene that fits a device without it is not refused for it (the trace program is
+// compiled for the grid or without it before the device's memory is planned).
 constexpr double kPathGridRaysPerSegment = 8.0;
+constexpr size_t kPathGridAutoMaxSegments = (size_t(256) << 20) / 72;  // 3.7 M
 
 }  // namespace ht

@@ -27,12 +27,14 @@ namespace {
 
 // RenderSettings::path_rays: a grid for the path rays of a hair-only scene whose render traces
 // them, when asked, or (auto) when the path rays the render may trace reach kPathGridRaysPerSegment
-// per segment (docs/PERFORMANCE.md section 1 "Path rays from a uniform grid").
+// per segment and the scene has at most kPathGridAutoMaxSegments (docs/PERFORMANCE.md section 1
+// "Path rays from a uniform grid").
 bool wants_path_grid(const RenderSettings& s, const Scene& scene, const KernelFeatures& f) {
     using Mode = RenderSettings::PathRays;
     const size_t segments = scene.strands.segment_count();
     if (s.path_rays == Mode::Tree || f[Feature::MESHES] || segments == 0 || s.max_depth < 2) return false;
     if (s.path_rays == Mode::Grid) return true;
+    if (segments > kPathGridAutoMaxSegments) return false;
     const double rays = double(s.spp) * double(s.width) * double(s.height) * double(s.max_depth - 1);
     return rays >= kPathGridRaysPerSegment * double(segments);
 }

@@ -380,7 +380,8 @@ struct Renderer::Impl {
     void upload_path_grid() {
         if (!features[Feature::PATH_GRID]) return;
         const PathGrid& g = prepared.path_grid;
-        if (g.empty()) throw DeviceError("the path rays' grid was chosen but not made (a scene without capsules)");
+        if (g.empty())
+            throw DeviceError("the path rays' grid could not be made (more than 2^32 entries); render with --path-rays tree");
         path_grid.cells = device_array(cl.context(), g.cell_start);
         path_grid.entries = device_array(cl.context(), g.entries);
         path_grid.grid = g.grid;
