@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <random>
 #include <vector>
 
@@ -146,4 +147,35 @@ TEST(PathGrid, NoGridWithoutCapsulesOrCell) {
     EXPECT_TRUE(ht::build_path_grid(g, 0.0f).empty());
     EXPECT_TRUE(ht::build_path_grid(g, NAN).empty());
     EXPECT_TRUE(ht::build_path_grid(g, -1.0f).empty());
+}
+
+// Rays a shading bug could hand over (NaN or infinite origin or direction, a zero direction, tmax
+// below tmin): the walk answers as the tree does, and ends.
+TEST(PathGrid, DegenerateRaysAnswerAsTheTree) {
+    const SceneGeometry g = ht::build_geometry(httest::random_strands(4, 100, 10, 0.1, 0.01), {});
+    const ht::PathGrid grid = ht::build_path_grid(g);
+    ASSERT_FALSE(grid.empty());
+    const float nan = NAN, inf = INFINITY;
+    std::vector<HtRay> rays;
+    const HtRay base{0.1f, 0.2f, 0.3f, 0.0f, 0.6f, 0.0f, 0.8f, inf};
+    for (int field = 0; field < 8; ++field)
+        for (const float v : {nan, inf, -inf, 0.0f, 1e30f, -1e-30f}) {
+            float f[8];
+            std::memcpy(f, &base, sizeof f);
+            f[field] = v;
+            HtRay r;
+            std::memcpy(&r, f, sizeof r);
+            rays.push_back(r);
+        }
+    HtRay still = base;
+    still.dx = still.dy = still.dz = 0.0f;
+    rays.push_back(still);
+    for (const HtRay& r : rays) {
+        real t0, t1;
+        const uint32_t b0 = ht_traverse(g.nodes.data(), g.segments.data(), g.points.data(), r, 0, &t0);
+        const uint32_t b1 = ht_grid_closest(g.segments.data(), g.points.data(), grid.cell_start.data(),
+                                            grid.entries.data(), grid.grid, r, &t1);
+        EXPECT_EQ(b1, b0) << r.ox << " " << r.oy << " " << r.oz << " " << r.tmin << " " << r.dx << " " << r.dy << " "
+                          << r.dz << " " << r.tmax;
+    }
 }
