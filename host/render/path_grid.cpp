@@ -127,6 +127,11 @@ size_t PathGrid::occupied_cells() const {
 
 float path_grid_cell(const SceneGeometry& geometry) { return cell_for(capsule_box(geometry)); }
 
+namespace {
+// The grid at cells of `cell` over b = capsule_box(geometry), made once by the caller.
+PathGrid grid_in(const SceneGeometry& geometry, const Box& b, float cell);
+}  // namespace
+
 PathGrid build_path_grid(const SceneGeometry& geometry) {
     if (geometry.triangle_count) return PathGrid{};
     const Box b = capsule_box(geometry);
@@ -137,19 +142,23 @@ PathGrid build_path_grid(const SceneGeometry& geometry) {
     // straight.hair): larger cells until at most kPathGridMaxEntriesPerCapsule
     for (int grow = 0; grow < 8 && entries_per_capsule(geometry, b, cell) > kPathGridMaxEntriesPerCapsule; ++grow)
         cell *= 1.25;
-    PathGrid g = build_path_grid(geometry, float(cell));
+    PathGrid g = grid_in(geometry, b, float(cell));
     for (int grow = 0; grow < 3 && !g.empty() && double(g.entries.size()) < kPathGridMinEntriesPerCell * double(g.occupied_cells()); ++grow) {
         cell *= 1.5;
-        g = build_path_grid(geometry, float(cell));
+        g = grid_in(geometry, b, float(cell));
     }
     return g;
 }
 
 PathGrid build_path_grid(const SceneGeometry& geometry, float cell) {
+    if (geometry.triangle_count) return PathGrid{};
+    return grid_in(geometry, capsule_box(geometry), cell);
+}
+
+namespace {
+PathGrid grid_in(const SceneGeometry& geometry, const Box& b, float cell) {
     PathGrid out;
-    if (geometry.triangle_count || !(cell > 0.0f) || !std::isfinite(cell)) return out;
-    const Box b = capsule_box(geometry);
-    if (!b.capsules) return out;
+    if (!(cell > 0.0f) || !std::isfinite(cell) || !b.capsules) return out;
     const Layout l = layout_for(b, cell);
     out.grid = l.grid;
     const size_t cells = size_t(l.grid.dims[0]) * l.grid.dims[1] * l.grid.dims[2];
@@ -202,5 +211,6 @@ PathGrid build_path_grid(const SceneGeometry& geometry, float cell) {
     });
     return out;
 }
+}  // namespace
 
 }  // namespace ht
