@@ -333,6 +333,8 @@ void report(const PreparedRender& job, const RenderRequest& request, const RunOu
     if (st.path_grid_entries)
         std::fprintf(stderr, "path rays from a uniform grid: %zu cells (%zu hold capsules), %zu entries (made in %.0f ms)\n",
                      st.path_grid_cells, st.path_grid_occupied, st.path_grid_entries, st.path_grid_ms);
+    if (st.path_grid_dropped)
+        std::fprintf(stderr, "path rays' grid left out: an array of it exceeds the device's largest allocation (the rays traverse the BVH instead, the same image)\n");
     if (st.camera_lists_dropped || st.shadow_lists_dropped)
         std::fprintf(stderr, "%s left out: the render fits the device memory only without them (the rays traverse the BVH instead, the same image)\n",
                      st.camera_lists_dropped && st.shadow_lists_dropped ? "camera-ray and shadow-ray lists"

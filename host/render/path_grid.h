@@ -10,6 +10,7 @@
 
 #include "bvh/bvh.h"
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -24,6 +25,8 @@ struct PathGrid {
     bool empty() const { return cell_start.empty(); }
     size_t cells() const { return cell_start.empty() ? 0 : cell_start.size() - 1; }
     size_t bytes() const { return 4 * (cell_start.size() + entries.size()); }
+    // Its largest array, which one device buffer must hold (the walk reads them unpaged).
+    size_t largest_array_bytes() const { return 4 * std::max(cell_start.size(), entries.size()); }
     size_t occupied_cells() const;  // cells with at least one entry
 };
 

@@ -260,9 +260,10 @@ struct Renderer::Impl {
         // The render identity (render/render_identity.h) leaves the paging out: it depends on
         // the device, and paged and unpaged renders give the same bits (tested).
         features = p.features;
+        keep_path_grid_if_it_fits();
         options = kernel_build_options(features) + p.estimator_options;
         features.paging = device_geometry.paging;
-        const std::string build_options = render_program_options(p.features, p.estimator_options, features.paging);
+        const std::string build_options = render_program_options(features, p.estimator_options, features.paging);
         stats.build_cached = true;
         const auto build = [&](const char* file) {
             cl::Program program = cl.build(file, build_options);
@@ -375,8 +376,29 @@ struct Renderer::Impl {
         stats.shadow_list_entries = l.primitive.size();
     }
 
-    // The grid is compiled into the trace program (the recipe chose it), so it reaches the device
-    // or the render fails with the allocation's error; it is counted in the plan's scene bytes.
+    // The grid's arrays each need one buffer (the kernel walks them unpaged): a device that
+    // allocates less takes the path rays by the tree when --path-rays auto chose the grid (the
+    // same image; the trace program is then built without it), and refuses --path-rays grid with
+    // the sizes.  The grid is usually the scene's largest array, so this is where a small device
+    // or a paged scene meets it.
+    void keep_path_grid_if_it_fits() {
+        if (!features[Feature::PATH_GRID]) return;
+        const PathGrid& g = prepared.path_grid;
+        const uint64_t largest = g.largest_array_bytes();
+        const uint64_t max_alloc = cl.info().max_alloc;
+        if (!max_alloc || largest <= max_alloc) return;
+        if (settings.path_rays == RenderSettings::PathRays::Grid)
+            throw DeviceError("the path rays' grid needs " + format_bytes(largest) + " in one buffer but the device " +
+                              cl.info().name + " allocates at most " + format_bytes(max_alloc) +
+                              " per buffer; render with --path-rays tree or auto");
+        features[Feature::PATH_GRID] = false;
+        dropped_list_bytes += g.bytes();
+        stats.path_grid_dropped = true;
+    }
+
+    // The grid is compiled into the trace program (the recipe chose it and it fits one buffer per
+    // array), so it reaches the device or the render fails with the allocation's error; it is
+    // counted in the plan's scene bytes.
     void upload_path_grid() {
         if (!features[Feature::PATH_GRID]) return;
         const PathGrid& g = prepared.path_grid;
@@ -1095,6 +1117,7 @@ void RenderStats::add(const RenderStats& o) {
     path_grid_entries = std::max(path_grid_entries, o.path_grid_entries);
     path_grid_ms = std::max(path_grid_ms, o.path_grid_ms);
     camera_lists_dropped = camera_lists_dropped || o.camera_lists_dropped;
+    path_grid_dropped = path_grid_dropped || o.path_grid_dropped;
     shadow_lists_dropped = shadow_lists_dropped || o.shadow_lists_dropped;
     paths += o.paths;
     extension_rays += o.extension_rays;

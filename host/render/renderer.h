@@ -53,6 +53,7 @@ struct RenderStats {
     // The lists made but left on the host, because the render fits the device only without them
     // (the rays then traverse the tree: the same hits).
     bool camera_lists_dropped = false, shadow_lists_dropped = false;
+    bool path_grid_dropped = false;  // --path-rays auto's grid exceeds the device's allocation: the tree
     // camera rays x --first-hit-splits: the paths of the estimate, each continuation one of them
     uint64_t paths = 0;
     uint64_t nonfinite_caught = 0;  // NaN/Inf values zeroed by the kernels

@@ -10,6 +10,7 @@
 #include "cli_test_util.h"
 
 #include <cmath>
+#include <filesystem>
 
 namespace {
 
@@ -89,4 +90,35 @@ TEST(PathGridCli, GridAndTreeWriteTheSameImage) {
                                                 " --path-rays grid",
                                                 {" --path-rays", " --path-rays bvh", " --path-rays 1"});
     clitest::expect_same_image_and_usage_errors(d, clitest::kSmallStrandRender + " --spp 3", " --path-rays auto", "", {});
+}
+
+// A device that allocates less than one of the grid's arrays (HAIRTRACE_MAX_ALLOC lowers PoCL's
+// limit): --path-rays grid exits 3 naming the sizes and writes nothing; auto, which chose the grid
+// by the rays, takes the tree instead and says so (the same image); a scene whose geometry is paged
+// while the grid fits walks the grid over the pages (the same image again).  The ball of 32,000
+// segments: its largest grid array is 368 KB, its point array 544 KB.
+TEST(PathGridCli, GridBeyondTheDevicesAllocationIsRefusedOrLeftOut) {
+    clitest::TempDir d("ht_path_grid_");
+    using clitest::image;
+    using clitest::run;
+    using clitest::slurp;
+    const std::string render = std::string(HT_BINARY) + " render 'builtin:ball?hairs=2000&segments=16' --width 48 --height 48 --max-depth 4 --seed 3";
+    // 40 spp: 48 x 48 x 40 x 3 path rays reach 8 per segment, so auto chooses the grid
+    ASSERT_EQ(run(render + " --spp 40 --path-rays tree --quiet -o " + (d / "tree.exr")), 0);
+    EXPECT_EQ(run("HAIRTRACE_MAX_ALLOC=128K " + render + " --spp 40 --path-rays grid -o " + (d / "x.exr") + " 2>" + (d / "err.txt")), 3);
+    const std::string err = slurp(d / "err.txt");
+    EXPECT_NE(err.find("path rays' grid needs 367888 bytes in one buffer"), std::string::npos) << err;
+    EXPECT_NE(err.find("--path-rays tree"), std::string::npos) << err;
+    EXPECT_FALSE(std::filesystem::exists(d / "x.exr"));
+    ASSERT_EQ(run("HAIRTRACE_MAX_ALLOC=128K " + render + " --spp 40 -o " + (d / "auto.exr") + " 2>" + (d / "log.txt")), 0);
+    EXPECT_NE(slurp(d / "log.txt").find("path rays' grid left out"), std::string::npos) << slurp(d / "log.txt");
+    EXPECT_EQ(image(d / "tree.exr"), image(d / "auto.exr"));
+    // 512 KiB: the points take two pages, the grid's arrays one buffer each
+    ASSERT_EQ(run(render + " --spp 3 --path-rays tree --quiet -o " + (d / "flat.exr")), 0);
+    ASSERT_EQ(run("HAIRTRACE_MAX_ALLOC=512K " + render + " --spp 3 --path-rays grid --verbose -o " + (d / "paged.exr") + " 2>" +
+                  (d / "paged.txt")), 0);
+    const std::string log = slurp(d / "paged.txt");
+    EXPECT_NE(log.find("geometry: 2 buffers per array"), std::string::npos) << log;
+    EXPECT_NE(log.find("path rays from a uniform grid:"), std::string::npos) << log;
+    EXPECT_EQ(image(d / "flat.exr"), image(d / "paged.exr"));
 }
