@@ -153,7 +153,7 @@ void DeviceTracer::set_starts(const std::vector<uint32_t>& starts) {
     closest_mode_ = Closest::Starts;
 }
 
-void DeviceTracer::set_path_grid(const std::vector<uint32_t>& cell_start, const std::vector<uint32_t>& entries,
+void DeviceTracer::set_path_grid(const BulkVector<uint32_t>& cell_start, const BulkVector<uint32_t>& entries,
                                  const HtPathGrid& grid) {
     grid_cells_ = read_only_buffer(cl_, "path grid cells", cell_start.data(), cell_start.size() * sizeof(uint32_t),
                                    GeometryMemory::Copy);

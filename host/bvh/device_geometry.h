@@ -4,6 +4,7 @@
 #include "bvh/bvh.h"
 #include "cl/device.h"
 #include "bvh/geometry_paging.h"
+#include "core/bulk_vector.h"
 
 #include <string>
 #include <functional>
@@ -79,7 +80,7 @@ public:
     // The path rays' grid (render/path_grid.h: its cell starts, entries and cells): from then on,
     // until set_rays, enqueue_closest traces the uploaded rays by it (the renderer's own
     // intersect_closest_paths with HT_FEATURE_PATH_GRID) instead of the tree.
-    void set_path_grid(const std::vector<uint32_t>& cell_start, const std::vector<uint32_t>& entries,
+    void set_path_grid(const BulkVector<uint32_t>& cell_start, const BulkVector<uint32_t>& entries,
                        const HtPathGrid& grid);
     void use_path_grid();
     // Trace the uploaded rays; the *_enqueue forms do not wait (time them with finish()).

@@ -13,17 +13,20 @@ struct Box {
     size_t capsules = 0;
 };
 
+// The capsules as the leaf test meets them: each of its two points' mean radius around its axis
+// (bvh_traverse.h ht_intersect_entries, as the tree's bounds), not each point's own.
 Box capsule_box(const SceneGeometry& g) {
     Box b;
     for (const HtSegment& s : g.segments) {
         if (ht_seg_flags(s) & HT_SEG_TRIANGLE) continue;
         ++b.capsules;
+        const double r = 0.5 * (double(g.points[s.point].r) + g.points[s.point + 1].r);
         for (uint32_t i = s.point; i <= s.point + 1; ++i) {
             const HtPoint& p = g.points[i];
             const double c[3] = {p.x, p.y, p.z};
             for (int a = 0; a < 3; ++a) {
-                b.lo[a] = std::min(b.lo[a], c[a] - p.r);
-                b.hi[a] = std::max(b.hi[a], c[a] + p.r);
+                b.lo[a] = std::min(b.lo[a], c[a] - r);
+                b.hi[a] = std::max(b.hi[a], c[a] + r);
             }
         }
     }
@@ -74,7 +77,8 @@ int floor_int(double x) {
 
 // The cells capsule s may meet a ray in, each once, into `out` (cleared first): its axis cut into
 // pieces of at most half a cell, each piece's box grown by the radius and the padding.  Pieces
-// overlap in a few cells, so a new cell is compared with the handful already listed.
+// overlap in a few cells: where the capsule's whole box spans at most 64 cells (nearly always),
+// a bit per cell of that box collects them, else a new cell is compared with those listed.
 void capsule_cells(const SceneGeometry& g, const HtSegment& s, const Layout& l, std::vector<uint32_t>& out) {
     out.clear();
     const HtPathGrid& grid = l.grid;
@@ -85,19 +89,45 @@ void capsule_cells(const SceneGeometry& g, const HtSegment& s, const Layout& l, 
     const double grow = 0.5 * (double(p0.r) + double(p1.r)) * 1.0001 + l.pad;
     const double len = std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
     const int pieces = std::max(1, int(std::ceil(2.0 * len * inv)));
-    for (int q = 0; q < pieces; ++q) {
-        int from[3], to[3];
+    // the cells of piece q, per axis [from, to]
+    const auto piece_cells = [&](int q, int from[3], int to[3]) {
         for (int x = 0; x < 3; ++x) {
             const double u = a[x] + e[x] * (double(q) / pieces), v = a[x] + e[x] * (double(q + 1) / pieces);
             const int last = int(grid.dims[x]) - 1;
             from[x] = std::clamp(floor_int((std::min(u, v) - grow - grid.lo[x]) * inv), 0, last);
             to[x] = std::clamp(floor_int((std::max(u, v) + grow - grid.lo[x]) * inv), 0, last);
         }
+    };
+    const auto cell_index = [&](int x, int y, int z) {
+        return (uint32_t(z) * grid.dims[1] + uint32_t(y)) * grid.dims[0] + uint32_t(x);
+    };
+    // the whole capsule's cells: the first and last pieces' outer bounds (the axis is straight)
+    int lo[3], hi[3], f[3], t[3];
+    piece_cells(0, lo, hi);
+    piece_cells(pieces - 1, f, t);
+    for (int x = 0; x < 3; ++x) lo[x] = std::min(lo[x], f[x]), hi[x] = std::max(hi[x], t[x]);
+    const int n0 = hi[0] - lo[0] + 1, n1 = hi[1] - lo[1] + 1, n2 = hi[2] - lo[2] + 1;
+    if (n0 * n1 * n2 <= 64) {
+        uint64_t bits = 0;
+        for (int q = 0; q < pieces; ++q) {
+            piece_cells(q, f, t);
+            for (int z = f[2]; z <= t[2]; ++z)
+                for (int y = f[1]; y <= t[1]; ++y)
+                    for (int x = f[0]; x <= t[0]; ++x) bits |= uint64_t(1) << (((z - lo[2]) * n1 + (y - lo[1])) * n0 + (x - lo[0]));
+        }
+        for (; bits; bits &= bits - 1) {
+            const int b = __builtin_ctzll(bits), x = b % n0, y = (b / n0) % n1, z = b / (n0 * n1);
+            out.push_back(cell_index(lo[0] + x, lo[1] + y, lo[2] + z));
+        }
+        return;
+    }
+    for (int q = 0; q < pieces; ++q) {
+        piece_cells(q, f, t);
         const size_t before = out.size();  // this piece's cells are distinct among themselves
-        for (int z = from[2]; z <= to[2]; ++z)
-            for (int y = from[1]; y <= to[1]; ++y)
-                for (int x = from[0]; x <= to[0]; ++x) {
-                    const uint32_t c = (uint32_t(z) * grid.dims[1] + uint32_t(y)) * grid.dims[0] + uint32_t(x);
+        for (int z = f[2]; z <= t[2]; ++z)
+            for (int y = f[1]; y <= t[1]; ++y)
+                for (int x = f[0]; x <= t[0]; ++x) {
+                    const uint32_t c = cell_index(x, y, z);
                     if (std::find(out.begin(), out.begin() + before, c) == out.begin() + before) out.push_back(c);
                 }
     }
@@ -168,15 +198,16 @@ PathGrid grid_in(const SceneGeometry& geometry, const Box& b, float cell) {
     // cell; a cell's entries are then the threads' in thread order, each thread's in record order:
     // ascending record indices, whatever the thread count.
     const int threads = host_threads();
-    std::vector<std::vector<uint32_t>> listed(threads), counts(threads), begin(threads);
+    std::vector<BulkVector<uint32_t>> listed(threads);
+    std::vector<std::vector<uint32_t>> counts(threads), begin(threads);
     in_parallel(n, [&](int t, size_t from, size_t to) {
-        std::vector<uint32_t>& mine = listed[t];
+        BulkVector<uint32_t>& mine = listed[t];
         std::vector<uint32_t>& count = counts[t];
         count.assign(cells, 0);
         begin[t] = {uint32_t(from)};  // records from..to; mine holds their cells back to back
         std::vector<uint32_t> cs;
         std::vector<uint32_t> offsets;
-        mine.reserve((to - from) * 10);
+        mine.reserve((to - from) * 16);  // address space only; the builder aims at <= 14 per capsule
         offsets.reserve(to - from + 1);
         offsets.push_back(0);
         for (size_t k = from; k < to; ++k) {
@@ -188,7 +219,7 @@ PathGrid grid_in(const SceneGeometry& geometry, const Box& b, float cell) {
         begin[t].insert(begin[t].end(), offsets.begin(), offsets.end());
     });
     // Cell starts, and where each thread's entries of each cell begin (counts[t] becomes that).
-    out.cell_start.assign(cells + 1, 0);
+    out.cell_start.resize(cells + 1);  // every start written below
     uint64_t total = 0;
     for (size_t c = 0; c < cells; ++c) {
         out.cell_start[c] = uint32_t(total);
@@ -202,7 +233,7 @@ PathGrid grid_in(const SceneGeometry& geometry, const Box& b, float cell) {
     out.cell_start[cells] = uint32_t(total);
     out.entries.resize(total);
     in_parallel(n, [&](int t, size_t, size_t) {
-        const std::vector<uint32_t>& mine = listed[t];
+        const BulkVector<uint32_t>& mine = listed[t];
         std::vector<uint32_t>& at = counts[t];
         const uint32_t first = begin[t][0];
         const size_t records = begin[t].size() - 2;

@@ -9,6 +9,7 @@
 #pragma once
 
 #include "bvh/bvh.h"
+#include "core/bulk_vector.h"
 
 #include <algorithm>
 #include <cstddef>
@@ -19,8 +20,10 @@ namespace ht {
 
 struct PathGrid {
     HtPathGrid grid{};                // the cells (kernels/types.h)
-    std::vector<uint32_t> cell_start;  // cells + 1 offsets into entries (cell c: [start[c], start[c+1]))
-    std::vector<uint32_t> entries;     // leaf record indices (SceneGeometry::segments), per cell ascending
+    // Bulk arrays (core/bulk_vector.h): filled by the threads that make them, in huge pages, and on a
+    // CPU device read in place by the kernels (the render's list_array) rather than copied.
+    BulkVector<uint32_t> cell_start;  // cells + 1 offsets into entries (cell c: [start[c], start[c+1]))
+    BulkVector<uint32_t> entries;     // leaf record indices (SceneGeometry::segments), per cell ascending
 
     bool empty() const { return cell_start.empty(); }
     size_t cells() const { return cell_start.empty() ? 0 : cell_start.size() - 1; }

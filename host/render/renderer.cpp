@@ -404,8 +404,8 @@ struct Renderer::Impl {
         const PathGrid& g = prepared.path_grid;
         if (g.empty())
             throw DeviceError("the path rays' grid could not be made (more than 2^32 entries); render with --path-rays tree");
-        path_grid.cells = device_array(cl.context(), g.cell_start);
-        path_grid.entries = device_array(cl.context(), g.entries);
+        path_grid.cells = list_array("path rays' grid cells", g.cell_start);
+        path_grid.entries = list_array("path rays' grid entries", g.entries);
         path_grid.grid = g.grid;
         stats.path_grid_ms = prepared.path_grid_ms;
         stats.path_grid_cells = g.cells();

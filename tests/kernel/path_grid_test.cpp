@@ -137,6 +137,47 @@ TEST(PathGrid, EveryCapsuleListedInAscendingOrderWithinTheCellCap) {
     }
 }
 
+// Every point of a capsule's surface lies in a cell that lists it: checked at random surface points
+// of every capsule at cells from a tenth of a segment (capsules spanning hundreds of cells) to three
+// segments (a few cells each), so both ways the builder collects a capsule's cells are covered.
+TEST(PathGrid, EveryCellACapsulesSurfaceReachesListsIt) {
+    // long segments of varying radius (as the walk's second test): several pieces per capsule
+    const SceneGeometry g = ht::build_geometry(httest::random_strands(9, 60, 6, 0.8, 0.03, 0.4, 1.0, 0.5), {});
+    const float base = ht::path_grid_cell(g);
+    std::mt19937 rng(11);
+    std::normal_distribution<double> n01;
+    std::uniform_real_distribution<double> u01(0.0, 1.0);
+    for (const float scale : {0.05f, 0.2f, 0.5f, 1.0f, 3.0f}) {
+        const ht::PathGrid grid = ht::build_path_grid(g, base * scale);
+        ASSERT_FALSE(grid.empty());
+        const HtPathGrid& p = grid.grid;
+        size_t missing = 0, checked = 0;
+        for (uint32_t k = 0; k < g.segments.size(); ++k) {
+            const HtPoint& a = g.points[g.segments[k].point];
+            const HtPoint& b = g.points[g.segments[k].point + 1];
+            for (int i = 0; i < 64; ++i) {
+                const double t = u01(rng), r = 0.5 * (double(a.r) + b.r);  // the leaf test's capsule radius
+                double v[3] = {n01(rng), n01(rng), n01(rng)};
+                const double l = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+                const double q[3] = {a.x + t * (b.x - a.x) + r * v[0] / l, a.y + t * (b.y - a.y) + r * v[1] / l,
+                                     a.z + t * (b.z - a.z) + r * v[2] / l};
+                uint32_t c[3];
+                for (int x = 0; x < 3; ++x) {
+                    const int ci = int(std::floor((q[x] - p.lo[x]) * p.inv_cell));
+                    ASSERT_GE(ci, 0);
+                    ASSERT_LT(ci, int(p.dims[x]));
+                    c[x] = uint32_t(ci);
+                }
+                const uint32_t cell = (c[2] * p.dims[1] + c[1]) * p.dims[0] + c[0];
+                const auto first = grid.entries.begin() + grid.cell_start[cell], last = grid.entries.begin() + grid.cell_start[cell + 1];
+                missing += !std::binary_search(first, last, k);
+                ++checked;
+            }
+        }
+        EXPECT_EQ(missing, 0u) << "cells of " << scale << " x one segment's share, " << checked << " surface points";
+    }
+}
+
 TEST(PathGrid, NoGridWithoutCapsulesOrCell) {
     ht::Strands none;
     none.first_point.push_back(0);
