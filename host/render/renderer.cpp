@@ -145,7 +145,9 @@ struct Renderer::Impl {
         cl_float4 depth_row{};
     } candidate_lists;
     bool use_candidate_lists = false;
-    uint64_t dropped_list_bytes = 0;  // lists the memory plan left on the host (plan_memory_dropping_lists)
+    // lists the memory plan left on the host (plan_memory_dropping_lists), and a path grid that
+    // does not fit the device's buffers (keep_path_grid_if_it_fits)
+    uint64_t dropped_list_bytes = 0;
     // how the prepared scene's large arrays reach the device: the geometry's and the lists' alike
     // (bvh/device_geometry.h; the prepared scene outlives the renderer, unchanged, and is read
     // throughout, so its arrays can be the buffers)
