@@ -57,6 +57,11 @@ PathGrid build_path_grid(const SceneGeometry& geometry);
 // 256 MiB, so a scene that fits a device without it is not refused for it (the trace program is
 // compiled for the grid or without it before the device's memory is planned).
 constexpr double kPathGridRaysPerSegment = 8.0;
+// ... and when at least this share of the grid's cells hold capsules: two copies of the anchor
+// strand side by side in one box, 16 spp, path stage tree / grid (s): 4.7 % of the cells occupied
+// 0.81 / 0.67, 2.8 % 0.79 / 0.78, 1.8 % 0.76 / 0.94, 1.2 % 0.80 / 1.13 (docs/PERFORMANCE.md
+// section 1 "Hair in clumps far apart").
+constexpr double kPathGridMinOccupiedShare = 0.03;
 constexpr size_t kPathGridAutoMaxSegments = (size_t(256) << 20) / 72;  // 3.7 M
 
 }  // namespace ht

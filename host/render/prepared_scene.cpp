@@ -27,7 +27,8 @@ namespace {
 
 // RenderSettings::path_rays: a grid for the path rays of a hair-only scene whose render traces
 // them, when asked, or (auto) when the path rays the render may trace reach kPathGridRaysPerSegment
-// per segment and the scene has at most kPathGridAutoMaxSegments (docs/PERFORMANCE.md section 1
+// per segment and the scene has at most kPathGridAutoMaxSegments (and, once made, the grid's cells
+// are occupied enough: prepare_scene; docs/PERFORMANCE.md section 1
 // "Path rays from a uniform grid").
 bool wants_path_grid(const RenderSettings& s, const Scene& scene, const KernelFeatures& f) {
     using Mode = RenderSettings::PathRays;
@@ -135,6 +136,15 @@ PreparedScene prepare_scene(const Scene& scene, const RenderSettings& s, const R
         const auto t0 = std::chrono::steady_clock::now();
         p.path_grid = build_path_grid(p.geometry);
         p.path_grid_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        // auto's second look, at the grid made: hair in clumps far apart shares one box, whose cells
+        // (sized by the box) are too coarse for the hair in them (kPathGridMinOccupiedShare), and a
+        // grid past 32-bit offsets is not made; the tree then (the program the recipe started
+        // compiling with the grid goes unused)
+        if (s.path_rays == RenderSettings::PathRays::Auto &&
+            (p.path_grid.empty() || double(p.path_grid.occupied_cells()) < kPathGridMinOccupiedShare * double(p.path_grid.cells()))) {
+            p.path_grid = PathGrid{};
+            p.features[Feature::PATH_GRID] = false;
+        }
     }
     p.strand_material.assign(scene.strands.material.begin(), scene.strands.material.end());
     p.materials = make_kernel_materials(scene.materials);

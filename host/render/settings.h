@@ -155,7 +155,8 @@ struct RenderSettings {
     // --path-rays: the closest hits of the path rays (every ray after the camera's) from a uniform
     // grid of capsule lists (Grid; render/path_grid.h) or by the tree from the node of the path's last
     // hit (Tree); Auto: the grid when the render traces enough path rays per segment to pay for
-    // making it (wants_path_grid, render/prepared_scene.cpp) and its arrays fit the device's buffers
+    // making it (wants_path_grid, render/prepared_scene.cpp), enough of its cells hold capsules
+    // (kPathGridMinOccupiedShare) and its arrays fit the device's buffers
     // (Renderer, keep_path_grid_if_it_fits).  The same answers either way; a scene with triangles
     // keeps the tree (the grid lists capsules only).
     enum class PathRays { Auto, Grid, Tree };

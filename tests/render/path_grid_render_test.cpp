@@ -83,6 +83,41 @@ TEST(PathGridRender, AutoTakesTheGridWhereEnoughRaysUseIt) {
     EXPECT_FALSE(grid_at(4 * spp_grid, PathRays::Tree));
 }
 
+// auto's look at the grid it made: two copies of a lock in one box, far apart, leave most cells
+// empty and the occupied ones too coarse: the tree; near each other, the grid; grid as asked.
+TEST(PathGridRender, AutoKeepsTheTreeForClumpsFarApart) {
+    const ht::Scene one = scene("builtin:strand?hairs=200&segments=12");
+    const auto two_apart = [&](float dx) {
+        ht::Scene s = one;
+        ht::Strands& h = s.strands;
+        const size_t points = h.points.size(), strands = h.strand_count();
+        for (size_t i = 0; i < points; ++i) {
+            h.points.push_back({h.points[i][0] + dx, h.points[i][1], h.points[i][2]});
+            h.radius.push_back(h.radius[i]);
+        }
+        for (size_t k = 0; k < strands; ++k) {
+            h.first_point.push_back(uint32_t(points) + h.first_point[k + 1]);
+            h.material.push_back(h.material[k]);
+        }
+        return s;
+    };
+    ht::RenderSettings rs = small_settings(64, 3, 5);
+    const auto occupied_share = [](const ht::PathGrid& g) { return double(g.occupied_cells()) / double(g.cells()); };
+    const ht::Bounds box = ht::scene_bounds(one);
+    const float width = box.hi[0] - box.lo[0];
+    const ht::Scene near = two_apart(2.0f * width), far = two_apart(200.0f * width);
+    const ht::PreparedScene a = ht::prepare_scene(near, rs);
+    ASSERT_TRUE(a.features[ht::Feature::PATH_GRID]);
+    EXPECT_GE(occupied_share(a.path_grid), ht::kPathGridMinOccupiedShare);
+    const ht::PreparedScene b = ht::prepare_scene(far, rs);
+    EXPECT_FALSE(b.features[ht::Feature::PATH_GRID]);
+    EXPECT_TRUE(b.path_grid.empty());
+    rs.path_rays = PathRays::Grid;
+    const ht::PreparedScene c = ht::prepare_scene(far, rs);
+    ASSERT_TRUE(c.features[ht::Feature::PATH_GRID]);
+    EXPECT_LT(occupied_share(c.path_grid), ht::kPathGridMinOccupiedShare);
+}
+
 // On the command line: grid, tree and auto write the same image; bad values exit 2.
 TEST(PathGridCli, GridAndTreeWriteTheSameImage) {
     clitest::TempDir d("ht_path_grid_");
