@@ -653,7 +653,7 @@ int bench_main(const std::vector<std::string>& args, const SceneSource& source_i
             const PathGrid grid = build_path_grid(geo);
             const double grid_ms = ms_since(t_grid);
             const uint64_t max_alloc = cl.info().max_alloc;
-            if (!grid.empty() && max_alloc && grid.largest_array_bytes() > max_alloc) {
+            if (!grid.empty() && !grid.fits_buffers(max_alloc)) {
                 if (!json_out)  // as the render does (render/renderer.cpp keep_path_grid_if_it_fits)
                     std::printf("  path rays' grid: not timed, an array of %zu bytes exceeds the device's allocation of %llu\n",
                                 grid.largest_array_bytes(), (unsigned long long)max_alloc);

@@ -149,12 +149,6 @@ double entries_per_capsule(const SceneGeometry& geometry, const Box& b, double c
 
 }  // namespace
 
-size_t PathGrid::occupied_cells() const {
-    size_t n = 0;
-    for (size_t c = 0; c + 1 < cell_start.size(); ++c) n += cell_start[c + 1] > cell_start[c];
-    return n;
-}
-
 float path_grid_cell(const SceneGeometry& geometry) { return cell_for(capsule_box(geometry)); }
 
 namespace {
@@ -223,11 +217,13 @@ PathGrid grid_in(const SceneGeometry& geometry, const Box& b, float cell) {
     uint64_t total = 0;
     for (size_t c = 0; c < cells; ++c) {
         out.cell_start[c] = uint32_t(total);
+        const uint64_t before = total;
         for (int t = 0; t < threads; ++t) {
             const uint32_t k = counts[t][c];
             counts[t][c] = uint32_t(total);
             total += k;
         }
+        out.occupied += total > before;
     }
     if (total > 0xFFFFFFFFull) return PathGrid{};  // past 32-bit offsets: no grid
     out.cell_start[cells] = uint32_t(total);

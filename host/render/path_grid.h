@@ -25,12 +25,16 @@ struct PathGrid {
     BulkVector<uint32_t> cell_start;  // cells + 1 offsets into entries (cell c: [start[c], start[c+1]))
     BulkVector<uint32_t> entries;     // leaf record indices (SceneGeometry::segments), per cell ascending
 
+    size_t occupied = 0;  // cells with at least one entry, counted as the starts are laid out
+
     bool empty() const { return cell_start.empty(); }
     size_t cells() const { return cell_start.empty() ? 0 : cell_start.size() - 1; }
     size_t bytes() const { return 4 * (cell_start.size() + entries.size()); }
-    // Its largest array, which one device buffer must hold (the walk reads them unpaged).
+    // Its largest array, which one device buffer must hold (the walk reads them unpaged), and
+    // whether a device allocating at most max_alloc bytes per buffer (0: no limit) takes it.
     size_t largest_array_bytes() const { return 4 * std::max(cell_start.size(), entries.size()); }
-    size_t occupied_cells() const;  // cells with at least one entry
+    bool fits_buffers(uint64_t max_alloc) const { return !max_alloc || largest_array_bytes() <= max_alloc; }
+    size_t occupied_cells() const { return occupied; }
 };
 
 // The cell edge of one segment per cell over the capsules' bounding box: (box volume / segments)^(1/3);

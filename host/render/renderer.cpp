@@ -386,11 +386,10 @@ struct Renderer::Impl {
     void keep_path_grid_if_it_fits() {
         if (!features[Feature::PATH_GRID]) return;
         const PathGrid& g = prepared.path_grid;
-        const uint64_t largest = g.largest_array_bytes();
         const uint64_t max_alloc = cl.info().max_alloc;
-        if (!max_alloc || largest <= max_alloc) return;
+        if (g.fits_buffers(max_alloc)) return;
         if (settings.path_rays == RenderSettings::PathRays::Grid)
-            throw DeviceError("the path rays' grid needs " + format_bytes(largest) + " in one buffer but the device " +
+            throw DeviceError("the path rays' grid needs " + format_bytes(g.largest_array_bytes()) + " in one buffer but the device " +
                               cl.info().name + " allocates at most " + format_bytes(max_alloc) +
                               " per buffer; render with --path-rays tree or auto");
         features[Feature::PATH_GRID] = false;
