@@ -41,9 +41,9 @@
         F(HtLightVertices, first_sample, 20)                                                       \
     S(HtCamera, 80) F(HtCamera, eye, 0) F(HtCamera, right, 16) F(HtCamera, up, 32)                \
         F(HtCamera, forward, 48) F(HtCamera, width, 64) F(HtCamera, height, 68)                    \
-    S(HtShadowGrid, 64) F(HtShadowGrid, dir, 0) F(HtShadowGrid, u, 16) F(HtShadowGrid, v, 32)     \
-        F(HtShadowGrid, inv_cell, 48) F(HtShadowGrid, nx, 52) F(HtShadowGrid, ny, 56)              \
-        F(HtShadowGrid, cell_offset, 60)                                                           \
+    S(HtShadowGrid, 96) F(HtShadowGrid, dir, 0) F(HtShadowGrid, u, 16) F(HtShadowGrid, v, 32)     \
+        F(HtShadowGrid, w, 48) F(HtShadowGrid, inv_cell, 64) F(HtShadowGrid, nx, 68)               \
+        F(HtShadowGrid, ny, 72) F(HtShadowGrid, cell_offset, 76) F(HtShadowGrid, kind, 80)         \
     S(HtLight, 80) F(HtLight, type, 0) F(HtLight, position, 16) F(HtLight, direction, 32)         \
         F(HtLight, radiance, 48) F(HtLight, cos_outer, 64) F(HtLight, cos_inner, 68)               \
     S(HtEnvironment, 32) F(HtEnvironment, width, 0) F(HtEnvironment, height, 4)                   \

@@ -216,17 +216,31 @@ typedef struct {
     uint width, height, pad0, pad1;
 } HtCamera;
 
-/* A directional light's shadow lists (host/render/shadow_lists.h): every shadow ray toward it
- * runs along `dir` (its -direction, bit for bit), so it stays in one cell of a grid across that
- * direction, and only the primitives listed for the cell can block it.  A point p lies in cell
- * (floor((p.u - u[3]) cells), floor((p.v - v[3]) cells)), cells = inv_cell; the grid's
- * nx x ny cells are cells cell_offset .. of the shared start / count arrays, row by row. */
+/* A light's shadow lists (host/render/shadow_lists.h), of one of two kinds:
+ * - HT_SHADOW_GRID_ALONG, a directional light's: every shadow ray toward it runs along `dir` (its
+ *   -direction, bit for bit), so it stays in one cell of a grid across that direction, and only the
+ *   primitives listed for the cell can block it.  A point p lies in cell (floor((p.u - u[3]) cells),
+ *   floor((p.v - v[3]) cells)), cells = inv_cell.
+ * - HT_SHADOW_GRID_FROM_POINT, a point or spot light's: a shadow ray toward it runs (within
+ *   dir[3] of it) along the line from the light through its origin o, so the direction of o seen
+ *   from the light picks its cell, on an image of the scene as a camera at the light would see it:
+ *   depth z = u . (o - light), image coordinates v . (o - light) / z and w . (o - light) / z in
+ *   [-1, 1], the nx x ny cells spanning that square; only primitives whose image covers the cell
+ *   and which lie nearer the light than o can block it.
+ * Either grid's nx x ny cells are cells cell_offset .. of the shared start / count arrays, row by row. */
+#define HT_SHADOW_GRID_ALONG 0u
+#define HT_SHADOW_GRID_FROM_POINT 1u
 typedef struct {
-    float dir[4];  /* xyz; w unused */
-    float u[4];    /* xyz: the grid's first axis; w: its origin's coordinate on it */
-    float v[4];    /* the same for the second axis */
+    float dir[4];  /* along: the rays' direction xyz; from a point: the light's position xyz, and in
+                      w how far from it a ray's line may pass and still take the grid */
+    float u[4];    /* along: xyz the grid's first axis, w its origin's coordinate on it; from a point:
+                      xyz the depth axis (unit) */
+    float v[4];    /* along: the same for the second axis; from a point: xyz the image's first axis
+                      over the image's half-width (a tangent) */
+    float w[4];    /* from a point: the image's second axis likewise; along: unused */
     float inv_cell;
     uint nx, ny, cell_offset;
+    uint kind, pad0, pad1, pad2;
 } HtShadowGrid;
 
 #define HT_LIGHT_POINT 0u

@@ -6,7 +6,10 @@
 #include "bench/embree_tracer.h"
 #include "bench/median.h"
 #include "bench/startup.h"
+#include "render/candidate_lists.h"
 #include "render/path_grid.h"
+#include "render/primitive_images.h"
+#include "render/shadow_lists.h"
 #include "render/renderer.h"
 #include "bench/rays_file.h"
 #include "bvh/bvh.h"
@@ -17,6 +20,8 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <array>
+#include <map>
 #include <thread>
 #include <fstream>
 #include <memory>
@@ -30,6 +35,8 @@
 #include <stdexcept>
 
 #include <time.h>
+
+#include <glm/glm.hpp>
 
 #include "kernels/geometry/capsule.h"
 
@@ -249,6 +256,110 @@ std::vector<std::string> sibling_rays(const std::string& hair) {
 
 namespace {
 
+// The lights a set of shadow rays runs to, as the render's shadow lists would have them
+// (render/shadow_lists.h): a direction that at least 1 % of the rays share bit for bit is a
+// directional light's (a render's `--dump-rays`), and the far end of the first other ray a point
+// light's when most of the others pass within 1e-4 of their length of it (the anchor's shadow
+// set, and the generated one: rays to one point light).  At most kMaxShadowGrids.
+std::vector<HtLight> lights_the_rays_run_to(const std::vector<HtRay>& rays) {
+    std::vector<HtLight> lights;
+    std::map<std::array<uint32_t, 3>, size_t> directions;
+    const auto key = [](const HtRay& r) {
+        std::array<uint32_t, 3> k;
+        std::memcpy(k.data(), &r.dx, sizeof k);
+        return k;
+    };
+    for (const HtRay& r : rays) ++directions[key(r)];
+    const auto shared = [&](size_t n) { return n >= 2 && n * 100 >= rays.size(); };
+    std::vector<std::pair<size_t, std::array<uint32_t, 3>>> common;
+    for (const auto& [k, n] : directions)
+        if (shared(n)) common.push_back({n, k});
+    std::sort(common.rbegin(), common.rend());
+    for (const auto& [n, k] : common) {
+        if (lights.size() == kMaxShadowGrids) break;
+        HtLight l{};
+        l.type = HT_LIGHT_DIRECTIONAL;
+        float d[3];
+        std::memcpy(d, k.data(), sizeof d);
+        for (int i = 0; i < 3; ++i) l.direction[i] = -d[i];  // the shade stage's rays run against it
+        lights.push_back(l);
+    }
+    // the rays along no shared direction that end somewhere
+    std::vector<const HtRay*> others;
+    for (const HtRay& r : rays)
+        if (!shared(directions[key(r)]) && r.tmax < 1e30f) others.push_back(&r);
+    if (others.empty() || lights.size() == kMaxShadowGrids) return lights;
+    const HtRay& first = *others.front();
+    const double end[3] = {first.ox + double(first.dx) * first.tmax, first.oy + double(first.dy) * first.tmax,
+                           first.oz + double(first.dz) * first.tmax};
+    size_t near = 0;
+    for (const HtRay* r : others) {
+        const double to[3] = {end[0] - r->ox, end[1] - r->oy, end[2] - r->oz};
+        const double c[3] = {to[1] * r->dz - to[2] * r->dy, to[2] * r->dx - to[0] * r->dz, to[0] * r->dy - to[1] * r->dx};
+        near += std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) <= 1e-4 * std::max(1.0, double(r->tmax));
+    }
+    if (near * 2 > others.size()) {
+        HtLight l{};
+        l.type = HT_LIGHT_POINT;
+        for (int i = 0; i < 3; ++i) l.position[i] = float(end[i]);
+        lights.push_back(l);
+    }
+    return lights;
+}
+
+// Rays that all leave one point, as a camera's do (the anchor's primary set): a camera there whose
+// image holds every ray (its axis their mean direction, one pixel per ray), and each ray's pixel,
+// so that the render's camera stage can trace them from the per-pixel lists that camera's render
+// would make (render/candidate_lists.h).  ok is false for rays from several points, or spread
+// past 63 degrees from their mean.
+struct FittedCamera {
+    HtCamera camera{};
+    std::vector<uint32_t> pixels;
+    bool ok = false;
+};
+FittedCamera camera_of_the_rays(const std::vector<HtRay>& rays) {
+    FittedCamera fc;
+    if (rays.size() < 64) return fc;
+    glm::dvec3 sum(0.0);
+    for (const HtRay& r : rays) {
+        if (r.ox != rays[0].ox || r.oy != rays[0].oy || r.oz != rays[0].oz) return fc;
+        sum += glm::normalize(glm::dvec3(r.dx, r.dy, r.dz));
+    }
+    const glm::dvec3 f = glm::normalize(sum);
+    const glm::dvec3 other = std::fabs(f.x) < 0.6 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+    const glm::dvec3 right = glm::normalize(glm::cross(f, other)), up = glm::cross(right, f);
+    double tx = 0, ty = 0;
+    for (const HtRay& r : rays) {
+        const glm::dvec3 d(r.dx, r.dy, r.dz);
+        const double z = glm::dot(d, f);
+        if (!(z > 0.45 * glm::length(d))) return fc;
+        tx = std::max(tx, std::fabs(glm::dot(d, right) / z)), ty = std::max(ty, std::fabs(glm::dot(d, up) / z));
+    }
+    const uint32_t side = uint32_t(std::clamp(std::sqrt(double(rays.size())), 16.0, 4096.0));
+    tx = std::max(tx, 1e-6) * (1 + 2.0 / side), ty = std::max(ty, 1e-6) * (1 + 2.0 / side);
+    for (int i = 0; i < 3; ++i) {
+        fc.camera.eye[i] = (&rays[0].ox)[i];
+        fc.camera.forward[i] = float(f[i]);
+        fc.camera.right[i] = float(right[i] * tx);
+        fc.camera.up[i] = float(up[i] * ty);
+    }
+    fc.camera.width = fc.camera.height = side;
+    // each ray's pixel, as kernels/camera.h maps pixels to directions (y downwards), in the float
+    // camera's own frame
+    const glm::dvec3 cf(fc.camera.forward[0], fc.camera.forward[1], fc.camera.forward[2]);
+    const glm::dvec3 cr(fc.camera.right[0], fc.camera.right[1], fc.camera.right[2]), cu(fc.camera.up[0], fc.camera.up[1], fc.camera.up[2]);
+    const glm::dmat3 inv = glm::inverse(glm::dmat3(cf, cr, cu));
+    fc.pixels.reserve(rays.size());
+    for (const HtRay& r : rays) {
+        const glm::dvec3 x = inv * glm::dvec3(r.dx, r.dy, r.dz);
+        const double px = (x[1] / x[0] + 1) * 0.5 * side, py = (1 - x[2] / x[0]) * 0.5 * side;
+        fc.pixels.push_back(uint32_t(std::clamp(std::floor(py), 0.0, side - 1.0)) * side +
+                            uint32_t(std::clamp(std::floor(px), 0.0, side - 1.0)));
+    }
+    fc.ok = true;
+    return fc;
+}
+
 // One ray set through the tracer: the hits checked (against the file's stored answers when it has
 // them; `all_ok` becomes false on a disagreement), then timed.
 nlohmann::json measure_ray_set(DeviceTracer& tracer, const SceneGeometry& geo, const RaySet& s, int reps,
@@ -365,14 +476,23 @@ nlohmann::json measure_ray_set(DeviceTracer& tracer, const SceneGeometry& geo, c
     // bit for bit (or MISMATCH), then timed as above: its JSON and report line.
     const auto alternative = [&](const char* key, const std::string& label, const std::function<void()>& use) {
         use();
-        tracer.enqueue_closest();
-        tracer.finish();
-        std::vector<HtHit> other;
-        tracer.read_hits(other);
         size_t same = 0;
-        for (size_t i = 0; i < hits.size(); ++i)
-            same += other[i].segment == hits[i].segment && std::memcmp(&other[i].t, &hits[i].t, sizeof(float)) == 0;
-        const bool ok = same == hits.size();
+        if (s.shadow) {
+            tracer.enqueue_shadow();
+            tracer.finish();
+            std::vector<uint32_t> other;
+            tracer.read_occluded(other);
+            for (size_t i = 0; i < occ.size(); ++i) same += (other[i] != 0) == (occ[i] != 0);
+        } else {
+            tracer.enqueue_closest();
+            tracer.finish();
+            std::vector<HtHit> other;
+            tracer.read_hits(other);
+            for (size_t i = 0; i < hits.size(); ++i)
+                same += other[i].segment == hits[i].segment && std::memcmp(&other[i].t, &hits[i].t, sizeof(float)) == 0;
+        }
+        const size_t answers = s.rays.size();
+        const bool ok = same == answers;
         all_ok = all_ok && ok;
         std::vector<double> at, ac;
         timed(at, ac);
@@ -382,9 +502,10 @@ nlohmann::json measure_ray_set(DeviceTracer& tracer, const SceneGeometry& geo, c
         if (embree) jr[key]["ratio_to_embree"] = vs_embree(amrays);
         char b[400];
         std::snprintf(b, sizeof b,
-                      "    closest %s; answers identical to the root's: %zu/%zu%s): %.2f Mrays/s (median of %d, %.1f ms); "
+                      "    %s %s; answers identical to the root's: %zu/%zu%s): %.2f Mrays/s (median of %d, %.1f ms); "
                       "%.2f Mrays per CPU-second",
-                      label.c_str(), same, hits.size(), ok ? "" : "  MISMATCH", amrays, reps, am, amrays_cpu);
+                      s.shadow ? "shadow" : "closest", label.c_str(), same, answers, ok ? "" : "  MISMATCH", amrays, reps, am,
+                      amrays_cpu);
         std::string line = b;
         if (embree) {
             std::snprintf(b, sizeof b, "; hairtrace/Embree = %.2f", vs_embree(amrays));
@@ -394,7 +515,7 @@ nlohmann::json measure_ray_set(DeviceTracer& tracer, const SceneGeometry& geo, c
     };
     // The render's own traversals of these rays: the tree from the node each ray's traversal started
     // at in the render (bvh/start_nodes.h), and the path rays' grid (render/path_grid.h).
-    std::string starts_line, grid_line;
+    std::string starts_line, grid_line, lists_line;
     if (!s.starts.empty()) {
         size_t started = 0;
         for (uint32_t n : s.starts) started += n != 0u;
@@ -407,6 +528,61 @@ nlohmann::json measure_ray_set(DeviceTracer& tracer, const SceneGeometry& geo, c
     if (with_grid && !s.shadow)
         grid_line = alternative("by_path_grid", "by the path rays' grid (" + std::to_string(s.rays.size()) + " rays",
                                 [&] { tracer.use_path_grid(); });
+    // the render's camera stage with the per-pixel lists of a camera at the rays' common origin
+    // (render --camera-rays lists), the lists' making timed apart
+    std::string camera_line;
+    if (!s.shadow) {
+        const FittedCamera fc = camera_of_the_rays(s.rays);
+        if (fc.ok) {
+            const auto t_lists = Clock::now();
+            const ProjectedPrimitives projected = project_primitives(fc.camera, geo);
+            PixelCandidates lists = projected.bounded ? pixel_candidates(projected) : PixelCandidates{};
+            if (lists.enabled) lists.leaf_node = leaf_entry_nodes(geo);
+            const double lists_ms = ms_since(t_lists);
+            if (lists.enabled) {
+                const double per_segment = double(lists.bytes()) / double(std::max<size_t>(geo.segment_count, 1));
+                char what[240];
+                std::snprintf(what, sizeof what,
+                              "by the per-pixel lists of a camera at their origin (%ux%u pixels, %zu entries, %zu pixels "
+                              "keep the tree, %.1f bytes/segment, made in %.0f ms",
+                              fc.camera.width, fc.camera.height, lists.primitive.size(), lists.tree_pixels, per_segment, lists_ms);
+                camera_line = alternative("by_camera_lists", what, [&] {
+                    tracer.set_camera_lists(lists.start, lists.count, lists.primitive, lists.depth, lists.depth_row,
+                                            lists.leaf_node, fc.pixels);
+                });
+                jr["by_camera_lists"]["entries"] = lists.primitive.size();
+                jr["by_camera_lists"]["bytes_per_segment"] = per_segment;
+                jr["by_camera_lists"]["build_ms"] = lists_ms;
+                tracer.set_rays(s.rays);
+            }
+        }
+    }
+    // and the render's shadow stage with the per-cell lists of the lights these rays run to
+    // (render --shadow-rays lists); their making timed apart, as the tree's build is
+    if (s.shadow) {
+        const std::vector<HtLight> lights = lights_the_rays_run_to(s.rays);
+        const auto t_lists = Clock::now();
+        const ShadowLists lists = lights.empty() ? ShadowLists{} : build_shadow_lists(geo, lights);
+        const double lists_ms = ms_since(t_lists);
+        if (lists.enabled()) {
+            tracer.set_shadow_lists(lists.grids, lists.start, lists.count, lists.primitive, lists.key);
+            size_t points = 0;
+            for (const HtShadowGrid& g : lists.grids) points += g.kind == HT_SHADOW_GRID_FROM_POINT;
+            const double per_segment = double(lists.bytes()) / double(std::max<size_t>(geo.segment_count, 1));
+            char what[240];
+            std::snprintf(what, sizeof what,
+                          "by the lights' shadow lists (%zu directional + %zu point light grids, %zu entries, %.1f bytes/segment, "
+                          "made in %.0f ms",
+                          lists.grids.size() - points, points, lists.primitive.size(), per_segment, lists_ms);
+            lists_line = alternative("by_shadow_lists", what, [&] { tracer.use_shadow_lists(); });
+            jr["by_shadow_lists"]["grids"] = lists.grids.size();
+            jr["by_shadow_lists"]["point_grids"] = points;
+            jr["by_shadow_lists"]["entries"] = lists.primitive.size();
+            jr["by_shadow_lists"]["bytes_per_segment"] = per_segment;
+            jr["by_shadow_lists"]["build_ms"] = lists_ms;
+            tracer.set_rays(s.rays);  // the tree again for what follows
+        }
+    }
     if (!json_out) {
         std::printf("  %-10s %zu rays (%s): %s\n", s.name.c_str(), s.rays.size(),
                     !s.reference ? "generated" : s.reference->scene_hash ? "anchor .rays" : ".rays file",
@@ -422,6 +598,8 @@ nlohmann::json measure_ray_set(DeviceTracer& tracer, const SceneGeometry& geo, c
                         vs_embree(mrays));
         if (!starts_line.empty()) std::printf("%s\n", starts_line.c_str());
         if (!grid_line.empty()) std::printf("%s\n", grid_line.c_str());
+        if (!camera_line.empty()) std::printf("%s\n", camera_line.c_str());
+        if (!lists_line.empty()) std::printf("%s\n", lists_line.c_str());
     }
     return jr;
 }
@@ -496,7 +674,7 @@ void declare_bench_options(ArgParser& p) {
     p.group("scenes")
         .path("--hair", "FILE.hair", "a Cem Yuksel .hair file to measure", PathKind::Input, "", true)
         .option("--scene", "SCENE", "a scene to measure (file or builtin:NAME; default: builtin:strand builtin:ball)", "", true)
-        .path("--rays", "FILE.rays", "a ray set (the Embree anchor's format) for the scene named before it; without any, <stem>.{primary,incoherent,shadow}.rays beside a .hair file are used if present, else rays are generated from a framing camera; every hit is checked against the file's stored answers before any rate is printed; a closest-hit set's X.starts beside it (written by render --dump-rays) also times the rays from the nodes the render started them at, and on a hair-only scene every closest-hit set is also timed by the render's path-ray grid (render --path-rays grid: the renderer's own kernel and grid, whose size and build time are printed), each with the root's answers checked ray by ray", PathKind::Input, "", true);
+        .path("--rays", "FILE.rays", "a ray set (the Embree anchor's format) for the scene named before it; without any, <stem>.{primary,incoherent,shadow}.rays beside a .hair file are used if present, else rays are generated from a framing camera; every hit is checked against the file's stored answers before any rate is printed; a closest-hit set's X.starts beside it (written by render --dump-rays) also times the rays from the nodes the render started them at, and on a hair-only scene every closest-hit set is also timed by the render's path-ray grid (render --path-rays grid: the renderer's own kernel and grid, whose size and build time are printed), each with the root's answers checked ray by ray; a closest-hit set whose rays all leave one point (a camera's, as the anchor's primary set) is also traced by the render's camera stage with the per-pixel lists (render --camera-rays lists) of a camera there fitted to the rays (its axis their mean direction, one pixel per ray); every shadow set is also answered by the render's shadow lists (render --shadow-rays lists) of the lights its rays run to (a direction 1 % of them share bit for bit: a directional light; an end point most of the rest run to: a point light), their entries, bytes per segment and making time printed, the tree's answers checked ray by ray", PathKind::Input, "", true);
     p.group("measurement")
         .option("--res", "N", "generated primary rays: N x N (rounded down to a multiple of 4)", "1024")
         .option("--reps", "N", "timed passes per case, median reported", "5")

@@ -110,6 +110,8 @@ DeviceTracer::DeviceTracer(ClContext& cl, const DeviceGeometry& geo, const std::
         closest_from_ = cl::Kernel(program_, "intersect_closest_from");
         closest_grid_ = cl::Kernel(program_, "intersect_closest_paths");
         shadow_ = cl::Kernel(program_, "intersect_shadow");
+        shadow_lists_ = cl::Kernel(program_, "intersect_shadow_lists");
+        camera_ = cl::Kernel(program_, "intersect_camera");
     });
 }
 
@@ -131,6 +133,7 @@ void DeviceTracer::set_rays(const std::vector<HtRay>& rays) {
         });
     }
     closest_mode_ = Closest::Root;
+    shadow_by_lists_ = false;
     if (!count_) return;
     // The kernels clamp tmax too; replacing inf here keeps it out of the device entirely (a
     // program built with -cl-fast-relaxed-math through `bench --options` assumes finite values).
@@ -167,6 +170,53 @@ void DeviceTracer::use_path_grid() {
     closest_mode_ = Closest::Grid;
 }
 
+void DeviceTracer::set_shadow_lists(const std::vector<HtShadowGrid>& grids, const std::vector<uint32_t>& start,
+                                    const std::vector<uint32_t>& count, const BulkVector<uint32_t>& primitive,
+                                    const BulkVector<float>& key) {
+    const auto copy = [&](const char* what, const void* data, size_t bytes) {
+        return read_only_buffer(cl_, what, data, bytes, GeometryMemory::Copy);
+    };
+    list_grids_ = copy("shadow list grids", grids.data(), grids.size() * sizeof(HtShadowGrid));
+    list_start_ = copy("shadow list starts", start.data(), start.size() * sizeof(uint32_t));
+    list_count_ = copy("shadow list counts", count.data(), count.size() * sizeof(uint32_t));
+    list_primitive_ = copy("shadow list primitives", primitive.data(), primitive.size() * sizeof(uint32_t));
+    list_key_ = copy("shadow list keys", key.data(), key.size() * sizeof(float));
+    list_grid_count_ = cl_uint(grids.size());
+}
+
+void DeviceTracer::set_camera_lists(const std::vector<uint32_t>& start, const std::vector<uint32_t>& count,
+                                    const BulkVector<uint32_t>& primitive, const BulkVector<float>& depth,
+                                    const float depth_row[3], const std::vector<uint32_t>& leaf_node,
+                                    const std::vector<uint32_t>& ray_pixels) {
+    if (ray_pixels.size() != count_)
+        throw std::invalid_argument("DeviceTracer::set_camera_lists: " + std::to_string(ray_pixels.size()) + " pixels for " +
+                                    std::to_string(count_) + " rays");
+    const auto copy = [&](const char* what, const void* data, size_t bytes) {
+        return read_only_buffer(cl_, what, data, bytes, GeometryMemory::Copy);
+    };
+    camera_start_ = copy("camera list starts", start.data(), start.size() * sizeof(uint32_t));
+    camera_count_ = copy("camera list counts", count.data(), count.size() * sizeof(uint32_t));
+    camera_primitive_ = copy("camera list primitives", primitive.data(), primitive.size() * sizeof(uint32_t));
+    camera_depth_ = copy("camera list depths", depth.data(), depth.size() * sizeof(float));
+    camera_leaf_node_ = copy("camera list nodes", leaf_node.data(), leaf_node.size() * sizeof(uint32_t));
+    camera_depth_row_ = cl_float4{{depth_row[0], depth_row[1], depth_row[2], 0.0f}};
+    // ray i is path i's, whose state names its pixel (the stage writes the hit's node back there)
+    std::vector<HtPathState> paths(std::max<size_t>(1, count_));
+    std::vector<uint32_t> ray_path(count_);
+    for (size_t i = 0; i < count_; ++i) paths[i].pixel = ray_pixels[i], ray_path[i] = uint32_t(i);
+    device_step("uploading the camera rays' paths", [&] {
+        camera_paths_ = cl::Buffer(cl_.context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR,
+                                   paths.size() * sizeof(HtPathState), paths.data());
+    });
+    camera_ray_path_ = copy("camera ray paths", ray_path.data(), ray_path.size() * sizeof(uint32_t));
+    closest_mode_ = Closest::CameraLists;
+}
+
+void DeviceTracer::use_shadow_lists() {
+    if (!list_grids_()) throw std::logic_error("DeviceTracer::use_shadow_lists before set_shadow_lists");
+    shadow_by_lists_ = true;
+}
+
 void DeviceTracer::enqueue(cl::Kernel& k, cl::Buffer& out, const std::function<void(cl::Kernel&, cl_uint)>& extra) {
     if (!count_) return;
     device_step("kernel launch", [&] {
@@ -198,9 +248,34 @@ void DeviceTracer::enqueue_closest() {
             k.setArg(a++, grid_);
         });
         break;
+    case Closest::CameraLists:  // intersect_camera.cl's order
+        enqueue(camera_, hits_, [&](cl::Kernel& k, cl_uint a) {
+            k.setArg(a++, camera_ray_path_);
+            k.setArg(a++, camera_paths_);
+            k.setArg(a++, camera_start_);
+            k.setArg(a++, camera_count_);
+            k.setArg(a++, camera_primitive_);
+            k.setArg(a++, camera_depth_);
+            k.setArg(a++, camera_depth_row_);
+            k.setArg(a++, camera_leaf_node_);
+        });
+        break;
     }
 }
-void DeviceTracer::enqueue_shadow() { enqueue(shadow_, occluded_); }
+void DeviceTracer::enqueue_shadow() {
+    if (!shadow_by_lists_) {
+        enqueue(shadow_, occluded_);
+        return;
+    }
+    enqueue(shadow_lists_, occluded_, [&](cl::Kernel& k, cl_uint a) {  // intersect_shadow_lists.cl's order
+        k.setArg(a++, list_grid_count_);
+        k.setArg(a++, list_grids_);
+        k.setArg(a++, list_start_);
+        k.setArg(a++, list_count_);
+        k.setArg(a++, list_primitive_);
+        k.setArg(a++, list_key_);
+    });
+}
 void DeviceTracer::finish() {
     device_step("kernel execution", [&] { cl_.queue().finish(); });
 }

@@ -83,6 +83,20 @@ public:
     void set_path_grid(const BulkVector<uint32_t>& cell_start, const BulkVector<uint32_t>& entries,
                        const HtPathGrid& grid);
     void use_path_grid();
+    // The lights' shadow lists (render/shadow_lists.h: grids, cell starts and counts, entries and
+    // keys): from then on, until set_rays, enqueue_shadow answers the uploaded rays by them (the
+    // renderer's own intersect_shadow_lists; rays no grid serves traverse the tree there).
+    void set_shadow_lists(const std::vector<HtShadowGrid>& grids, const std::vector<uint32_t>& start,
+                          const std::vector<uint32_t>& count, const BulkVector<uint32_t>& primitive,
+                          const BulkVector<float>& key);
+    void use_shadow_lists();
+    // A camera's per-pixel candidate lists (render/candidate_lists.h: starts, counts, entries and
+    // depths, the depth row, each entry's node) and the pixel of each uploaded ray: from then on,
+    // until set_rays, enqueue_closest traces the uploaded rays as the render's camera stage does
+    // (kernels/stages/intersect_camera.cl; a pixel whose list was capped traverses the tree).
+    void set_camera_lists(const std::vector<uint32_t>& start, const std::vector<uint32_t>& count,
+                          const BulkVector<uint32_t>& primitive, const BulkVector<float>& depth, const float depth_row[3],
+                          const std::vector<uint32_t>& leaf_node, const std::vector<uint32_t>& ray_pixels);
     // Trace the uploaded rays; the *_enqueue forms do not wait (time them with finish()).
     void enqueue_closest();
     void enqueue_shadow();
@@ -101,11 +115,17 @@ private:
     ClContext& cl_;
     const DeviceGeometry& geo_;
     cl::Program program_;
-    cl::Kernel closest_, closest_from_, closest_grid_, shadow_;
+    cl::Kernel closest_, closest_from_, closest_grid_, shadow_, shadow_lists_, camera_;
+    cl::Buffer camera_start_, camera_count_, camera_primitive_, camera_depth_, camera_leaf_node_, camera_paths_,
+        camera_ray_path_;
+    cl_float4 camera_depth_row_{};
     cl::Buffer grid_cells_, grid_entries_;
+    cl::Buffer list_grids_, list_start_, list_count_, list_primitive_, list_key_;
+    cl_uint list_grid_count_ = 0;
+    bool shadow_by_lists_ = false;
     HtPathGrid grid_{};
     cl::Buffer rays_, hits_, occluded_, starts_;
-    enum class Closest { Root, Starts, Grid } closest_mode_ = Closest::Root;
+    enum class Closest { Root, Starts, Grid, CameraLists } closest_mode_ = Closest::Root;
     size_t capacity_ = 0, count_ = 0;
     double build_ms_ = 0;
     bool build_cached_ = false;

@@ -328,7 +328,7 @@ void report(const PreparedRender& job, const RenderRequest& request, const RunOu
         std::fprintf(stderr, "camera rays from per-pixel lists: %zu entries (made in %.0f ms), %zu pixels with more traverse the tree\n",
                      st.candidate_entries, st.candidates_ms, st.candidate_tree_pixels);
     if (st.shadow_list_entries)
-        std::fprintf(stderr, "shadow rays toward directional lights from per-cell lists: %zu entries (made in %.0f ms)\n",
+        std::fprintf(stderr, "shadow rays from the lights' per-cell lists: %zu entries (made in %.0f ms)\n",
                      st.shadow_list_entries, st.shadow_lists_ms);
     if (st.path_grid_entries)
         std::fprintf(stderr, "path rays from a uniform grid: %zu cells (%zu hold capsules), %zu entries (made in %.0f ms)\n",

@@ -1,4 +1,4 @@
-// For each pixel (or, for a directional light's shadow grid, each cell) the primitives whose image
+// For each pixel (or, for a light's shadow grid, each cell) the primitives whose image
 // covers it, in the order of their images' depth: the only ones its rays can meet, tested instead
 // of the tree (kernels/geometry/candidate_list.h).
 #pragma once

@@ -47,14 +47,16 @@ bool wants_shadow_lists(const RenderSettings& s, const PreparedScene& p) {
     using Mode = RenderSettings::ShadowLists;
     if (s.shadow_lists != Mode::Auto) return s.shadow_lists == Mode::Lists;
     size_t grids = 0;
-    for (const HtLight& l : p.lights) grids += l.type == HT_LIGHT_DIRECTIONAL;
+    for (const HtLight& l : p.lights) grids += casts_shadow_lists(l);
     grids = std::min(grids, kMaxShadowGrids);
     const double pixels = p.footprint.seen.empty() && p.footprint.empty.empty() ? double(s.width) * s.height
                                                                                   : double(p.footprint.seen.size());
     const double rays = double(s.spp) * pixels * list_shadow_rays_per_path(s), per_entry = kShadowListRaysPerEntry;
     // every primitive is listed in a cell of every grid at least: fewer rays need no estimate
     if (grids == 0 || rays <= 0 || rays < per_entry * double(p.geometry.segments.size()) * double(grids)) return false;
-    return rays >= per_entry * estimate_shadow_list_entries(p.geometry, p.lights);
+    // none when no light can have a grid (a point light among the hair)
+    const double entries = estimate_shadow_list_entries(p.geometry, p.lights);
+    return entries > 0 && rays >= per_entry * entries;
 }
 
 // RenderSettings::camera_lists: whether the lists will save more than they cost (decided before

@@ -46,7 +46,7 @@ struct PreparedScene {
     // otherwise, or when the projection is unbounded), and the time they took.
     PixelCandidates candidates;
     double candidates_ms = 0;
-    // The directional lights' shadow lists (RenderSettings::shadow_lists) and their time.
+    // The lights' shadow lists (RenderSettings::shadow_lists) and their time.
     ShadowLists shadow_lists;
     double shadow_lists_ms = 0;
     // The path rays' grid (RenderSettings::path_rays; features[PATH_GRID] says whether there is

@@ -73,7 +73,8 @@ void PrimitiveImage::box(double* r) const {
     r[2] = std::min(a[2], b[2]), r[3] = std::max(a[3], b[3]);
 }
 
-ProjectedPrimitives project_primitives(const HtCamera& camera, const SceneGeometry& g, const PrimitiveStarts* given) {
+ProjectedPrimitives project_primitives(const HtCamera& camera, const SceneGeometry& g, const PrimitiveStarts* given,
+                                       double widen) {
     const int w = int(camera.width), h = int(camera.height);
     const CameraFrame frame(camera);
     ProjectedPrimitives out, unbounded;
@@ -99,7 +100,7 @@ ProjectedPrimitives project_primitives(const HtCamera& camera, const SceneGeomet
     // pages than the arithmetic twice)
     const auto point_image = [&](size_t i, double* o) {
         const HtPoint& p = g.points[i];
-        const double r = ball_radius(g, i);
+        const double r = ball_radius(g, i) + widen;
         const glm::dvec3 x = frame.map(p.x, p.y, p.z);
         if (!(std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]) && std::isfinite(r))) return kNotFinite;
         const double z0 = x[0] - r * row_norm[0], z1 = x[0] + r * row_norm[0];

@@ -1,5 +1,6 @@
-// The images of a scene's primitives on a grid: on the camera's pixels (project_primitives) or,
-// projected along a directional light, on its shadow grid's cells (render/shadow_lists.h).  A
+// The images of a scene's primitives on a grid: on the camera's pixels (project_primitives; also a
+// point light's shadow grid, as a camera at the light) or, projected along a directional light, on
+// its shadow grid's cells (render/shadow_lists.h).  A
 // capsule or a triangle lies in the convex hull of balls around its vertices, and its image in
 // the hull of theirs; the images bound where rays can meet each primitive.  Used for the pixels
 // that see no geometry (render/pixel_footprint.h) and the per-pixel or per-cell candidate lists
@@ -52,10 +53,11 @@ struct ProjectedPrimitives {
     double depth_row[3] = {0, 0, 0};
 };
 // starts: primitive_starts(geometry) when the caller has made it for other passes too (nullptr:
-// made here).
+// made here); widen: world units added to every vertex's ball (a point light's grid widens the
+// images by how far beside the line to the light its rays may pass, render/shadow_lists.h).
 struct PrimitiveStarts;
 ProjectedPrimitives project_primitives(const HtCamera& camera, const SceneGeometry& geometry,
-                                       const PrimitiveStarts* starts = nullptr);
+                                       const PrimitiveStarts* starts = nullptr, double widen = 0);
 
 // Shared with the light's grids (render/shadow_lists.h):
 // the primitive beginning at each point (kNoPrimitive: none) and its vertex count (2 or 3),

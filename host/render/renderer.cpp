@@ -152,7 +152,7 @@ struct Renderer::Impl {
     // (bvh/device_geometry.h; the prepared scene outlives the renderer, unchanged, and is read
     // throughout, so its arrays can be the buffers)
     GeometryMemory memory = GeometryMemory::Copy;
-    // The directional lights' shadow lists (render/shadow_lists.h), when the scene has them
+    // The lights' shadow lists (render/shadow_lists.h), when the scene has them
     struct ShadowListBuffers {
         cl::Buffer grids, start, count, primitive, key;
         cl_uint grid_count = 0;
@@ -753,7 +753,7 @@ struct Renderer::Impl {
         intersect_shadow(buffer(PathBuffer::ShadowRays), buffer(PathBuffer::Occluded), count, true);
     }
 
-    // Any rays (the lists serve only rays towards a directional light: `lists` says these are).
+    // Any rays (the lists serve only rays towards a light with a grid: `lists` says these are).
     void intersect_shadow(const cl::Buffer& rays, const cl::Buffer& occluded, uint32_t count, bool lists) {
         const bool use_lists = lists && shadow_lists.grid_count > 0;
         cl::Kernel& k = use_lists ? k_shadow_lists : k_shadow;

@@ -42,7 +42,7 @@ struct RenderStats {
     // entries (0: no lists), the pixels that traverse the tree instead, the lists' build time.
     size_t candidate_entries = 0, candidate_tree_pixels = 0;
     double candidates_ms = 0;
-    // Shadow rays from the directional lights' lists (RenderSettings::shadow_lists): their entries
+    // Shadow rays from the lights' lists (RenderSettings::shadow_lists): their entries
     // (0: none) and build time.
     size_t shadow_list_entries = 0;
     double shadow_lists_ms = 0;

@@ -145,7 +145,8 @@ struct RenderSettings {
     ListChoice camera_lists = ListChoice::Auto;
     uint32_t camera_list_cap = 0;  // a pixel's longest list (0: kMaxCandidatesPerPixel); tests set less
     // --shadow-rays lists: shadow rays toward a directional light test the list of their cell in a
-    // grid across the light's direction (render/shadow_lists.h) -- the same answers.  Tree: every
+    // grid across the light's direction, toward a point or spot light outside the hair that of
+    // their cell in the image seen from the light (render/shadow_lists.h) -- the same answers.  Tree: every
     // shadow ray traverses the tree.  Auto: lists when the first-vertex shadow rays that would use
     // them, spp times the pixels that see geometry times list_shadow_rays_per_path, reach
     // kShadowListRaysPerEntry per entry the lists would hold (estimate_shadow_list_entries; below

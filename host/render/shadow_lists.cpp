@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 #include <glm/glm.hpp>
 
@@ -15,6 +16,10 @@ double list_shadow_rays_per_path(const RenderSettings& s) {
     using Indirect = RenderSettings::Indirect;
     const bool own_stage = s.indirect == Indirect::Dual || (s.indirect == Indirect::Afs && s.max_depth <= 1);
     return own_stage ? 0.0 : double(std::max(s.first_hit_light_samples, 1));
+}
+
+bool casts_shadow_lists(const HtLight& l) {
+    return l.type == HT_LIGHT_DIRECTIONAL || l.type == HT_LIGHT_POINT || l.type == HT_LIGHT_SPOT;
 }
 
 uint64_t ShadowLists::bytes() const {
@@ -149,6 +154,114 @@ bool project_along(const SceneGeometry& g, const PrimitiveStarts& starts, const 
     return out->bounded;
 }
 
+// A point or spot light's grid (HT_SHADOW_GRID_FROM_POINT): the image a camera at the light would
+// see, holding every primitive.  A shadow ray's line passes within `beside` of the light (the
+// kernel sends it the tree otherwise), so each vertex's ball is widened by beside and the
+// margin for the kernel's float arithmetic, and the images are made by the camera's own projection
+// (render/primitive_images.h).  ok is false when nothing can be proved: a point not finite, a ball
+// reaching the light's plane, or the image wider than kMaxPointGridTangent each way from its centre.
+struct PointView {
+    HtCamera camera{};
+    double widen = 0, beside = 0, cell = 0;  // cell: its side in tangent units
+    glm::dvec3 f{0.0}, right{0.0}, up{0.0}; // unit frame: depth, image x, image y
+    double tx = 0, ty = 0;                   // the image's half-width and half-height (tangents)
+    bool ok = false;
+};
+constexpr double kMaxPointGridTangent = 2.0;  // 63 degrees: a light among the hair gets no grid
+
+// Every step-th point, as grid_frame.
+PointView point_view(const SceneGeometry& g, const HtLight& light, double margin, double cell_radii, size_t step = 1) {
+    PointView pv;
+    const glm::dvec3 L(light.position[0], light.position[1], light.position[2]);
+    if (!std::isfinite(L.x + L.y + L.z) || g.points.empty()) return pv;
+    margin = std::max(margin, 1e-5 * std::max({std::fabs(L.x), std::fabs(L.y), std::fabs(L.z)}));
+    // the points' box centre and largest radius: the image's axis and how far beside the light a
+    // fibre's shadow ray may pass (its origin is spawned up to 2.01 radii from the point it aims
+    // from, kernels/integrator/shading_point.h ht_fibre_spawn)
+    glm::dvec3 lo(HUGE_VAL), hi(-HUGE_VAL);
+    double r_max = 0;
+    for (size_t i = 0; i < g.points.size(); i += step) {
+        const glm::dvec3 p(g.points[i].x, g.points[i].y, g.points[i].z);
+        lo = glm::min(lo, p), hi = glm::max(hi, p);
+        r_max = std::max(r_max, double(g.points[i].r));
+    }
+    pv.beside = 2.05 * r_max + margin;
+    pv.widen = pv.beside + margin;
+    pv.f = glm::normalize(0.5 * (lo + hi) - L);
+    if (!std::isfinite(pv.f.x + pv.f.y + pv.f.z + r_max)) return pv;
+    const glm::dvec3 other = std::fabs(pv.f.x) < 0.6 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+    pv.right = glm::normalize(glm::cross(pv.f, other)), pv.up = glm::cross(pv.right, pv.f);
+    // the balls' tangent bounds (as project_primitives bounds them) and their mean angular radius
+    struct Share {
+        double tx = 0, ty = 0, angle_sum = 0;
+        size_t angle_count = 0;
+        bool ok = true;
+    };
+    std::vector<Share> shares(static_cast<size_t>(host_threads()));
+    in_parallel((g.points.size() + step - 1) / step, [&](int t, size_t begin, size_t end) {
+        Share& sh = shares[size_t(t)];
+        for (size_t i = begin * step; i < end * step && i < g.points.size(); i += step) {
+            const glm::dvec3 p = glm::dvec3(g.points[i].x, g.points[i].y, g.points[i].z) - L;
+            const double x = glm::dot(p, pv.f), a = glm::dot(p, pv.right), b = glm::dot(p, pv.up);
+            const double R = ball_radius(g, i) + pv.widen, z0 = x - R, z1 = x + R;
+            if (!(z0 > 0) || !std::isfinite(z1 + a + b)) {
+                sh.ok = false;
+                return;
+            }
+            sh.tx = std::max({sh.tx, std::fabs((a - R) / z0), std::fabs((a + R) / z0), std::fabs((a - R) / z1), std::fabs((a + R) / z1)});
+            sh.ty = std::max({sh.ty, std::fabs((b - R) / z0), std::fabs((b + R) / z0), std::fabs((b - R) / z1), std::fabs((b + R) / z1)});
+            if (g.points[i].r > 0) sh.angle_sum += g.points[i].r / x, ++sh.angle_count;
+        }
+    });
+    double angle_sum = 0;
+    size_t angle_count = 0;
+    for (const Share& sh : shares) {
+        if (!sh.ok) return pv;
+        pv.tx = std::max(pv.tx, sh.tx), pv.ty = std::max(pv.ty, sh.ty);
+        angle_sum += sh.angle_sum, angle_count += sh.angle_count;
+    }
+    if (!(pv.tx <= kMaxPointGridTangent && pv.ty <= kMaxPointGridTangent)) return pv;
+    // cells of cell_radii mean radii at their points' depths (in tangent units), no more than
+    // kShadowCellsPerPrimitive per primitive and kMaxShadowGridSide a side, and one more each
+    // way than the images need (a ray whose origin falls outside meets nothing)
+    const double extent = 2 * std::max(pv.tx, pv.ty);
+    double cell = angle_count ? cell_radii * angle_sum / double(angle_count) : extent / 1024;
+    const double cells = std::max(1024.0, kShadowCellsPerPrimitive * double(g.segments.size()));
+    cell = std::max({cell, std::sqrt(4 * pv.tx * pv.ty / cells), extent / (kMaxShadowGridSide - 4), 1e-30});
+    const uint32_t nx = uint32_t(std::ceil(2 * (pv.tx + cell) / cell)), ny = uint32_t(std::ceil(2 * (pv.ty + cell) / cell));
+    pv.tx = 0.5 * nx * cell, pv.ty = 0.5 * ny * cell;
+    pv.cell = cell;
+    for (int i = 0; i < 3; ++i) {
+        pv.camera.eye[i] = float(L[i]);
+        pv.camera.forward[i] = float(pv.f[i]);
+        pv.camera.right[i] = float(pv.right[i] * pv.tx);
+        pv.camera.up[i] = float(pv.up[i] * pv.ty);
+    }
+    pv.camera.width = nx, pv.camera.height = ny;
+    pv.ok = true;
+    return pv;
+}
+
+// The point light's grid from its view: the kernel's rows are those of the inverse of the float
+// camera's frame, as project_primitives inverts it.
+bool point_grid(const PointView& pv, HtShadowGrid* grid) {
+    const HtCamera& c = pv.camera;
+    const glm::dmat3 m(glm::dvec3(c.forward[0], c.forward[1], c.forward[2]), glm::dvec3(c.right[0], c.right[1], c.right[2]),
+                       glm::dvec3(c.up[0], c.up[1], c.up[2]));
+    const glm::dmat3 rows = glm::transpose(glm::inverse(m));
+    for (int i = 0; i < 3; ++i)
+        grid->dir[i] = c.eye[i], grid->u[i] = float(rows[0][i]), grid->v[i] = float(rows[1][i]), grid->w[i] = float(rows[2][i]);
+    grid->dir[3] = float(pv.beside);
+    grid->inv_cell = float(1 / pv.cell);
+    grid->nx = c.width, grid->ny = c.height;
+    grid->kind = HT_SHADOW_GRID_FROM_POINT;
+    for (const float* row : {grid->dir, grid->u, grid->v, grid->w})
+        if (!std::isfinite(row[0] + row[1] + row[2] + row[3])) return false;
+    return true;
+}
+
+bool casts_from_a_point(const HtLight& l) { return l.type == HT_LIGHT_POINT || l.type == HT_LIGHT_SPOT; }
+
 }  // namespace
 
 ShadowLists build_shadow_lists(const SceneGeometry& g, const std::vector<HtLight>& lights, double cell_radii,
@@ -158,13 +271,21 @@ ShadowLists build_shadow_lists(const SceneGeometry& g, const std::vector<HtLight
     PrimitiveStarts made;
     const PrimitiveStarts* starts = given;
     for (const HtLight& light : lights) {
-        if (light.type != HT_LIGHT_DIRECTIONAL || out.grids.size() == kMaxShadowGrids) continue;
+        if (!casts_shadow_lists(light) || out.grids.size() == kMaxShadowGrids) continue;
         HtShadowGrid grid{};
-        glm::dvec3 w, u, v;
-        if (!light_frame(light, &grid, &w, &u, &v)) continue;
         ProjectedPrimitives projected;
-        if (!starts) made = primitive_starts(g), starts = &made;  // once for every light
-        if (!project_along(g, *starts, w, u, v, margin, cell_radii, &grid, &projected)) continue;
+        if (casts_from_a_point(light)) {
+            const PointView pv = point_view(g, light, margin, cell_radii);
+            if (!pv.ok || !point_grid(pv, &grid)) continue;
+            if (!starts) made = primitive_starts(g), starts = &made;  // once for every light
+            projected = project_primitives(pv.camera, g, starts, pv.widen);
+            if (!projected.bounded) continue;
+        } else {
+            glm::dvec3 w, u, v;
+            if (!light_frame(light, &grid, &w, &u, &v)) continue;
+            if (!starts) made = primitive_starts(g), starts = &made;
+            if (!project_along(g, *starts, w, u, v, margin, cell_radii, &grid, &projected)) continue;
+        }
         PixelCandidates c = pixel_candidates(projected);
         if (!c.enabled) continue;
         grid.cell_offset = uint32_t(out.start.size());
@@ -196,12 +317,32 @@ double estimate_shadow_list_entries(const SceneGeometry& g, const std::vector<Ht
     double entries = 0;
     size_t grids = 0;
     for (const HtLight& light : lights) {
-        if (light.type != HT_LIGHT_DIRECTIONAL || grids == kMaxShadowGrids) continue;
+        if (!casts_shadow_lists(light) || grids == kMaxShadowGrids) continue;
+        // per vertex: its cell coordinates and the side in cells of its ball's image
+        std::function<glm::dvec3(size_t)> cells_of;
         HtShadowGrid grid{};
         glm::dvec3 w, u, v;
-        if (!light_frame(light, &grid, &w, &u, &v)) continue;
-        const GridFrame f = grid_frame(g, w, u, v, margin, cell_radii, point_step);
-        if (!f.finite) continue;
+        GridFrame f;
+        PointView pv;
+        if (casts_from_a_point(light)) {
+            pv = point_view(g, light, margin, cell_radii, point_step);
+            if (!pv.ok) continue;
+            const glm::dvec3 L(light.position[0], light.position[1], light.position[2]);
+            cells_of = [&, L](size_t i) {
+                const glm::dvec3 p = glm::dvec3(g.points[i].x, g.points[i].y, g.points[i].z) - L;
+                const double x = glm::dot(p, pv.f), per_cell = 1 / (x * pv.cell);
+                return glm::dvec3(glm::dot(p, pv.right) * per_cell, glm::dot(p, pv.up) * per_cell,
+                                  2 * (ball_radius(g, i) + pv.widen) * per_cell + 1);
+            };
+        } else {
+            if (!light_frame(light, &grid, &w, &u, &v)) continue;
+            f = grid_frame(g, w, u, v, margin, cell_radii, point_step);
+            if (!f.finite) continue;
+            cells_of = [&](size_t i) {
+                const glm::dvec4 p = point_along(g, i, w, u, v, margin);
+                return glm::dvec3(p[0] / f.cell, p[1] / f.cell, 2 * p[3] / f.cell + 1);
+            };
+        }
         ++grids;
         std::vector<double> sums(static_cast<size_t>(host_threads()), 0.0);
         in_parallel(sampled, [&](int t, size_t begin, size_t end) {
@@ -214,12 +355,12 @@ double estimate_shadow_list_entries(const SceneGeometry& g, const std::vector<Ht
                 // triangle
                 double lo_u = HUGE_VAL, hi_u = -HUGE_VAL, lo_v = HUGE_VAL, hi_v = -HUGE_VAL, side = 0;
                 for (uint32_t j = 0; j < n; ++j) {
-                    const glm::dvec4 p = point_along(g, seg.point + j, w, u, v, margin);
-                    lo_u = std::min(lo_u, p[0]), hi_u = std::max(hi_u, p[0]);
-                    lo_v = std::min(lo_v, p[1]), hi_v = std::max(hi_v, p[1]);
-                    side = std::max(side, 2 * p[3] / f.cell + 1);
+                    const glm::dvec3 c = cells_of(seg.point + j);
+                    lo_u = std::min(lo_u, c[0]), hi_u = std::max(hi_u, c[0]);
+                    lo_v = std::min(lo_v, c[1]), hi_v = std::max(hi_v, c[1]);
+                    side = std::max(side, c[2]);
                 }
-                const double du = (hi_u - lo_u) / f.cell, dv = (hi_v - lo_v) / f.cell;
+                const double du = hi_u - lo_u, dv = hi_v - lo_v;
                 sum += n == 3 ? (du + side) * (dv + side) : side * side + side * (du + dv);
             }
             sums[size_t(t)] += sum;

@@ -1,9 +1,13 @@
 // Shadow rays toward a directional light all run along one direction, so each stays in one cell
-// of a grid laid across it: only the primitives whose shadow covers the cell can block it.  The
-// lists per cell (render/candidate_lists.h's builder, the cells in place of pixels, sorted by how
-// far towards the light each primitive reaches) let kernels/stages/intersect_shadow_lists.cl
-// answer such a ray without the tree, with the tree's answer (docs/PERFORMANCE.md section 8
-// "Shadow rays from per-cell lists").
+// of a grid laid across it: only the primitives whose shadow covers the cell can block it.  Shadow
+// rays toward a point or spot light all run to one point, so each stays (within a fibre's width)
+// on the line from the light through its origin: seen from the light, the direction of its origin
+// picks a cell of the image a camera there would see, and only the primitives whose image covers
+// that cell and which lie nearer the light than the origin can block it.  The lists per cell
+// (render/candidate_lists.h's builder, the cells in place of pixels, sorted by how far towards a
+// directional light each primitive reaches, or by its depth from a point light) let
+// kernels/stages/intersect_shadow_lists.cl answer such a ray without the tree, with the tree's
+// answer (docs/PERFORMANCE.md section 8 "Shadow rays from per-cell lists").
 #pragma once
 
 #include "bvh/bvh.h"
@@ -29,10 +33,12 @@ constexpr double kShadowCellsPerPrimitive = 4.0;
 constexpr double kShadowListRaysPerEntry = 0.6;
 
 struct ShadowLists {
-    std::vector<HtShadowGrid> grids;  // one per directional light with lists, at most kMaxShadowGrids
+    std::vector<HtShadowGrid> grids;  // one per light with lists, at most kMaxShadowGrids
     // every grid's cells back to back (HtShadowGrid::cell_offset), as PixelCandidates holds them:
     // cell c's list is entries start[c] .. start[c] + count[c] (count kCandidatesUseTree: the
-    // tree), nearest the light last; key = how far along dir the primitive reaches, rounded up
+    // tree).  A directional light's: nearest the light last, key = how far along dir the
+    // primitive reaches, rounded up; a point light's: nearest the light first, key = the
+    // primitive's nearest depth from it, rounded down
     std::vector<uint32_t> start, count;
     BulkVector<uint32_t> primitive;
     BulkVector<float> key;
@@ -41,8 +47,13 @@ struct ShadowLists {
     uint64_t bytes() const;
 };
 
-// Lists for the first kMaxShadowGrids directional lights among `lights`; a light gets none when
-// the geometry holds a non-finite point or the lists would not fit kMaxCandidateEntries.
+// Whether a light can have shadow lists: directional, point and spot lights (a sphere light's rays
+// run to points across its sphere).
+bool casts_shadow_lists(const HtLight& light);
+// Lists for the first kMaxShadowGrids such lights among `lights`; a light gets none when the
+// geometry holds a non-finite point or the lists would not fit kMaxCandidateEntries, and a point
+// or spot light none when the geometry is not all in front of it within 63 degrees of one axis
+// (a light among the hair; a cube of six images would serve it, not built).
 // starts: primitive_starts(geometry) when the caller has made it for the camera too (nullptr:
 // made here, once for every light; render/primitive_images.h).
 struct PrimitiveStarts;

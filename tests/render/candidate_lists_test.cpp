@@ -1,6 +1,6 @@
 // RenderSettings::camera_lists and shadow_lists: camera rays test their pixel's candidate list
 // (render/candidate_lists.h, kernels/stages/intersect_camera.cl), shadow rays toward a
-// directional light their cell's (render/shadow_lists.h, kernels/stages/intersect_shadow_lists.cl),
+// directional, point or spot light their cell's (render/shadow_lists.h, kernels/stages/intersect_shadow_lists.cl),
 // instead of traversing the tree, and must find the very answers the tree finds -- so the film is
 // the same bits, on sparse and dense hair, with triangles, with pixels that keep the tree beside
 // pixels with lists, with splits and several bounces.  Where nothing can be proved there are no
@@ -57,6 +57,27 @@ ht::Scene with_sun(ht::Scene s) {
     return s;
 }
 
+// The scene lit by a point light above its hair and a spot light beside it (and nothing else):
+// shadow rays to two points, each with a grid of the image a camera there would see.
+ht::Scene with_lamps(ht::Scene s) {
+    const ht::Bounds b = ht::scene_bounds(s);
+    const ht::Vec3f c{0.5f * (b.lo[0] + b.hi[0]), 0.5f * (b.lo[1] + b.hi[1]), 0.5f * (b.lo[2] + b.hi[2])};
+    float size = 0;
+    for (int i = 0; i < 3; ++i) size = std::max(size, b.hi[i] - b.lo[i]);
+    s.lights.clear();
+    ht::Light point;
+    point.type = ht::LightType::Point;
+    point.position = {c[0] + 0.4f * size, c[1] + 1.5f * size, c[2] + 0.7f * size};
+    point.intensity = 3.0f * size * size;
+    ht::Light spot = point;
+    spot.type = ht::LightType::Spot;
+    spot.position = {c[0] - 1.6f * size, c[1] + 0.2f * size, c[2] + 0.9f * size};
+    spot.direction = {1.6f, -0.2f, -0.9f};
+    spot.outer_cone_deg = 40.0f;
+    s.lights = {point, spot};
+    return s;
+}
+
 }  // namespace
 
 TEST(CandidateLists, SameFilmAsTheTree) {
@@ -73,6 +94,14 @@ TEST(CandidateLists, SameFilmAsTheTree) {
                                                    small_settings(3, 9, 3), "strand on a floor (triangles), in the sun");
     EXPECT_GT(floor.candidate_entries, 0u);
     EXPECT_GT(floor.shadow_list_entries, 0u);
+    // shadow rays to a point and a spot light outside the hair: their images' lists
+    EXPECT_GT(expect_same_film(with_lamps(scene("builtin:ball?hairs=1000&segments=16")), small_settings(3, 5, 3), "dense ball under lamps")
+                  .shadow_list_entries,
+              0u);
+    EXPECT_GT(expect_same_film(with_lamps(scene(std::string(HT_SOURCE_DIR) + "/scenes/strand_on_floor.gltf")),
+                               small_settings(3, 9, 3), "strand on a floor under lamps")
+                  .shadow_list_entries,
+              0u);
 }
 
 // Lists of 2 MiB and more go to a CPU device as the prepared scene's own pages (CL_MEM_USE_HOST_PTR,
@@ -261,6 +290,13 @@ TEST(CandidateLists, TheRaysUseTheLists) {
     for (size_t i = 0; i < size_t(rs.width) * rs.height; ++i)
         ASSERT_NEAR(blank.mean(i, 0), 0.25f, 1e-6f) << "camera rays answered from the lists: pixel " << i;
     EXPECT_NE(lit.rgba, blank.rgba) << "the strand is in view";
+    // the same for the point and spot lights' lists
+    ht::PreparedScene lamps = ht::prepare_scene(with_lamps(scene("builtin:strand?hairs=40&segments=12")), rs);
+    ASSERT_EQ(lamps.shadow_lists.grids.size(), 2u);
+    for (const HtShadowGrid& g : lamps.shadow_lists.grids) EXPECT_EQ(g.kind, HT_SHADOW_GRID_FROM_POINT);
+    const ht::Film lamp_lit = film_of(lamps);
+    std::fill(lamps.shadow_lists.count.begin(), lamps.shadow_lists.count.end(), 0u);
+    EXPECT_GT(image_mean(film_of(lamps)), image_mean(lamp_lit) * 1.001) << "shadow rays to the lamps answered from the lists";
 }
 
 // The lists only make rays faster: a device that holds the render without them but not with them
