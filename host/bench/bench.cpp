@@ -5,6 +5,7 @@
 
 #include "bench/embree_tracer.h"
 #include "bench/median.h"
+#include "bench/ray_sources.h"
 #include "bench/startup.h"
 #include "render/candidate_lists.h"
 #include "render/path_grid.h"
@@ -255,110 +256,6 @@ std::vector<std::string> sibling_rays(const std::string& hair) {
 }  // namespace
 
 namespace {
-
-// The lights a set of shadow rays runs to, as the render's shadow lists would have them
-// (render/shadow_lists.h): a direction that at least 1 % of the rays share bit for bit is a
-// directional light's (a render's `--dump-rays`), and the far end of the first other ray a point
-// light's when most of the others pass within 1e-4 of their length of it (the anchor's shadow
-// set, and the generated one: rays to one point light).  At most kMaxShadowGrids.
-std::vector<HtLight> lights_the_rays_run_to(const std::vector<HtRay>& rays) {
-    std::vector<HtLight> lights;
-    std::map<std::array<uint32_t, 3>, size_t> directions;
-    const auto key = [](const HtRay& r) {
-        std::array<uint32_t, 3> k;
-        std::memcpy(k.data(), &r.dx, sizeof k);
-        return k;
-    };
-    for (const HtRay& r : rays) ++directions[key(r)];
-    const auto shared = [&](size_t n) { return n >= 2 && n * 100 >= rays.size(); };
-    std::vector<std::pair<size_t, std::array<uint32_t, 3>>> common;
-    for (const auto& [k, n] : directions)
-        if (shared(n)) common.push_back({n, k});
-    std::sort(common.rbegin(), common.rend());
-    for (const auto& [n, k] : common) {
-        if (lights.size() == kMaxShadowGrids) break;
-        HtLight l{};
-        l.type = HT_LIGHT_DIRECTIONAL;
-        float d[3];
-        std::memcpy(d, k.data(), sizeof d);
-        for (int i = 0; i < 3; ++i) l.direction[i] = -d[i];  // the shade stage's rays run against it
-        lights.push_back(l);
-    }
-    // the rays along no shared direction that end somewhere
-    std::vector<const HtRay*> others;
-    for (const HtRay& r : rays)
-        if (!shared(directions[key(r)]) && r.tmax < 1e30f) others.push_back(&r);
-    if (others.empty() || lights.size() == kMaxShadowGrids) return lights;
-    const HtRay& first = *others.front();
-    const double end[3] = {first.ox + double(first.dx) * first.tmax, first.oy + double(first.dy) * first.tmax,
-                           first.oz + double(first.dz) * first.tmax};
-    size_t near = 0;
-    for (const HtRay* r : others) {
-        const double to[3] = {end[0] - r->ox, end[1] - r->oy, end[2] - r->oz};
-        const double c[3] = {to[1] * r->dz - to[2] * r->dy, to[2] * r->dx - to[0] * r->dz, to[0] * r->dy - to[1] * r->dx};
-        near += std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) <= 1e-4 * std::max(1.0, double(r->tmax));
-    }
-    if (near * 2 > others.size()) {
-        HtLight l{};
-        l.type = HT_LIGHT_POINT;
-        for (int i = 0; i < 3; ++i) l.position[i] = float(end[i]);
-        lights.push_back(l);
-    }
-    return lights;
-}
-
-// Rays that all leave one point, as a camera's do (the anchor's primary set): a camera there whose
-// image holds every ray (its axis their mean direction, one pixel per ray), and each ray's pixel,
-// so that the render's camera stage can trace them from the per-pixel lists that camera's render
-// would make (render/candidate_lists.h).  ok is false for rays from several points, or spread
-// past 63 degrees from their mean.
-struct FittedCamera {
-    HtCamera camera{};
-    std::vector<uint32_t> pixels;
-    bool ok = false;
-};
-FittedCamera camera_of_the_rays(const std::vector<HtRay>& rays) {
-    FittedCamera fc;
-    if (rays.size() < 64) return fc;
-    glm::dvec3 sum(0.0);
-    for (const HtRay& r : rays) {
-        if (r.ox != rays[0].ox || r.oy != rays[0].oy || r.oz != rays[0].oz) return fc;
-        sum += glm::normalize(glm::dvec3(r.dx, r.dy, r.dz));
-    }
-    const glm::dvec3 f = glm::normalize(sum);
-    const glm::dvec3 other = std::fabs(f.x) < 0.6 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
-    const glm::dvec3 right = glm::normalize(glm::cross(f, other)), up = glm::cross(right, f);
-    double tx = 0, ty = 0;
-    for (const HtRay& r : rays) {
-        const glm::dvec3 d(r.dx, r.dy, r.dz);
-        const double z = glm::dot(d, f);
-        if (!(z > 0.45 * glm::length(d))) return fc;
-        tx = std::max(tx, std::fabs(glm::dot(d, right) / z)), ty = std::max(ty, std::fabs(glm::dot(d, up) / z));
-    }
-    const uint32_t side = uint32_t(std::clamp(std::sqrt(double(rays.size())), 16.0, 4096.0));
-    tx = std::max(tx, 1e-6) * (1 + 2.0 / side), ty = std::max(ty, 1e-6) * (1 + 2.0 / side);
-    for (int i = 0; i < 3; ++i) {
-        fc.camera.eye[i] = (&rays[0].ox)[i];
-        fc.camera.forward[i] = float(f[i]);
-        fc.camera.right[i] = float(right[i] * tx);
-        fc.camera.up[i] = float(up[i] * ty);
-    }
-    fc.camera.width = fc.camera.height = side;
-    // each ray's pixel, as kernels/camera.h maps pixels to directions (y downwards), in the float
-    // camera's own frame
-    const glm::dvec3 cf(fc.camera.forward[0], fc.camera.forward[1], fc.camera.forward[2]);
-    const glm::dvec3 cr(fc.camera.right[0], fc.camera.right[1], fc.camera.right[2]), cu(fc.camera.up[0], fc.camera.up[1], fc.camera.up[2]);
-    const glm::dmat3 inv = glm::inverse(glm::dmat3(cf, cr, cu));
-    fc.pixels.reserve(rays.size());
-    for (const HtRay& r : rays) {
-        const glm::dvec3 x = inv * glm::dvec3(r.dx, r.dy, r.dz);
-        const double px = (x[1] / x[0] + 1) * 0.5 * side, py = (1 - x[2] / x[0]) * 0.5 * side;
-        fc.pixels.push_back(uint32_t(std::clamp(std::floor(py), 0.0, side - 1.0)) * side +
-                            uint32_t(std::clamp(std::floor(px), 0.0, side - 1.0)));
-    }
-    fc.ok = true;
-    return fc;
-}
 
 // One ray set through the tracer: the hits checked (against the file's stored answers when it has
 // them; `all_ok` becomes false on a disagreement), then timed.

@@ -291,7 +291,8 @@ TEST(CandidateLists, TheRaysUseTheLists) {
         ASSERT_NEAR(blank.mean(i, 0), 0.25f, 1e-6f) << "camera rays answered from the lists: pixel " << i;
     EXPECT_NE(lit.rgba, blank.rgba) << "the strand is in view";
     // the same for the point and spot lights' lists
-    ht::PreparedScene lamps = ht::prepare_scene(with_lamps(scene("builtin:strand?hairs=40&segments=12")), rs);
+    const ht::Scene lit_by_lamps = with_lamps(scene("builtin:strand?hairs=40&segments=12"));  // outlives its prepared scene
+    ht::PreparedScene lamps = ht::prepare_scene(lit_by_lamps, rs);
     ASSERT_EQ(lamps.shadow_lists.grids.size(), 2u);
     for (const HtShadowGrid& g : lamps.shadow_lists.grids) EXPECT_EQ(g.kind, HT_SHADOW_GRID_FROM_POINT);
     const ht::Film lamp_lit = film_of(lamps);

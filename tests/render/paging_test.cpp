@@ -120,10 +120,14 @@ TEST(GeometryPaging, BenchHitsAreTheSameWhenPaged) {
     const std::string flat = answers(slurp(d / "flat.txt"));
     EXPECT_NE(flat.find("sum_segment"), std::string::npos) << flat;
     // the generated shadow rays run to one point light: the render's shadow stage with that light's
-    // lists answers them too, as the tree does (bench exits 1 on a mismatch), paged or not
-    for (const char* f : {"flat.txt", "paged.txt"})
+    // lists answers them too, as the tree does (bench exits 1 on a mismatch), paged or not;
+    // and the generated primary rays all leave the eye: the camera stage with a fitted camera's lists
+    for (const char* f : {"flat.txt", "paged.txt"}) {
         EXPECT_NE(slurp(d / f).find("by the lights' shadow lists (0 directional + 1 point light grids"), std::string::npos)
             << slurp(d / f);
+        EXPECT_NE(slurp(d / f).find("by the per-pixel lists of a camera at their origin (32x32 pixels"), std::string::npos)
+            << slurp(d / f);
+    }
     EXPECT_EQ(flat, answers(slurp(d / "paged.txt")));
 }
 

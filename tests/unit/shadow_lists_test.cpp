@@ -121,7 +121,9 @@ void expect_tree_answers(const SceneGeometry& geo, const ShadowLists& l, int n, 
             // a ray may pass near another grid's point light, which then serves it (correctly:
             // its points beyond that light lie behind it, where no primitive is)
             ASSERT_LT(served, l.grids.size()) << what << ": ray " << i << " of grid " << g << " takes the tree";
-            if (i % 2 == 0) EXPECT_EQ(served, g) << what << ": ray " << i << " from a fibre, of grid " << g;
+            if (i % 2 == 0) {
+                EXPECT_EQ(served, g) << what << ": ray " << i << " from a fibre, of grid " << g;
+            }
             blocked += tree;
             if (cell != HT_NO_CELL && l.count[cell] == kCandidatesUseTree) continue;
             const real3 ro = make_real3(r.ox, r.oy, r.oz), rd = make_real3(r.dx, r.dy, r.dz);
