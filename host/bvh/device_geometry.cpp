@@ -110,8 +110,6 @@ DeviceTracer::DeviceTracer(ClContext& cl, const DeviceGeometry& geo, const std::
         closest_from_ = cl::Kernel(program_, "intersect_closest_from");
         closest_grid_ = cl::Kernel(program_, "intersect_closest_paths");
         shadow_ = cl::Kernel(program_, "intersect_shadow");
-        shadow_lists_ = cl::Kernel(program_, "intersect_shadow_lists");
-        camera_ = cl::Kernel(program_, "intersect_camera");
     });
 }
 
@@ -170,6 +168,17 @@ void DeviceTracer::use_path_grid() {
     closest_mode_ = Closest::Grid;
 }
 
+void DeviceTracer::build_lists_program() {
+    if (lists_program_()) return;
+    // the render's list stages (kernels/stages/lists.cl), built with the tracer's options when a
+    // caller first gives lists: PoCL compiles every kernel of a program, ~0.8 s each when cold
+    lists_program_ = cl_.build("stages/lists.cl", options_);
+    device_step("creating the list stages' kernels", [&] {
+        shadow_lists_ = cl::Kernel(lists_program_, "intersect_shadow_lists");
+        camera_ = cl::Kernel(lists_program_, "intersect_camera");
+    });
+}
+
 void DeviceTracer::set_shadow_lists(const std::vector<HtShadowGrid>& grids, const std::vector<uint32_t>& start,
                                     const std::vector<uint32_t>& count, const BulkVector<uint32_t>& primitive,
                                     const BulkVector<float>& key) {
@@ -182,6 +191,7 @@ void DeviceTracer::set_shadow_lists(const std::vector<HtShadowGrid>& grids, cons
     list_primitive_ = copy("shadow list primitives", primitive.data(), primitive.size() * sizeof(uint32_t));
     list_key_ = copy("shadow list keys", key.data(), key.size() * sizeof(float));
     list_grid_count_ = cl_uint(grids.size());
+    build_lists_program();
 }
 
 void DeviceTracer::set_camera_lists(const std::vector<uint32_t>& start, const std::vector<uint32_t>& count,
@@ -209,6 +219,7 @@ void DeviceTracer::set_camera_lists(const std::vector<uint32_t>& start, const st
                                    paths.size() * sizeof(HtPathState), paths.data());
     });
     camera_ray_path_ = copy("camera ray paths", ray_path.data(), ray_path.size() * sizeof(uint32_t));
+    build_lists_program();
     closest_mode_ = Closest::CameraLists;
 }
 

@@ -109,12 +109,13 @@ public:
     std::vector<uint32_t> trace_shadow(const std::vector<HtRay>& rays);
 
 private:
+    void build_lists_program();
     // k's arguments: the geometry, the rays, `out`, the count, then extra(k, next index)'s
     void enqueue(cl::Kernel& k, cl::Buffer& out, const std::function<void(cl::Kernel&, cl_uint)>& extra = {});
 
     ClContext& cl_;
     const DeviceGeometry& geo_;
-    cl::Program program_;
+    cl::Program program_, lists_program_;  // the list stages' program: built on first use
     cl::Kernel closest_, closest_from_, closest_grid_, shadow_, shadow_lists_, camera_;
     cl::Buffer camera_start_, camera_count_, camera_primitive_, camera_depth_, camera_leaf_node_, camera_paths_,
         camera_ray_path_;
