@@ -450,7 +450,7 @@ nlohmann::json measure_ray_set(DeviceTracer& tracer, const SceneGeometry& geo, c
                 jr["by_camera_lists"]["entries"] = lists.primitive.size();
                 jr["by_camera_lists"]["bytes_per_segment"] = per_segment;
                 jr["by_camera_lists"]["build_ms"] = lists_ms;
-                tracer.set_rays(s.rays);
+                tracer.use_tree();
             }
         }
     }
@@ -477,7 +477,7 @@ nlohmann::json measure_ray_set(DeviceTracer& tracer, const SceneGeometry& geo, c
             jr["by_shadow_lists"]["entries"] = lists.primitive.size();
             jr["by_shadow_lists"]["bytes_per_segment"] = per_segment;
             jr["by_shadow_lists"]["build_ms"] = lists_ms;
-            tracer.set_rays(s.rays);  // the tree again for what follows
+            tracer.use_tree();  // the tree again for what follows
         }
     }
     if (!json_out) {

@@ -94,6 +94,19 @@ std::string geometry_page_options(const GeometryPaging& paging) {
     return o;
 }
 
+namespace {
+// One host array as a read-only buffer of the tracer's own (a copy: the caller's arrays may go).
+template <typename Array>
+cl::Buffer copied(ClContext& cl, const char* what, const Array& a) {
+    return read_only_buffer(cl, what, a.data(), a.size() * sizeof(a[0]), GeometryMemory::Copy);
+}
+// Kernel arguments from index `a` on, in order.
+template <typename... Args>
+void set_args(cl::Kernel& k, cl_uint a, const Args&... args) {
+    (k.setArg(a++, args), ...);
+}
+}  // namespace
+
 DeviceTracer::DeviceTracer(ClContext& cl, const DeviceGeometry& geo, const std::string& options)
     : cl_(cl), geo_(geo) {
     std::string opts = options;
@@ -156,10 +169,8 @@ void DeviceTracer::set_starts(const std::vector<uint32_t>& starts) {
 
 void DeviceTracer::set_path_grid(const BulkVector<uint32_t>& cell_start, const BulkVector<uint32_t>& entries,
                                  const HtPathGrid& grid) {
-    grid_cells_ = read_only_buffer(cl_, "path grid cells", cell_start.data(), cell_start.size() * sizeof(uint32_t),
-                                   GeometryMemory::Copy);
-    grid_entries_ = read_only_buffer(cl_, "path grid entries", entries.data(), entries.size() * sizeof(uint32_t),
-                                     GeometryMemory::Copy);
+    grid_cells_ = copied(cl_, "path grid cells", cell_start);
+    grid_entries_ = copied(cl_, "path grid entries", entries);
     grid_ = grid;
 }
 
@@ -182,14 +193,11 @@ void DeviceTracer::build_lists_program() {
 void DeviceTracer::set_shadow_lists(const std::vector<HtShadowGrid>& grids, const std::vector<uint32_t>& start,
                                     const std::vector<uint32_t>& count, const BulkVector<uint32_t>& primitive,
                                     const BulkVector<float>& key) {
-    const auto copy = [&](const char* what, const void* data, size_t bytes) {
-        return read_only_buffer(cl_, what, data, bytes, GeometryMemory::Copy);
-    };
-    list_grids_ = copy("shadow list grids", grids.data(), grids.size() * sizeof(HtShadowGrid));
-    list_start_ = copy("shadow list starts", start.data(), start.size() * sizeof(uint32_t));
-    list_count_ = copy("shadow list counts", count.data(), count.size() * sizeof(uint32_t));
-    list_primitive_ = copy("shadow list primitives", primitive.data(), primitive.size() * sizeof(uint32_t));
-    list_key_ = copy("shadow list keys", key.data(), key.size() * sizeof(float));
+    list_grids_ = copied(cl_, "shadow list grids", grids);
+    list_start_ = copied(cl_, "shadow list starts", start);
+    list_count_ = copied(cl_, "shadow list counts", count);
+    list_primitive_ = copied(cl_, "shadow list primitives", primitive);
+    list_key_ = copied(cl_, "shadow list keys", key);
     list_grid_count_ = cl_uint(grids.size());
     build_lists_program();
 }
@@ -201,14 +209,11 @@ void DeviceTracer::set_camera_lists(const std::vector<uint32_t>& start, const st
     if (ray_pixels.size() != count_)
         throw std::invalid_argument("DeviceTracer::set_camera_lists: " + std::to_string(ray_pixels.size()) + " pixels for " +
                                     std::to_string(count_) + " rays");
-    const auto copy = [&](const char* what, const void* data, size_t bytes) {
-        return read_only_buffer(cl_, what, data, bytes, GeometryMemory::Copy);
-    };
-    camera_start_ = copy("camera list starts", start.data(), start.size() * sizeof(uint32_t));
-    camera_count_ = copy("camera list counts", count.data(), count.size() * sizeof(uint32_t));
-    camera_primitive_ = copy("camera list primitives", primitive.data(), primitive.size() * sizeof(uint32_t));
-    camera_depth_ = copy("camera list depths", depth.data(), depth.size() * sizeof(float));
-    camera_leaf_node_ = copy("camera list nodes", leaf_node.data(), leaf_node.size() * sizeof(uint32_t));
+    camera_start_ = copied(cl_, "camera list starts", start);
+    camera_count_ = copied(cl_, "camera list counts", count);
+    camera_primitive_ = copied(cl_, "camera list primitives", primitive);
+    camera_depth_ = copied(cl_, "camera list depths", depth);
+    camera_leaf_node_ = copied(cl_, "camera list nodes", leaf_node);
     camera_depth_row_ = cl_float4{{depth_row[0], depth_row[1], depth_row[2], 0.0f}};
     // ray i is path i's, whose state names its pixel (the stage writes the hit's node back there)
     std::vector<HtPathState> paths(std::max<size_t>(1, count_));
@@ -218,9 +223,14 @@ void DeviceTracer::set_camera_lists(const std::vector<uint32_t>& start, const st
         camera_paths_ = cl::Buffer(cl_.context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR,
                                    paths.size() * sizeof(HtPathState), paths.data());
     });
-    camera_ray_path_ = copy("camera ray paths", ray_path.data(), ray_path.size() * sizeof(uint32_t));
+    camera_ray_path_ = copied(cl_, "camera ray paths", ray_path);
     build_lists_program();
     closest_mode_ = Closest::CameraLists;
+}
+
+void DeviceTracer::use_tree() {
+    closest_mode_ = Closest::Root;
+    shadow_by_lists_ = false;
 }
 
 void DeviceTracer::use_shadow_lists() {
@@ -252,23 +262,13 @@ void DeviceTracer::enqueue_closest() {
         // the path stage's arguments: ray i of path ray_path[i] in paths, which its grid variant
         // reads neither of (any buffers do), then the grid
         enqueue(closest_grid_, hits_, [&](cl::Kernel& k, cl_uint a) {
-            k.setArg(a++, starts_);
-            k.setArg(a++, occluded_);
-            k.setArg(a++, grid_cells_);
-            k.setArg(a++, grid_entries_);
-            k.setArg(a++, grid_);
+            set_args(k, a, starts_, occluded_, grid_cells_, grid_entries_, grid_);
         });
         break;
     case Closest::CameraLists:  // intersect_camera.cl's order
         enqueue(camera_, hits_, [&](cl::Kernel& k, cl_uint a) {
-            k.setArg(a++, camera_ray_path_);
-            k.setArg(a++, camera_paths_);
-            k.setArg(a++, camera_start_);
-            k.setArg(a++, camera_count_);
-            k.setArg(a++, camera_primitive_);
-            k.setArg(a++, camera_depth_);
-            k.setArg(a++, camera_depth_row_);
-            k.setArg(a++, camera_leaf_node_);
+            set_args(k, a, camera_ray_path_, camera_paths_, camera_start_, camera_count_, camera_primitive_, camera_depth_,
+                     camera_depth_row_, camera_leaf_node_);
         });
         break;
     }
@@ -279,12 +279,7 @@ void DeviceTracer::enqueue_shadow() {
         return;
     }
     enqueue(shadow_lists_, occluded_, [&](cl::Kernel& k, cl_uint a) {  // intersect_shadow_lists.cl's order
-        k.setArg(a++, list_grid_count_);
-        k.setArg(a++, list_grids_);
-        k.setArg(a++, list_start_);
-        k.setArg(a++, list_count_);
-        k.setArg(a++, list_primitive_);
-        k.setArg(a++, list_key_);
+        set_args(k, a, list_grid_count_, list_grids_, list_start_, list_count_, list_primitive_, list_key_);
     });
 }
 void DeviceTracer::finish() {

@@ -78,21 +78,23 @@ public:
     // inner node reference per ray (0: the root); until then, and after set_rays, the root.
     void set_starts(const std::vector<uint32_t>& starts);
     // The path rays' grid (render/path_grid.h: its cell starts, entries and cells): from then on,
-    // until set_rays, enqueue_closest traces the uploaded rays by it (the renderer's own
+    // until set_rays or use_tree, enqueue_closest traces the uploaded rays by it (the renderer's own
     // intersect_closest_paths with HT_FEATURE_PATH_GRID) instead of the tree.
     void set_path_grid(const BulkVector<uint32_t>& cell_start, const BulkVector<uint32_t>& entries,
                        const HtPathGrid& grid);
     void use_path_grid();
     // The lights' shadow lists (render/shadow_lists.h: grids, cell starts and counts, entries and
-    // keys): from then on, until set_rays, enqueue_shadow answers the uploaded rays by them (the
+    // keys): from then on, until set_rays or use_tree, enqueue_shadow answers the uploaded rays by them (the
     // renderer's own intersect_shadow_lists; rays no grid serves traverse the tree there).
     void set_shadow_lists(const std::vector<HtShadowGrid>& grids, const std::vector<uint32_t>& start,
                           const std::vector<uint32_t>& count, const BulkVector<uint32_t>& primitive,
                           const BulkVector<float>& key);
     void use_shadow_lists();
+    // Back to the tree for both kinds of rays (the structures given stay, for use_* again).
+    void use_tree();
     // A camera's per-pixel candidate lists (render/candidate_lists.h: starts, counts, entries and
     // depths, the depth row, each entry's node) and the pixel of each uploaded ray: from then on,
-    // until set_rays, enqueue_closest traces the uploaded rays as the render's camera stage does
+    // until set_rays or use_tree, enqueue_closest traces the uploaded rays as the render's camera stage does
     // (kernels/stages/intersect_camera.cl; a pixel whose list was capped traverses the tree).
     void set_camera_lists(const std::vector<uint32_t>& start, const std::vector<uint32_t>& count,
                           const BulkVector<uint32_t>& primitive, const BulkVector<float>& depth, const float depth_row[3],

@@ -274,16 +274,15 @@ ShadowLists build_shadow_lists(const SceneGeometry& g, const std::vector<HtLight
         if (!casts_shadow_lists(light) || out.grids.size() == kMaxShadowGrids) continue;
         HtShadowGrid grid{};
         ProjectedPrimitives projected;
+        if (!starts) made = primitive_starts(g), starts = &made;  // once for every light
         if (casts_from_a_point(light)) {
             const PointView pv = point_view(g, light, margin, cell_radii);
             if (!pv.ok || !point_grid(pv, &grid)) continue;
-            if (!starts) made = primitive_starts(g), starts = &made;  // once for every light
             projected = project_primitives(pv.camera, g, starts, pv.widen);
             if (!projected.bounded) continue;
         } else {
             glm::dvec3 w, u, v;
             if (!light_frame(light, &grid, &w, &u, &v)) continue;
-            if (!starts) made = primitive_starts(g), starts = &made;
             if (!project_along(g, *starts, w, u, v, margin, cell_radii, &grid, &projected)) continue;
         }
         PixelCandidates c = pixel_candidates(projected);
