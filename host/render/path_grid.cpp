@@ -2,6 +2,8 @@
 
 #include "render/primitive_images.h"
 
+#include "kernels/geometry/path_grid.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -98,9 +100,7 @@ void capsule_cells(const SceneGeometry& g, const HtSegment& s, const Layout& l, 
             to[x] = std::clamp(floor_int((std::max(u, v) + grow - grid.lo[x]) * inv), 0, last);
         }
     };
-    const auto cell_index = [&](int x, int y, int z) {
-        return (uint32_t(z) * grid.dims[1] + uint32_t(y)) * grid.dims[0] + uint32_t(x);
-    };
+    const auto cell_index = [&](int x, int y, int z) { return ht_path_grid_cell(grid, uint32_t(x), uint32_t(y), uint32_t(z)); };
     // the whole capsule's cells: the first and last pieces' outer bounds (the axis is straight)
     int lo[3], hi[3], f[3], t[3];
     piece_cells(0, lo, hi);

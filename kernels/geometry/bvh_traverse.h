@@ -167,13 +167,15 @@ HT_FN int ht_leaf_entry(HT_SEGS_PARAM, HT_POINTS_PARAM, uint k, real3 o, real3 d
  * eight at a time").  A lane's answer is the scalar test's (same operations), and every lane's
  * hit up to the group's starting *tbest is offered to ht_hit_precedes, so a group finds what the
  * scalar loop finds: the first candidate in the order of (t, global id).  A group holding a
- * triangle, and the host build, take the scalar loop.  The tree's leaves and a pixel's candidate
- * list (candidate_list.h) both come here, so either finds the same t for the same capsule. */
-HT_FN int ht_intersect_entries(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_CONST_GLOBAL uint* list, uint g, uint n, real3 o,
-                               real3 d, real tmin, real* tbest, uint* best) {
+ * triangle, and the host build, take the scalar loop.  The tree's leaves, a pixel's candidate
+ * list (candidate_list.h) and the path grid's gathered ids (path_grid.h) all come here, so each
+ * finds the same t for the same capsule.  `ids` (private, up to eight) replaces list and g when
+ * given: the grid gathers the entries of several cells into one group. */
+HT_FN int ht_intersect_group(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_CONST_GLOBAL uint* list, const uint* ids, uint g,
+                             uint n, real3 o, real3 d, real tmin, real* tbest, uint* best) {
     int found = 0;
 /* entry j, and j's lane (lanes past n repeat the first entry and are not read back) */
-#define HT_ENTRY(j) (list ? list[g + (j)] : g + (j))
+#define HT_ENTRY(j) (ids ? ids[j] : list ? list[g + (j)] : g + (j))
 #define HT_LANE(j) HT_SEG(HT_ENTRY(n > (j) ? (j) : 0u))
 #ifdef HT_OPENCL
     const HtSegment s0 = HT_LANE(0u), s1 = HT_LANE(1u), s2 = HT_LANE(2u), s3 = HT_LANE(3u);
@@ -234,6 +236,18 @@ HT_FN int ht_intersect_entries(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_CONST_GLOBAL u
 #undef HT_LANE
 #undef HT_ENTRY
     return found;
+}
+
+/* Entries g .. g + n - 1 of the leaf array, or of `list` when given (1 <= n <= 8). */
+HT_FN int ht_intersect_entries(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_CONST_GLOBAL uint* list, uint g, uint n, real3 o,
+                               real3 d, real tmin, real* tbest, uint* best) {
+    return ht_intersect_group(HT_SEGS_ARG, HT_POINTS_ARG, list, 0, g, n, o, d, tmin, tbest, best);
+}
+
+/* The leaf records ids[0 .. n - 1] (1 <= n <= 8). */
+HT_FN int ht_intersect_ids(HT_SEGS_PARAM, HT_POINTS_PARAM, const uint* ids, uint n, real3 o, real3 d, real tmin,
+                           real* tbest, uint* best) {
+    return ht_intersect_group(HT_SEGS_ARG, HT_POINTS_ARG, 0, ids, 0u, n, o, d, tmin, tbest, best);
 }
 
 /* Intersects the leaf [first, first + count) against the ray, eight at a time; updates *tbest /

@@ -1,15 +1,25 @@
 /* Closest hits of path rays from a uniform grid of capsule lists (kernels/types.h HtPathGrid; the
  * host's builder and the reasons are in host/render/path_grid.h).  A ray walks the cells it crosses
- * from its origin on (a 3-D DDA, Amanatides & Woo), tests each cell's list eight capsules at a time
- * with the BVH leaves' own test (bvh_traverse.h ht_intersect_entries), and stops in the first cell
- * whose far side lies beyond its closest hit.  Every capsule that meets the ray before that point
- * is listed in a cell the walk visited (the builder pads each capsule's cells by more than the
- * walk's rounding), and the order of ht_hit_precedes decides, so the answer is the tree's, bit
- * for bit. */
+ * from its origin on (a 3-D DDA, Amanatides & Woo), gathers the capsules its cells list and tests
+ * them eight at a time with the BVH leaves' own test (bvh_traverse.h ht_intersect_ids), and stops
+ * after the first cell whose far side lies beyond its closest hit.  Every capsule that meets the
+ * ray before that point is listed in a cell the walk visited (the builder pads each capsule's cells
+ * by more than the walk's rounding), and the order of ht_hit_precedes decides, so the answer is the
+ * tree's, bit for bit.  Gathering across cells fills the groups: a cell lists 2-4 capsules where
+ * the ray passes on the scenes measured, and a group of eight costs the same however few it holds;
+ * capsules tested beyond the stopping cell, or twice (listed in two cells), can only add real hits,
+ * and the order picks the same one among them (docs/PERFORMANCE.md section 1 "Path rays from a
+ * uniform grid"). */
 #ifndef HT_GEOMETRY_PATH_GRID_H
 #define HT_GEOMETRY_PATH_GRID_H
 
 #include "bvh_traverse.h"
+
+/* The index of cell (x, y, z) in cell_start: x + dims[0] * (y + dims[1] * z), so a step along x moves
+ * by 1, along y by dims[0] and along z by dims[0] * dims[1].  (Bricks of 4 x 4 x 4 cells, to bring a
+ * ray's next cell into the same cache lines more often, measured slower: docs/PERFORMANCE.md section 1
+ * "Path rays from a uniform grid".) */
+HT_FN uint ht_path_grid_cell(HtPathGrid grid, uint x, uint y, uint z) { return (z * grid.dims[1] + y) * grid.dims[0] + x; }
 
 /* The ray's closest hit (HT_NO_HIT for none) and its distance in *t_out. */
 HT_FN uint ht_grid_closest(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_CONST_GLOBAL uint* cell_start,
@@ -40,20 +50,38 @@ HT_FN uint ht_grid_closest(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_CONST_GLOBAL uint*
             /* ht_safe_inv keeps a zero direction finite and huge: that axis never steps */
             next[a] = ((real)grid.lo[a] + (real)(c[a] + (step[a] > 0 ? 1 : 0)) * (real)grid.cell - org[a]) * inv[a];
         }
+        uint cell = ht_path_grid_cell(grid, (uint)c[0], (uint)c[1], (uint)c[2]);
+        uint from = cell_start[cell], end = cell_start[cell + 1u];
+        /* the entries of the cells walked so far that are not tested yet, tested eight at a time */
+        uint pending[8], np = 0u;
         for (;;) {
-            const uint cell = ((uint)c[2] * grid.dims[1] + (uint)c[1]) * grid.dims[0] + (uint)c[0];
-            const uint end = cell_start[cell + 1u];
-            for (uint g = cell_start[cell]; g < end; g += 8u)
-                ht_intersect_entries(HT_SEGS_ARG, HT_POINTS_ARG, entries, g, end - g < 8u ? end - g : 8u, o, d, tmin,
-                                     &tbest, &best);
-            /* the axis whose cell wall comes first; stop where the closest hit lies before it
-             * (a tie at the wall may still lose to a higher id beyond it, so strictly before) */
+            /* the axis whose cell wall comes first, and the cell beyond it */
             const int a = next[0] <= next[1] ? (next[0] <= next[2] ? 0 : 2) : (next[1] <= next[2] ? 1 : 2);
-            if (tbest < next[a]) break;
-            c[a] += step[a];
-            if ((uint)c[a] >= grid.dims[a]) break;
+            const int beyond = c[a] + step[a];
+            const int inside = (uint)beyond < grid.dims[a];
+            /* that cell's list bounds read before this cell's entries: on random rays the walk waits
+             * mostly on these loads, and this way the two overlap */
+            const int stride = a == 0 ? 1 : a == 1 ? (int)grid.dims[0] : (int)(grid.dims[0] * grid.dims[1]);
+            const uint next_cell = inside ? (uint)((int)cell + step[a] * stride) : cell;
+            const uint next_from = cell_start[next_cell], next_end = cell_start[next_cell + 1u];
+            for (uint e = from; e < end; ++e) {
+                pending[np++] = entries[e];
+                if (np == 8u) {
+                    ht_intersect_ids(HT_SEGS_ARG, HT_POINTS_ARG, pending, 8u, o, d, tmin, &tbest, &best);
+                    np = 0u;
+                }
+            }
+            /* stop where the closest hit lies before the wall (a tie at the wall may still lose to a
+             * higher id beyond it, so strictly before); entries still pending are tested below, and
+             * can only bring the hit nearer */
+            if (tbest < next[a] || !inside) break;
+            c[a] = beyond;
             next[a] += delta[a];
+            cell = next_cell;
+            from = next_from;
+            end = next_end;
         }
+        if (np) ht_intersect_ids(HT_SEGS_ARG, HT_POINTS_ARG, pending, np, o, d, tmin, &tbest, &best);
     }
     *t_out = tbest;
     return best;

@@ -168,7 +168,7 @@ TEST(PathGrid, EveryCellACapsulesSurfaceReachesListsIt) {
                     ASSERT_LT(ci, int(p.dims[x]));
                     c[x] = uint32_t(ci);
                 }
-                const uint32_t cell = (c[2] * p.dims[1] + c[1]) * p.dims[0] + c[0];
+                const uint32_t cell = ht_path_grid_cell(p, c[0], c[1], c[2]);
                 const auto first = grid.entries.begin() + grid.cell_start[cell], last = grid.entries.begin() + grid.cell_start[cell + 1];
                 missing += !std::binary_search(first, last, k);
                 ++checked;
