@@ -51,6 +51,7 @@ HT_FN uint ht_grid_closest(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_CONST_GLOBAL uint*
             next[a] = ((real)grid.lo[a] + (real)(c[a] + (step[a] > 0 ? 1 : 0)) * (real)grid.cell - org[a]) * inv[a];
         }
         uint cell = ht_path_grid_cell(grid, (uint)c[0], (uint)c[1], (uint)c[2]);
+        const int row = (int)grid.dims[0], slice = (int)(grid.dims[0] * grid.dims[1]); /* steps in y and z */
         uint from = cell_start[cell], end = cell_start[cell + 1u];
         /* the entries of the cells walked so far that are not tested yet, tested eight at a time */
         uint pending[8], np = 0u;
@@ -61,7 +62,7 @@ HT_FN uint ht_grid_closest(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_CONST_GLOBAL uint*
             const int inside = (uint)beyond < grid.dims[a];
             /* that cell's list bounds read before this cell's entries: on random rays the walk waits
              * mostly on these loads, and this way the two overlap */
-            const int stride = a == 0 ? 1 : a == 1 ? (int)grid.dims[0] : (int)(grid.dims[0] * grid.dims[1]);
+            const int stride = a == 0 ? 1 : a == 1 ? row : slice;
             const uint next_cell = inside ? (uint)((int)cell + step[a] * stride) : cell;
             const uint next_from = cell_start[next_cell], next_end = cell_start[next_cell + 1u];
             for (uint e = from; e < end; ++e) {
