@@ -260,7 +260,8 @@ namespace {
 // One ray set through the tracer: the hits checked (against the file's stored answers when it has
 // them; `all_ok` becomes false on a disagreement), then timed.
 nlohmann::json measure_ray_set(DeviceTracer& tracer, const SceneGeometry& geo, const RaySet& s, int reps,
-                               EmbreeTracer* embree, bool json_out, bool with_grid, bool& all_ok) {
+                               EmbreeTracer* embree, bool json_out, bool with_grid, const std::string& answers_dir,
+                               bool& all_ok) {
     nlohmann::json jr;
     jr["set"] = s.name;
     jr["rays"] = s.rays.size();
@@ -333,6 +334,20 @@ nlohmann::json measure_ray_set(DeviceTracer& tracer, const SceneGeometry& geo, c
         std::vector<uint32_t> eo;
         embree->answer(s.rays, s.shadow, eh, eo);
         agree("embree_same_process", "Embree (same process)", s.shadow ? compare_occ(occ, eo) : compare(geo, hits, eh));
+    }
+    if (!answers_dir.empty() && s.reference) {
+        // the file with these answers (the tree's from the root) in place of its stored ones
+        std::vector<EmbreeHit> ours;
+        std::vector<uint32_t> ours_occ;
+        for (const HtHit& h : hits)
+            ours.push_back(h.segment == HT_NO_HIT ? EmbreeHit{INFINITY, 0xFFFFFFFFu, 0, 0, {0, 0, 0}}
+                                                  : EmbreeHit{h.t, geo.global_id(geo.segments[h.segment]), h.u, 0, {0, 0, 0}});
+        for (const uint32_t o : occ) ours_occ.push_back(o ? 1u : 0u);
+        const std::filesystem::path out =
+            std::filesystem::path(answers_dir) / (std::filesystem::path(s.reference->path).stem().string() + ".hairtrace.rays");
+        write_rays_file_answers(*s.reference, out.string(), ours, ours_occ);
+        jr["answers_written"] = out.string();
+        if (!json_out) agree_lines.push_back("    this tracer's answers written to " + out.string());
     }
 
     // Timed passes of the tracer as set up: warm-up done above (the correctness pass); median of reps.
@@ -557,6 +572,7 @@ struct BenchRequest {
     bool json = false, embree = false, wavefront = true, startup = false;
     BvhOptions bvh;
     std::string options;
+    std::string answers_dir;  // --answers-out
 };
 
 // A float option's default as --help prints it: "0.8", not std::to_string's "0.800000".
@@ -578,7 +594,8 @@ void declare_bench_options(ArgParser& p) {
         .flag("--no-wavefront", "skip the per-bounce throughput of a small full render")
         .flag("--startup", "instead of traversal: the time to the first image of each scene (`hairtrace render SCENE --width 64 --height 64 --spp 1` in a fresh process), with empty program caches and from the binary cache, medians of --reps, with the kernel build's share")
         .flag("--embree", "also trace every ray set through Embree 3 in this process (same rays, rtcIntersect1/rtcOccluded1) and print the ratio; needs a build with libembree-dev installed")
-        .flag("--json", "machine-readable report");
+        .flag("--json", "machine-readable report")
+        .path("--answers-out", "DIR", "write each ray set read from a file again as DIR/<its name>.hairtrace.rays with this tracer's answers (the tree's, from the root) as its stored results, for the Embree anchor's double-precision referee: `hair_refcheck --hair X.hair --rays DIR/X.incoherent.hairtrace.rays`", PathKind::InputFolder);
     p.group("BVH builder")
         .flag("--compact", "the memory-lean preset (leaves <= 8, cheap intersections in the SAH); the options below refine it")
         .option("--leaf", "N", "segments per leaf", std::to_string(d.max_leaf))
@@ -609,6 +626,7 @@ BenchRequest parse_bench_request(const ArgParser& p) {
     r.startup = p.has("--startup");
     r.embree = p.has("--embree");
     r.json = p.has("--json");
+    if (p.has("--answers-out")) r.answers_dir = p.get("--answers-out");
     if (p.has("--compact")) r.bvh = BvhOptions::compact();
     if (p.has("--leaf")) r.bvh.max_leaf = p.get_int("--leaf", 1, 1024);
     if (p.has("--bins")) r.bvh.bins = p.get_int("--bins", 4, 64);
@@ -780,7 +798,7 @@ int bench_main(const std::vector<std::string>& args, const SceneSource& source_i
         }
 
         nlohmann::json jsets = nlohmann::json::array();
-        for (const RaySet& s : sets) jsets.push_back(measure_ray_set(tracer, geo, s, reps, embree.get(), json_out, with_grid, all_ok));
+        for (const RaySet& s : sets) jsets.push_back(measure_ray_set(tracer, geo, s, reps, embree.get(), json_out, with_grid, request.answers_dir, all_ok));
         js["sets"] = jsets;
 
         if (wavefront) js["wavefront"] = measure_wavefront(cl, sa.name, strands, !json_out);

@@ -60,6 +60,23 @@ RaysFile read_rays_file(const std::string& path) {
     return r;
 }
 
+void write_rays_file_answers(const RaysFile& source, const std::string& path, const std::vector<EmbreeHit>& hits,
+                             const std::vector<uint32_t>& occluded) {
+    std::vector<char> b = read_all(source.path);
+    const size_t n = source.rays.size(), record = source.kind == 0 ? sizeof(EmbreeHit) : sizeof(uint32_t);
+    if ((source.kind == 0 ? hits.size() : occluded.size()) != n)
+        throw std::runtime_error(path + ": " + std::to_string(source.kind == 0 ? hits.size() : occluded.size()) +
+                                 " answers for " + std::to_string(n) + " rays");
+    if (b.size() != 64 + n * (32 + record)) throw std::runtime_error(source.path + ": changed since it was read");
+    char* results = b.data() + 64 + n * 32;
+    if (source.kind == 0) std::memcpy(results, hits.data(), n * record);
+    else std::memcpy(results, occluded.data(), n * record);
+    std::ofstream f(path, std::ios::binary | std::ios::trunc);
+    if (!f) throw std::runtime_error(path + ": cannot write");
+    f.write(b.data(), std::streamsize(b.size()));
+    if (!f) throw std::runtime_error(path + ": write failed");
+}
+
 Strands bench_read_hair_file(const std::string& path) {
     const std::vector<char> b = read_all(path);
     if (b.size() < 128 || std::memcmp(b.data(), "HAIR", 4) != 0)

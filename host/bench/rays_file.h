@@ -35,6 +35,14 @@ struct RaysFile {
 // Throws std::runtime_error naming the file and the problem.
 RaysFile read_rays_file(const std::string& path);
 
+// Writes `path`: the file `source` was read from, with its stored results replaced by `hits` (a
+// closest-hit set) or `occluded` (a shadow set), one per ray, so that the anchor's independent
+// double-precision referee can judge this tracer's answers where they and Embree's differ (bench
+// --answers-out; docs/PERFORMANCE.md section 1 "The anchor's head and `straight.hair` sets; a referee
+// for disagreements").  Throws std::runtime_error.
+void write_rays_file_answers(const RaysFile& source, const std::string& path, const std::vector<EmbreeHit>& hits,
+                             const std::vector<uint32_t>& occluded);
+
 // Minimal reader of Cem Yuksel's .hair format for the bench's own use (thickness = radius,
 // as in the anchor).  The scene loader (ht::load_hair_file) replaces it once merged; this one
 // exists so the bench can run on this branch.  Throws std::runtime_error.

@@ -1,0 +1,64 @@
+// The anchor-format ray files the tools exchange: `render --dump-rays` writes a render's rays with
+// its answers, `bench --rays` traces them again and exits 1 on any disagreement, and `bench
+// --answers-out` writes them back with the bench's answers for the anchor's double-precision
+// referee (host/bench/rays_file.h).  A round trip must keep every ray and every answer bit for bit.
+#include <gtest/gtest.h>
+
+#include "bench/rays_file.h"
+#include "cli_test_util.h"
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#ifdef HT_BINARY
+namespace {
+namespace fs = std::filesystem;
+using clitest::run, clitest::slurp, clitest::TempDir;
+const std::string kBin = HT_BINARY;
+}  // namespace
+
+TEST(RayFiles, DumpedRaysBenchAgainAndComeBackWithTheSameAnswers) {
+    TempDir d("ht_rayfiles_");
+    ASSERT_EQ(run(kBin + " render builtin:strand --width 32 --height 32 --spp 1 --max-depth 2 --seed 1 --quiet --dump-rays " +
+                  d.path.string() + " -o " + (d / "x.exr")),
+              0);
+    const std::string closest = d / "strand.b0.closest.rays", shadow = d / "strand.b1.shadow.rays";
+    ASSERT_TRUE(fs::exists(closest) && fs::exists(shadow));
+    fs::create_directories(d / "out");
+    ASSERT_EQ(run(kBin + " bench --scene builtin:strand --rays " + closest + " --rays " + shadow +
+                  " --reps 1 --no-wavefront --answers-out " + (d / "out") + " >" + (d / "log.txt") + " 2>&1"),
+              0)
+        << slurp(d / "log.txt");
+
+    const ht::RaysFile a = ht::read_rays_file(closest), b = ht::read_rays_file(d / "out/strand.b0.closest.hairtrace.rays");
+    ASSERT_EQ(a.rays.size(), b.rays.size());
+    ASSERT_EQ(0, std::memcmp(a.rays.data(), b.rays.data(), a.rays.size() * sizeof(HtRay)));
+    size_t hits = 0, same = 0;
+    for (size_t i = 0; i < a.hits.size(); ++i) {
+        hits += a.hits[i].prim != 0xFFFFFFFFu;
+        same += a.hits[i].prim == b.hits[i].prim &&
+                (std::memcmp(&a.hits[i].t, &b.hits[i].t, sizeof(float)) == 0 || (std::isinf(a.hits[i].t) && std::isinf(b.hits[i].t)));
+    }
+    EXPECT_EQ(same, a.hits.size());
+    EXPECT_GT(hits, a.hits.size() / 20);  // not a file of misses alone
+
+    const ht::RaysFile s = ht::read_rays_file(shadow), t = ht::read_rays_file(d / "out/strand.b1.shadow.hairtrace.rays");
+    ASSERT_EQ(s.rays.size(), t.rays.size());
+    ASSERT_GT(s.rays.size(), 0u);
+    EXPECT_EQ(s.occluded, t.occluded);
+
+    // answers that do not match the file's rays are refused, naming the count
+    try {
+        ht::write_rays_file_answers(a, d / "bad.rays", {}, {});
+        ADD_FAILURE() << "no answers accepted";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("0 answers for " + std::to_string(a.rays.size()) + " rays"), std::string::npos)
+            << e.what();
+    }
+    EXPECT_FALSE(fs::exists(d / "bad.rays"));
+}
+#endif
