@@ -41,6 +41,7 @@ RaysFile read_rays_file(const std::string& path) {
     r.curve = get<uint32_t>(b, 44);
     r.scene_hash = get<uint64_t>(b, 48);
     r.scene.assign(b.data() + 56, strnlen(b.data() + 56, 8));
+    std::memcpy(r.header.data(), b.data(), r.header.size());
     if (ray_bytes != 32 || (r.kind == 0 && res_bytes != 28) || (r.kind == 1 && res_bytes != 4) ||
         r.kind > 1)
         throw std::runtime_error(path + ": unexpected record sizes / kind");
@@ -62,18 +63,15 @@ RaysFile read_rays_file(const std::string& path) {
 
 void write_rays_file_answers(const RaysFile& source, const std::string& path, const std::vector<EmbreeHit>& hits,
                              const std::vector<uint32_t>& occluded) {
-    std::vector<char> b = read_all(source.path);
-    const size_t n = source.rays.size(), record = source.kind == 0 ? sizeof(EmbreeHit) : sizeof(uint32_t);
-    if ((source.kind == 0 ? hits.size() : occluded.size()) != n)
-        throw std::runtime_error(path + ": " + std::to_string(source.kind == 0 ? hits.size() : occluded.size()) +
-                                 " answers for " + std::to_string(n) + " rays");
-    if (b.size() != 64 + n * (32 + record)) throw std::runtime_error(source.path + ": changed since it was read");
-    char* results = b.data() + 64 + n * 32;
-    if (source.kind == 0) std::memcpy(results, hits.data(), n * record);
-    else std::memcpy(results, occluded.data(), n * record);
+    const size_t n = source.rays.size(), answers = source.kind == 0 ? hits.size() : occluded.size();
+    if (answers != n)
+        throw std::runtime_error(path + ": " + std::to_string(answers) + " answers for " + std::to_string(n) + " rays");
     std::ofstream f(path, std::ios::binary | std::ios::trunc);
     if (!f) throw std::runtime_error(path + ": cannot write");
-    f.write(b.data(), std::streamsize(b.size()));
+    f.write(source.header.data(), std::streamsize(source.header.size()));
+    f.write(reinterpret_cast<const char*>(source.rays.data()), std::streamsize(n * sizeof(HtRay)));
+    if (source.kind == 0) f.write(reinterpret_cast<const char*>(hits.data()), std::streamsize(n * sizeof(EmbreeHit)));
+    else f.write(reinterpret_cast<const char*>(occluded.data()), std::streamsize(n * sizeof(uint32_t)));
     if (!f) throw std::runtime_error(path + ": write failed");
 }
 

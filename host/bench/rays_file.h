@@ -5,6 +5,7 @@
 #include "kernels/types.h"
 #include "scene/scene.h"
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -26,6 +27,7 @@ struct RaysFile {
     uint32_t segments = 0, strands = 0, width = 0, height = 0, curve = 0;
     uint64_t scene_hash = 0;
     std::string scene;
+    std::array<char, 64> header{};      // as read, for write_rays_file_answers
     std::vector<HtRay> rays;            // record layout = HtRay (org, tnear, dir, tfar)
     std::vector<EmbreeHit> hits;        // kind 0
     std::vector<uint32_t> occluded;     // kind 1
@@ -35,11 +37,11 @@ struct RaysFile {
 // Throws std::runtime_error naming the file and the problem.
 RaysFile read_rays_file(const std::string& path);
 
-// Writes `path`: the file `source` was read from, with its stored results replaced by `hits` (a
-// closest-hit set) or `occluded` (a shadow set), one per ray, so that the anchor's independent
-// double-precision referee can judge this tracer's answers where they and Embree's differ (bench
-// --answers-out; docs/PERFORMANCE.md section 1 "The anchor's head and `straight.hair` sets; a referee
-// for disagreements").  Throws std::runtime_error.
+// Writes `path`: the file `source` was read from (its header and rays) with its stored results
+// replaced by `hits` (a closest-hit set) or `occluded` (a shadow set), one per ray, so that the
+// anchor's independent double-precision referee can judge this tracer's answers where they and
+// Embree's differ (bench --answers-out; docs/PERFORMANCE.md section 1 "The anchor's head and
+// `straight.hair` sets; a referee for disagreements").  Throws std::runtime_error.
 void write_rays_file_answers(const RaysFile& source, const std::string& path, const std::vector<EmbreeHit>& hits,
                              const std::vector<uint32_t>& occluded);
 
