@@ -12,11 +12,12 @@
 #include "render/primitive_images.h"
 #include "render/shadow_lists.h"
 #include "render/renderer.h"
-#include "bench/rays_file.h"
 #include "bvh/bvh.h"
 #include "bvh/device_geometry.h"
 #include "bvh/start_nodes.h"
 #include "cl/device.h"
+#include "io/rays_file.h"
+#include "scene/scene.h"
 
 #include <nlohmann/json.hpp>
 
@@ -194,7 +195,7 @@ Agreement compare(const SceneGeometry& g, const std::vector<HtHit>& hits, const 
     Agreement a;
     a.n = hits.size();
     for (size_t i = 0; i < hits.size(); ++i) {
-        const bool ours = hits[i].segment != HT_NO_HIT, theirs = ref[i].prim != 0xFFFFFFFFu;
+        const bool ours = hits[i].segment != HT_NO_HIT, theirs = ref[i].prim != kEmbreeNoPrim;
         if (ours != theirs) {
             (ours ? a.ours_only : a.embree_only)++;
             continue;
@@ -340,12 +341,12 @@ nlohmann::json measure_ray_set(DeviceTracer& tracer, const SceneGeometry& geo, c
         std::vector<EmbreeHit> ours;
         std::vector<uint32_t> ours_occ;
         for (const HtHit& h : hits)
-            ours.push_back(h.segment == HT_NO_HIT ? EmbreeHit{INFINITY, 0xFFFFFFFFu, 0, 0, {0, 0, 0}}
+            ours.push_back(h.segment == HT_NO_HIT ? kEmbreeMiss
                                                   : EmbreeHit{h.t, geo.global_id(geo.segments[h.segment]), h.u, 0, {0, 0, 0}});
         for (const uint32_t o : occ) ours_occ.push_back(o ? 1u : 0u);
         const std::filesystem::path out =
             std::filesystem::path(answers_dir) / (std::filesystem::path(s.reference->path).stem().string() + ".hairtrace.rays");
-        write_rays_file_answers(*s.reference, out.string(), ours, ours_occ);
+        write_rays_file(out.string(), s.reference->header, s.reference->rays, ours, ours_occ);
         jr["answers_written"] = out.string();
         if (!json_out) agree_lines.push_back("    this tracer's answers written to " + out.string());
     }
@@ -645,13 +646,7 @@ BenchRequest parse_bench_request(const ArgParser& p) {
 
 }  // namespace
 
-int bench_main(const std::vector<std::string>& args, const SceneSource& source_in) {
-    SceneSource source = source_in ? source_in : SceneSource([](const std::string& name) {
-        if (name.size() > 5 && name.compare(name.size() - 5, 5, ".hair") == 0)
-            return bench_read_hair_file(name);
-        throw std::runtime_error("scene '" + name +
-                                 "': this build's bench reads only .hair files (pass --hair)");
-    });
+int bench_main(const std::vector<std::string>& args) {
     ArgParser p("bench", "BVH build and OpenCL intersection throughput, per scene and ray set; with ray files every ray's\n"
                          "hit is checked against Embree's stored answer before any rate is printed.");
     declare_bench_options(p);
@@ -684,7 +679,7 @@ int bench_main(const std::vector<std::string>& args, const SceneSource& source_i
         nlohmann::json js;
         js["scene"] = sa.name;
         const auto t_load = Clock::now();
-        const Strands strands = source(sa.name);
+        const Strands strands = load_scene(sa.name).strands;
         js["load_ms"] = ms_since(t_load);
 
         // ---- BVH build, median of 5

@@ -2,7 +2,7 @@
 
 #include "cl/device.h"
 #include "bench/median.h"
-#include "bench/rays_file.h"
+#include "io/rays_file.h"
 #include "core/errors.h"
 
 #include <algorithm>
@@ -94,7 +94,7 @@ void embree_pass(RTCScene scene, const std::vector<HtRay>& rays, bool shadow, un
                 if (out)
                     out[i] = flag[i] ? EmbreeHit{rh.ray.tfar, rh.hit.primID, rh.hit.u, rh.hit.v,
                                                  {rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z}}
-                                     : EmbreeHit{INFINITY, 0xFFFFFFFFu, 0, 0, {0, 0, 0}};
+                                     : kEmbreeMiss;
             }
     };
     std::thread t1(worker), t2(worker);

@@ -1,12 +1,13 @@
 // `hairtrace render --dump-rays DIR`: the rays a render actually traces, per bounce, closest-hit
-// and shadow, written as the Embree anchor's .rays files (the layout host/bench/rays_file.cpp
-// reads) with this tracer's answers as the stored results.  `hairtrace bench --rays` then times
+// and shadow, written as the Embree anchor's .rays files (host/io/rays_file.h) with this tracer's
+// answers as the stored results.  `hairtrace bench --rays` then times
 // exactly those rays and, with --embree, checks every answer against Embree in the same process
 // (issue #15: measure the rays paths trace, not only camera rays).
 #pragma once
 
 #include "bvh/bvh.h"
 #include "cl/device.h"
+#include "io/rays_file.h"
 
 #include <cstdint>
 #include <string>
@@ -43,13 +44,11 @@ public:
 private:
     struct Set {
         std::vector<HtRay> rays;
-        std::vector<uint32_t> answers;  // closest: leaf index (HT_NO_HIT) with t/u below; shadow: 0/1
-        std::vector<float> t, u;
-        std::vector<float> ng;          // closest: 3 per ray
-        std::vector<uint32_t> starts;   // closest: the traversal's start node per ray
+        std::vector<EmbreeHit> hits;     // closest: the anchor's record, primID the global segment id
+        std::vector<uint32_t> occluded;  // shadow: 0/1
+        std::vector<uint32_t> starts;    // closest: the traversal's start node per ray
     };
     Set& set(std::vector<Set>& sets, uint32_t bounce) const;
-    void write_set(const std::string& path, const Set& s, bool shadow, uint32_t bounce) const;
 
     std::string dir_, scene_;
     size_t max_rays_;

@@ -1,10 +1,10 @@
 // The anchor-format ray files the tools exchange: `render --dump-rays` writes a render's rays with
 // its answers, `bench --rays` traces them again and exits 1 on any disagreement, and `bench
 // --answers-out` writes them back with the bench's answers for the anchor's double-precision
-// referee (host/bench/rays_file.h).  A round trip must keep every ray and every answer bit for bit.
+// referee (host/io/rays_file.h).  A round trip must keep every ray and every answer bit for bit.
 #include <gtest/gtest.h>
 
-#include "bench/rays_file.h"
+#include "io/rays_file.h"
 #include "cli_test_util.h"
 
 #include <cstring>
@@ -53,10 +53,20 @@ TEST(RayFiles, DumpedRaysBenchAgainAndComeBackWithTheSameAnswers) {
 
     // answers that do not match the file's rays are refused, naming the count
     try {
-        ht::write_rays_file_answers(a, d / "bad.rays", {}, {});
+        ht::write_rays_file(d / "bad.rays", a.header, a.rays, {}, {});
         ADD_FAILURE() << "no answers accepted";
     } catch (const std::runtime_error& e) {
         EXPECT_NE(std::string(e.what()).find("0 answers for " + std::to_string(a.rays.size()) + " rays"), std::string::npos)
+            << e.what();
+    }
+    // and so are rays whose count is not the header's
+    try {
+        ht::write_rays_file(d / "bad.rays", ht::make_rays_header(0, 0, 5, a.segments, a.strands, a.scene), a.rays,
+                            a.hits, {});
+        ADD_FAILURE() << "a header for 5 rays written with " << a.rays.size();
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("the header says 5 rays, " + std::to_string(a.rays.size()) + " given"),
+                  std::string::npos)
             << e.what();
     }
     EXPECT_FALSE(fs::exists(d / "bad.rays"));
