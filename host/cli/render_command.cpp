@@ -485,7 +485,9 @@ void attach_ray_dump(PreparedRender& job, const RenderRequest& request, bool roo
     // "builtin:strand?hairs=200" -> strand, "data/ball.hair" -> ball
     std::string name = job.scene.source.substr(0, job.scene.source.find('?'));
     name = std::filesystem::path(name.substr(name.rfind(':') + 1)).stem().string();
-    job.dump = std::make_unique<RayDump>(request.dump_rays, name.empty() ? "scene" : name);
+    // the anchor's hash for hair alone: its format has no triangles
+    const uint64_t hash = job.scene.meshes.empty() ? hair_file_hash(job.scene.strands) : 0;
+    job.dump = std::make_unique<RayDump>(request.dump_rays, name.empty() ? "scene" : name, hash);
     job.renderers.front()->set_ray_dump(job.dump.get());
 }
 

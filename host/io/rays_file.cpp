@@ -1,5 +1,7 @@
 #include "io/rays_file.h"
 
+#include "core/errors.h"
+
 #include <algorithm>
 #include <cstring>
 #include <fstream>
@@ -10,7 +12,7 @@ namespace ht {
 namespace {
 std::vector<char> read_all(const std::string& path) {
     std::ifstream f(path, std::ios::binary);
-    if (!f) throw std::runtime_error(path + ": cannot open");
+    if (!f) throw SceneError(path + ": cannot open");
     return std::vector<char>((std::istreambuf_iterator<char>(f)), {});
 }
 template <typename T> T get(const char* b, size_t off) {
@@ -29,8 +31,8 @@ RaysFile read_rays_file(const std::string& path) {
     const std::vector<char> buf = read_all(path);
     const char* b = buf.data();
     if (buf.size() < 64 || std::memcmp(b, "HRAY", 4) != 0)
-        throw std::runtime_error(path + ": not a .rays file (magic HRAY missing)");
-    if (get<uint32_t>(b, 4) != 1) throw std::runtime_error(path + ": unsupported .rays version");
+        throw SceneError(path + ": not a .rays file (magic HRAY missing)");
+    if (get<uint32_t>(b, 4) != 1) throw SceneError(path + ": unsupported .rays version");
     RaysFile r;
     r.path = path;
     r.kind = get<uint32_t>(b, 8);
@@ -47,10 +49,10 @@ RaysFile read_rays_file(const std::string& path) {
     std::memcpy(r.header.data(), b, r.header.size());
     if (ray_bytes != kRayBytes || (r.kind == 0 && res_bytes != kHitBytes) ||
         (r.kind == 1 && res_bytes != kOccludedBytes) || r.kind > 1)
-        throw std::runtime_error(path + ": unexpected record sizes / kind");
+        throw SceneError(path + ": unexpected record sizes / kind");
     const size_t need = 64 + (size_t)n * (kRayBytes + res_bytes);
     if (buf.size() != need)
-        throw std::runtime_error(path + ": size " + std::to_string(buf.size()) + " != expected " +
+        throw SceneError(path + ": size " + std::to_string(buf.size()) + " != expected " +
                                  std::to_string(need));
     r.rays.resize(n);
     std::memcpy(r.rays.data(), b + 64, (size_t)n * kRayBytes);
@@ -65,7 +67,7 @@ RaysFile read_rays_file(const std::string& path) {
 }
 
 RaysHeader make_rays_header(uint32_t kind, uint32_t set, uint32_t count, uint32_t segments, uint32_t strands,
-                            const std::string& scene) {
+                            uint64_t scene_hash, const std::string& scene) {
     RaysHeader h{};
     auto put = [&](size_t off, uint32_t v) { std::memcpy(h.data() + off, &v, 4); };
     std::memcpy(h.data(), "HRAY", 4);
@@ -77,6 +79,7 @@ RaysHeader make_rays_header(uint32_t kind, uint32_t set, uint32_t count, uint32_
     put(24, kind == 0 ? kHitBytes : kOccludedBytes);
     put(28, segments);
     put(32, strands);
+    std::memcpy(h.data() + 48, &scene_hash, 8);
     std::memcpy(h.data() + 56, scene.data(), std::min<size_t>(scene.size(), 8));
     return h;
 }

@@ -43,14 +43,15 @@ struct RaysFile {
     std::string set_name() const;
 };
 
-// Throws std::runtime_error naming the file and the problem.
+// Throws SceneError (core/errors.h: a bad input file) naming the file and the problem.
 RaysFile read_rays_file(const std::string& path);
 
 // A header for rays not read from a file (`render --dump-rays`): version 1, the record sizes of
-// `kind`, `count` rays; width, height (not a pixel grid), curve type 0 (round linear) and the scene
-// hash (not computed) zero; `scene` NUL padded to 8 bytes, not terminated.
+// `kind`, `count` rays; width, height (not a pixel grid) and curve type 0 (round linear);
+// `scene_hash` the anchor's content hash of the scene (scene/scene.h hair_file_hash, 0: unknown);
+// `scene` NUL padded to 8 bytes, not terminated.
 RaysHeader make_rays_header(uint32_t kind, uint32_t set, uint32_t count, uint32_t segments, uint32_t strands,
-                            const std::string& scene);
+                            uint64_t scene_hash, const std::string& scene);
 
 // Writes `path`: `header` (its kind and ray count must match), the rays, and `hits` (kind 0) or
 // `occluded` (kind 1, 0 or 1 per ray), one answer per ray; the other vector is ignored.  Throws

@@ -9,8 +9,8 @@
 
 namespace ht {
 
-RayDump::RayDump(std::string dir, std::string scene, size_t max_rays)
-    : dir_(std::move(dir)), scene_(std::move(scene)), max_rays_(max_rays) {}
+RayDump::RayDump(std::string dir, std::string scene, uint64_t scene_hash, size_t max_rays)
+    : dir_(std::move(dir)), scene_(std::move(scene)), scene_hash_(scene_hash), max_rays_(max_rays) {}
 
 RayDump::Set& RayDump::set(std::vector<Set>& sets, uint32_t bounce) const {
     if (sets.size() <= bounce) sets.resize(bounce + 1);
@@ -81,7 +81,7 @@ std::vector<std::string> RayDump::write() const {
             // set: 0 camera rays, 1 deeper bounces, 2 shadow rays
             write_rays_file(path,
                             make_rays_header(shadow ? 1u : 0u, shadow ? 2u : b == 0 ? 0u : 1u, uint32_t(s.rays.size()),
-                                             uint32_t(geo_->segment_count), strands, scene_),
+                                             uint32_t(geo_->segment_count), strands, scene_hash_, scene_),
                             s.rays, s.hits, s.occluded);
             out.push_back(path);
             const std::vector<uint32_t>& starts = s.starts;

@@ -20,8 +20,10 @@ public:
     // Rays per file; the anchor's sets hold 1024 x 1024.
     static constexpr size_t kDefaultMaxRays = size_t(1) << 20;
 
-    // `scene` names the files: DIR/<scene>.b<bounce>.{closest,shadow}.rays.
-    RayDump(std::string dir, std::string scene, size_t max_rays = kDefaultMaxRays);
+    // `scene` names the files: DIR/<scene>.b<bounce>.{closest,shadow}.rays.  `scene_hash`: the
+    // anchor's content hash of the scene (scene/scene.h hair_file_hash; 0 unknown), written in each
+    // header so that the anchor's tools accept the files with the scene's .hair file.
+    RayDump(std::string dir, std::string scene, uint64_t scene_hash = 0, size_t max_rays = kDefaultMaxRays);
 
     // The renderer's geometry (leaf order -> global segment id, capsule normals); set by
     // Renderer::set_ray_dump.
@@ -51,6 +53,7 @@ private:
     Set& set(std::vector<Set>& sets, uint32_t bounce) const;
 
     std::string dir_, scene_;
+    uint64_t scene_hash_;
     size_t max_rays_;
     const SceneGeometry* geo_ = nullptr;
     std::vector<Set> closest_, shadow_;

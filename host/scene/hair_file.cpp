@@ -23,6 +23,7 @@
 #include <fstream>
 #include <limits>
 
+#include "core/hash.h"
 #include "scene/binary_file.h"
 #include "scene/hygiene.h"
 #include "scene/scene_error.h"
@@ -160,20 +161,44 @@ Scene load_hair_file(const std::string& path, const LoadOptions& opt) {
     return scene;
 }
 
+namespace {
+// The .hair segments array of `s` (segments per strand); false, with the first strand that does
+// not fit in *bad (and its points in *points), when one holds no point or more than 65,536.
+bool hair_segment_counts(const Strands& s, std::vector<uint16_t>& segments, size_t* bad, size_t* points) {
+    const size_t strands = s.strand_count();
+    segments.resize(strands);
+    for (size_t i = 0; i < strands; ++i) {
+        const size_t n = s.first_point[i + 1] - s.first_point[i];
+        if (n < 1 || n - 1 > std::numeric_limits<uint16_t>::max()) {
+            *bad = i;
+            *points = n;
+            return false;
+        }
+        segments[i] = static_cast<uint16_t>(n - 1);
+    }
+    return true;
+}
+}  // namespace
+
+uint64_t hair_file_hash(const Strands& s) {
+    std::vector<uint16_t> segments;
+    size_t bad, points;
+    if (s.strand_count() > std::numeric_limits<uint32_t>::max() ||
+        s.point_count() > std::numeric_limits<uint32_t>::max() || !hair_segment_counts(s, segments, &bad, &points))
+        return 0;
+    return fnv1a(s.radius, fnv1a(s.points, fnv1a(segments)));
+}
+
 void save_hair_file(const std::string& path, const Scene& scene) {
     const Strands& s = scene.strands;
     const size_t strands = s.strand_count();
     if (strands > std::numeric_limits<uint32_t>::max() ||
         s.point_count() > std::numeric_limits<uint32_t>::max())
         scene_fail(path, "too many strands or points for the .hair format");
-    std::vector<uint16_t> segments(strands);
-    for (size_t i = 0; i < strands; ++i) {
-        const size_t n = s.first_point[i + 1] - s.first_point[i];
-        if (n < 1 || n - 1 > std::numeric_limits<uint16_t>::max())
-            scene_fail(path, "strand ", i, " has ", n,
-                       " points; the .hair format stores 1..65536 points per strand");
-        segments[i] = static_cast<uint16_t>(n - 1);
-    }
+    std::vector<uint16_t> segments;
+    size_t bad, points;
+    if (!hair_segment_counts(s, segments, &bad, &points))
+        scene_fail(path, "strand ", bad, " has ", points, " points; the .hair format stores 1..65536 points per strand");
     HairHeader h;
     std::memset(&h, 0, sizeof h);
     std::memcpy(h.signature, "HAIR", 4);

@@ -167,6 +167,11 @@ Scene make_builtin(const std::string& spec, const LoadOptions& opt = {});
 // Writes strands as a Cem Yuksel .hair file (segments + points + thickness arrays, thickness =
 // radius).  Throws SceneError (unwritable file, strand longer than 65,536 points).
 void save_hair_file(const std::string& path, const Scene& scene);
+// The Embree anchor's scene content hash of these strands (anchors/embree/README.md "Scenes", and
+// the scene hash of its .rays files): FNV-1a 64 over the arrays save_hair_file writes (segments
+// per strand as uint16, points, thickness = radius), so it equals the anchor's for a .hair file
+// loaded unchanged.  0 when the strands do not fit the format.
+uint64_t hair_file_hash(const Strands& s);
 
 // The hair material of files that state none (.hair, .data, .ply, .obj, pbrt, glTF without one,
 // the built-ins): golden blond, the `blond` preset's melanin (scene/hair_presets.h), Marschner

@@ -5,8 +5,10 @@
 #include <gtest/gtest.h>
 
 #include "io/rays_file.h"
+#include "scene/scene.h"
 #include "cli_test_util.h"
 
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <stdexcept>
@@ -35,6 +37,10 @@ TEST(RayFiles, DumpedRaysBenchAgainAndComeBackWithTheSameAnswers) {
 
     const ht::RaysFile a = ht::read_rays_file(closest), b = ht::read_rays_file(d / "out/strand.b0.closest.hairtrace.rays");
     EXPECT_EQ(a.header, b.header);
+    // the dump names its scene by the anchor's content hash, as the anchor's files do
+    const uint64_t strand_hash = ht::hair_file_hash(ht::make_builtin("strand").strands);
+    EXPECT_NE(strand_hash, 0u);
+    EXPECT_EQ(a.scene_hash, strand_hash);
     ASSERT_EQ(a.rays.size(), b.rays.size());
     ASSERT_EQ(0, std::memcmp(a.rays.data(), b.rays.data(), a.rays.size() * sizeof(HtRay)));
     size_t hits = 0, same = 0;
@@ -44,6 +50,17 @@ TEST(RayFiles, DumpedRaysBenchAgainAndComeBackWithTheSameAnswers) {
     }
     EXPECT_EQ(same, a.hits.size());
     EXPECT_GT(hits, a.hits.size() / 20);  // not a file of misses alone
+
+    // against another scene of as many segments the bench refuses the file (a bad input, exit 2),
+    // naming both hashes, before tracing a ray
+    EXPECT_EQ(run(kBin + " bench --scene 'builtin:strand?seed=7' --rays " + closest + " --reps 1 --no-wavefront >" +
+                  (d / "wrong.txt") + " 2>&1"),
+              2);
+    char stated[17];
+    std::snprintf(stated, sizeof stated, "%016llx", static_cast<unsigned long long>(strand_hash));
+    EXPECT_NE(slurp(d / "wrong.txt").find(std::string("made for the scene of content hash ") + stated),
+              std::string::npos)
+        << slurp(d / "wrong.txt");
 
     const ht::RaysFile s = ht::read_rays_file(shadow), t = ht::read_rays_file(d / "out/strand.b1.shadow.hairtrace.rays");
     EXPECT_EQ(s.header, t.header);
@@ -61,7 +78,7 @@ TEST(RayFiles, DumpedRaysBenchAgainAndComeBackWithTheSameAnswers) {
     }
     // and so are rays whose count is not the header's
     try {
-        ht::write_rays_file(d / "bad.rays", ht::make_rays_header(0, 0, 5, a.segments, a.strands, a.scene), a.rays,
+        ht::write_rays_file(d / "bad.rays", ht::make_rays_header(0, 0, 5, a.segments, a.strands, a.scene_hash, a.scene), a.rays,
                             a.hits, {});
         ADD_FAILURE() << "a header for 5 rays written with " << a.rays.size();
     } catch (const std::runtime_error& e) {

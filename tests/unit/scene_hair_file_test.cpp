@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <limits>
 
 #include "scene/scene.h"
@@ -242,6 +244,27 @@ TEST(SceneHairFile, SaveAndLoadRoundTrip) {
     EXPECT_EQ(loaded.source, path);
 }
 
+// The Embree anchor's scene content hash (anchors/embree/README.md "Scenes", stored in its .rays
+// files): FNV-1a 64 over the segment counts, points and thickness as the file stores them.  Here
+// over the bytes of a written file, independently of the strands it was written from.
+TEST(SceneHairFile, AnchorContentHashIsThatOfTheArraysAsStored) {
+    test::TempDir dir;
+    const Scene original = make_builtin("strand?hairs=50&segments=20");
+    const std::string path = dir.file("hash.hair");
+    save_hair_file(path, original);
+    std::ifstream f(path, std::ios::binary);
+    const std::vector<char> bytes((std::istreambuf_iterator<char>(f)), {});
+    ASSERT_EQ(bytes.size(), 128u + 50 * 2 + 50 * 21 * (12 + 4));  // header, segments, points, thickness
+    uint64_t h = 1469598103934665603ull;  // the anchor's offset basis (not FNV's published one), as core/hash.h
+    for (size_t i = 128; i < bytes.size(); ++i) h = (h ^ static_cast<unsigned char>(bytes[i])) * 1099511628211ull;
+    EXPECT_EQ(hair_file_hash(original.strands), h);
+    EXPECT_EQ(hair_file_hash(load_scene(path).strands), h);
+    // a strand the format cannot hold (no point): no hash
+    Strands odd = original.strands;
+    odd.first_point.push_back(odd.first_point.back());
+    EXPECT_EQ(hair_file_hash(odd), 0u);
+}
+
 TEST(SceneHairFile, RealStraightHairModel) {
     const std::string path = HT_SHARED_DIR "/data/straight.hair";
     if (!std::ifstream(path)) GTEST_SKIP() << path << " not present";
@@ -251,6 +274,9 @@ TEST(SceneHairFile, RealStraightHairModel) {
     EXPECT_EQ(s.strands.segment_count(), 150000u);
     EXPECT_FLOAT_EQ(s.strands.radius[0], 0.1f);  // default thickness, used as the radius
     EXPECT_TRUE(s.warnings.empty());
+    // the scene hash the Embree anchor writes in the ray files it makes of this file
+    // (`embree_hair_bench --hair straight.hair --rays-out`, header offset 48)
+    EXPECT_EQ(hair_file_hash(s.strands), 0x54a5f5a739b3ccc8ull);
 }
 
 }  // namespace
