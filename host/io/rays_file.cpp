@@ -52,8 +52,7 @@ RaysFile read_rays_file(const std::string& path) {
         throw SceneError(path + ": unexpected record sizes / kind");
     const size_t need = 64 + (size_t)n * (kRayBytes + res_bytes);
     if (buf.size() != need)
-        throw SceneError(path + ": size " + std::to_string(buf.size()) + " != expected " +
-                                 std::to_string(need));
+        throw SceneError(path + ": size " + std::to_string(buf.size()) + " != expected " + std::to_string(need));
     r.rays.resize(n);
     std::memcpy(r.rays.data(), b + 64, (size_t)n * kRayBytes);
     if (r.kind == 0) {
