@@ -4,7 +4,7 @@
 //
 //   exit 2, bad input or usage (the message names the option or file and the problem):
 //     UsageError   a command-line option, value or combination of them
-//     SceneError   an input file: scene, texture, checkpoint, partial image, reference image
+//     SceneError   an input file: scene, texture, checkpoint, partial image, reference image, ray file
 //   exit 3, device or runtime failure:
 //     DeviceError  no OpenCL platform/device, kernel build failure, device memory
 //     ImageError   writing an output image or a checkpoint
