@@ -162,29 +162,24 @@ Scene load_hair_file(const std::string& path, const LoadOptions& opt) {
 }
 
 namespace {
-// The .hair segments array of `s` (segments per strand); false, with the first strand that does
-// not fit in *bad (and its points in *points), when one holds no point or more than 65,536.
-bool hair_segment_counts(const Strands& s, std::vector<uint16_t>& segments, size_t* bad, size_t* points) {
-    const size_t strands = s.strand_count();
-    segments.resize(strands);
-    for (size_t i = 0; i < strands; ++i) {
+constexpr size_t kAllStrandsFit = ~size_t(0);
+// The .hair segments array of `s` (segments per strand); returns the first strand the format cannot
+// hold (no point, or more than 65,536), kAllStrandsFit when there is none.
+size_t hair_segment_counts(const Strands& s, std::vector<uint16_t>& segments) {
+    segments.resize(s.strand_count());
+    for (size_t i = 0; i < segments.size(); ++i) {
         const size_t n = s.first_point[i + 1] - s.first_point[i];
-        if (n < 1 || n - 1 > std::numeric_limits<uint16_t>::max()) {
-            *bad = i;
-            *points = n;
-            return false;
-        }
+        if (n < 1 || n - 1 > std::numeric_limits<uint16_t>::max()) return i;
         segments[i] = static_cast<uint16_t>(n - 1);
     }
-    return true;
+    return kAllStrandsFit;
 }
 }  // namespace
 
 uint64_t hair_file_hash(const Strands& s) {
     std::vector<uint16_t> segments;
-    size_t bad, points;
     if (s.strand_count() > std::numeric_limits<uint32_t>::max() ||
-        s.point_count() > std::numeric_limits<uint32_t>::max() || !hair_segment_counts(s, segments, &bad, &points))
+        s.point_count() > std::numeric_limits<uint32_t>::max() || hair_segment_counts(s, segments) != kAllStrandsFit)
         return 0;
     return fnv1a(s.radius, fnv1a(s.points, fnv1a(segments)));
 }
@@ -196,9 +191,10 @@ void save_hair_file(const std::string& path, const Scene& scene) {
         s.point_count() > std::numeric_limits<uint32_t>::max())
         scene_fail(path, "too many strands or points for the .hair format");
     std::vector<uint16_t> segments;
-    size_t bad, points;
-    if (!hair_segment_counts(s, segments, &bad, &points))
-        scene_fail(path, "strand ", bad, " has ", points, " points; the .hair format stores 1..65536 points per strand");
+    const size_t bad = hair_segment_counts(s, segments);
+    if (bad != kAllStrandsFit)
+        scene_fail(path, "strand ", bad, " has ", s.first_point[bad + 1] - s.first_point[bad],
+                   " points; the .hair format stores 1..65536 points per strand");
     HairHeader h;
     std::memset(&h, 0, sizeof h);
     std::memcpy(h.signature, "HAIR", 4);
