@@ -10,6 +10,7 @@
 #include "render/candidate_lists.h"
 #include "render/path_grid.h"
 #include "render/primitive_images.h"
+#include "render/ray_dump.h"
 #include "render/shadow_lists.h"
 #include "render/renderer.h"
 #include "bvh/bvh.h"
@@ -340,9 +341,7 @@ nlohmann::json measure_ray_set(DeviceTracer& tracer, const SceneGeometry& geo, c
         // the file with these answers (the tree's from the root) in place of its stored ones
         std::vector<EmbreeHit> ours;
         std::vector<uint32_t> ours_occ;
-        for (const HtHit& h : hits)
-            ours.push_back(h.segment == HT_NO_HIT ? kEmbreeMiss
-                                                  : EmbreeHit{h.t, geo.global_id(geo.segments[h.segment]), h.u, 0, {0, 0, 0}});
+        for (size_t i = 0; i < hits.size(); ++i) ours.push_back(anchor_hit_record(geo, s.rays[i], hits[i]));
         for (const uint32_t o : occ) ours_occ.push_back(o ? 1u : 0u);
         const std::filesystem::path out =
             std::filesystem::path(answers_dir) / (std::filesystem::path(s.reference->path).stem().string() + ".hairtrace.rays");
@@ -596,7 +595,7 @@ void declare_bench_options(ArgParser& p) {
         .flag("--startup", "instead of traversal: the time to the first image of each scene (`hairtrace render SCENE --width 64 --height 64 --spp 1` in a fresh process), with empty program caches and from the binary cache, medians of --reps, with the kernel build's share")
         .flag("--embree", "also trace every ray set through Embree 3 in this process (same rays, rtcIntersect1/rtcOccluded1) and print the ratio; needs a build with libembree-dev installed")
         .flag("--json", "machine-readable report")
-        .path("--answers-out", "DIR", "write each ray set read from a file again as DIR/<its name>.hairtrace.rays with this tracer's answers (the tree's, from the root) as its stored results, for the Embree anchor's double-precision referee: `hair_refcheck --hair X.hair --rays DIR/X.incoherent.hairtrace.rays`", PathKind::InputFolder);
+        .path("--answers-out", "DIR", "write each ray set read from a file again as DIR/<its name>.hairtrace.rays with this tracer's answers (the tree's, from the root, with outward normals, as render --dump-rays writes them) as its stored results, for the Embree anchor's double-precision referee: `hair_refcheck --hair X.hair --rays DIR/X.incoherent.hairtrace.rays`", PathKind::InputFolder);
     p.group("BVH builder")
         .flag("--compact", "the memory-lean preset (leaves <= 8, cheap intersections in the SAH); the options below refine it")
         .option("--leaf", "N", "segments per leaf", std::to_string(d.max_leaf))

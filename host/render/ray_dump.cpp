@@ -9,6 +9,22 @@
 
 namespace ht {
 
+EmbreeHit anchor_hit_record(const SceneGeometry& geometry, const HtRay& ray, const HtHit& hit) {
+    if (hit.segment == HT_NO_HIT) return kEmbreeMiss;
+    const HtSegment& seg = geometry.segments[hit.segment];
+    real3 n;
+    if (ht_seg_flags(seg) & HT_SEG_TRIANGLE) {
+        n = make_real3(hit.tx, hit.ty, hit.tz);  // HtHit carries a triangle's normal
+    } else {
+        real3 tangent;
+        real u;
+        n = ht_capsule_hit_offset(make_real3(ray.ox, ray.oy, ray.oz), make_real3(ray.dx, ray.dy, ray.dz),
+                                  ht_point_pos(geometry.points[seg.point]), ht_point_pos(geometry.points[seg.point + 1]),
+                                  hit.t, &tangent, &u);
+    }
+    return EmbreeHit{hit.t, geometry.global_id(seg), hit.u, 0, {float(n.x), float(n.y), float(n.z)}};
+}
+
 RayDump::RayDump(std::string dir, std::string scene, uint64_t scene_hash, size_t max_rays)
     : dir_(std::move(dir)), scene_(std::move(scene)), scene_hash_(scene_hash), max_rays_(max_rays) {}
 
@@ -29,23 +45,7 @@ void RayDump::closest(cl::CommandQueue& queue, const cl::Buffer& rays, const cl:
     for (size_t i = 0; i < take; ++i) {
         s.rays.push_back(r[i]);
         s.starts.push_back(starts.empty() ? 0u : starts[i]);
-        if (h[i].segment == HT_NO_HIT) {
-            s.hits.push_back(kEmbreeMiss);
-            continue;
-        }
-        const HtSegment& seg = geo_->segments[h[i].segment];
-        real3 n;
-        if (ht_seg_flags(seg) & HT_SEG_TRIANGLE) {
-            n = make_real3(h[i].tx, h[i].ty, h[i].tz);  // HtHit carries a triangle's normal
-        } else {
-            // The anchor stores an outward geometric normal: the hit's offset from the axis.
-            real3 tangent;
-            real u;
-            n = ht_capsule_hit_offset(make_real3(r[i].ox, r[i].oy, r[i].oz), make_real3(r[i].dx, r[i].dy, r[i].dz),
-                                      ht_point_pos(geo_->points[seg.point]), ht_point_pos(geo_->points[seg.point + 1]),
-                                      h[i].t, &tangent, &u);
-        }
-        s.hits.push_back(EmbreeHit{h[i].t, geo_->global_id(seg), h[i].u, 0, {float(n.x), float(n.y), float(n.z)}});
+        s.hits.push_back(anchor_hit_record(*geo_, r[i], h[i]));
     }
 }
 

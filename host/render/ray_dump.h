@@ -15,6 +15,12 @@
 
 namespace ht {
 
+// Our answer to `ray` as the anchor's closest-hit record: the global segment id as primID, the hit's
+// u, and as Ng the outward geometric normal (a capsule's: the hit point's offset from its axis, of
+// length r; a triangle's: the normal HtHit carries); kEmbreeMiss for none.  The dump's records and
+// the bench's --answers-out both come from here.
+EmbreeHit anchor_hit_record(const SceneGeometry& geometry, const HtRay& ray, const HtHit& hit);
+
 class RayDump {
 public:
     // Rays per file; the anchor's sets hold 1024 x 1024.
