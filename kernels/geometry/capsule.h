@@ -158,10 +158,11 @@ HT_FN real3 ht_point_pos(HtPoint p) { return make_real3(p.x, p.y, p.z); }
 /* DOT(a, b) = a.x b.x + a.y b.y + a.z b.z and DIF(a, b, c, d) = a b - c d.  In OpenCL as fused
  * multiply-adds, written out with fma() (PoCL defines no FP_FAST_FMAF although it makes these
  * vfmadd, and mad() stayed a product and a sum there): the compiled grid stage holds 37 more fused
- * instructions (82 -> 119), each a product and a sum fewer, and the ball's grid sets came 0.03-0.08
- * nearer Embree (medians of fifteen rounds; host/bvh/NOTES.md "The grid walked by eight rays at
- * once; fused multiply-adds in the capsule test").  Every device this renderer targets has the
- * instruction (x86-64 CPUs since 2013, ARMv8, GPUs); on one without it fma() stays exact but slow.
+ * instructions (82 -> 119), each one instruction for a product and a sum, and the ball's grid sets
+ * came 0.03-0.08 nearer Embree (medians of fifteen rounds; host/bvh/NOTES.md "The grid walked by
+ * eight rays at once; fused multiply-adds in the capsule test").  Every device this renderer
+ * targets has the instruction (x86-64 CPUs since 2013, ARMv8, GPUs); on one without it fma() stays
+ * exact but slow.
  * The same for one lane and for eight, so a capsule's t does not depend on which structure's test
  * finds it (tree leaves, path grid, lists).  Plain products and sums in C++ (the host's double
  * reference). */
