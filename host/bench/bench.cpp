@@ -351,8 +351,16 @@ nlohmann::json measure_ray_set(DeviceTracer& tracer, const SceneGeometry& geo, c
     }
 
     // Timed passes of the tracer as set up: warm-up done above (the correctness pass); median of reps.
-    const auto timed = [&](std::vector<double>& times, std::vector<double>& cpu) {
+    // With Embree, each pass is paired with one of Embree's on the same rays, which of the two runs
+    // first alternating, and the ratio reported is the median of the pairs' ratios (median.h
+    // paired_speedup): this machine's speed drifts by 10-20 % between blocks of passes
+    // (docs/PERFORMANCE.md section 1), and a pair's two passes share the drift.
+    size_t embree_count = 0;
+    if (embree) embree_count = embree->warm_up(s.rays, s.shadow);
+    const auto timed = [&](std::vector<double>& times, std::vector<double>& cpu, std::vector<double>& embree_times) {
         for (int k = 0; k < reps; ++k) {
+            const bool embree_first = k % 2 == 0;
+            if (embree && embree_first) embree_times.push_back(embree->pass_ms(s.rays, s.shadow));
             const auto t0 = Clock::now();
             const double c0 = cpu_ms();
             if (s.shadow) tracer.enqueue_shadow();
@@ -360,11 +368,12 @@ nlohmann::json measure_ray_set(DeviceTracer& tracer, const SceneGeometry& geo, c
             tracer.finish();
             times.push_back(ms_since(t0));
             cpu.push_back(cpu_ms() - c0);
+            if (embree && !embree_first) embree_times.push_back(embree->pass_ms(s.rays, s.shadow));
         }
     };
     const auto rate = [&](double ms) { return ms > 0 ? s.rays.size() / (ms * 1e3) : 0.0; };
-    std::vector<double> times, cpu;
-    timed(times, cpu);
+    std::vector<double> times, cpu, embree_times;
+    timed(times, cpu, embree_times);
     const double med = median(times);
     const double mrays = rate(med);
     // Throughput per CPU-second: what one core does when it is not shared.
@@ -374,15 +383,11 @@ nlohmann::json measure_ray_set(DeviceTracer& tracer, const SceneGeometry& geo, c
     jr["mrays_per_cpu_s"] = mrays_cpu;
     jr["pass_ms"] = times;
     jr["pass_cpu_ms"] = cpu;
-    double embree_mrays = 0;
-    size_t embree_count = 0;
-    const auto vs_embree = [&](double ours) { return embree_mrays > 0 ? ours / embree_mrays : 0.0; };
+    const double embree_mrays = rate(median(embree_times));
     if (embree) {
-        const double ems = embree->trace(s.rays, s.shadow, reps, &embree_count);
-        embree_mrays = ems > 0 ? s.rays.size() / (ems * 1e3) : 0.0;
-        jr["embree_in_process"] = {{"median_ms", ems}, {"mrays_per_s", embree_mrays},
-                                   {s.shadow ? "occluded" : "hits", embree_count},
-                                   {"ratio", vs_embree(mrays)}};
+        jr["embree_in_process"] = {{"median_ms", median(embree_times)}, {"mrays_per_s", embree_mrays},
+                                   {s.shadow ? "occluded" : "hits", embree_count}, {"pass_ms", embree_times},
+                                   {"ratio", paired_speedup(embree_times, times)}};
     }
     // Another traversal of the same rays (set up by `use`), checked against the root's answers
     // bit for bit (or MISMATCH), then timed as above: its JSON and report line.
@@ -406,12 +411,15 @@ nlohmann::json measure_ray_set(DeviceTracer& tracer, const SceneGeometry& geo, c
         const size_t answers = s.rays.size();
         const bool ok = same == answers;
         all_ok = all_ok && ok;
-        std::vector<double> at, ac;
-        timed(at, ac);
-        const double am = median(at), amrays = rate(am), amrays_cpu = rate(median(ac));
+        std::vector<double> at, ac, et;
+        timed(at, ac, et);
+        const double am = median(at), amrays = rate(am), amrays_cpu = rate(median(ac)), ratio = paired_speedup(et, at);
         jr[key] = {{"same_answers", same}, {"ok", ok}, {"median_ms", am}, {"mrays_per_s", amrays},
                    {"mrays_per_cpu_s", amrays_cpu}, {"pass_ms", at}};
-        if (embree) jr[key]["ratio_to_embree"] = vs_embree(amrays);
+        if (embree) {
+            jr[key]["ratio_to_embree"] = ratio;
+            jr[key]["embree_pass_ms"] = et;
+        }
         char b[400];
         std::snprintf(b, sizeof b,
                       "    %s %s; answers identical to the root's: %zu/%zu%s): %.2f Mrays/s (median of %d, %.1f ms); "
@@ -420,7 +428,8 @@ nlohmann::json measure_ray_set(DeviceTracer& tracer, const SceneGeometry& geo, c
                       amrays_cpu);
         std::string line = b;
         if (embree) {
-            std::snprintf(b, sizeof b, "; hairtrace/Embree = %.2f", vs_embree(amrays));
+            std::snprintf(b, sizeof b, "; hairtrace/Embree = %.2f (Embree's paired passes %.2f Mrays/s)", ratio,
+                          rate(median(et)));
             line += b;
         }
         return line;
@@ -507,7 +516,7 @@ nlohmann::json measure_ray_set(DeviceTracer& tracer, const SceneGeometry& geo, c
         if (embree)
             std::printf("    Embree (same process, same rays): %.2f Mrays/s, %s %zu; hairtrace/Embree = %.2f\n",
                         embree_mrays, s.shadow ? "occluded" : "hits", embree_count,
-                        vs_embree(mrays));
+                        paired_speedup(embree_times, times));
         if (!starts_line.empty()) std::printf("%s\n", starts_line.c_str());
         if (!grid_line.empty()) std::printf("%s\n", grid_line.c_str());
         if (!camera_line.empty()) std::printf("%s\n", camera_line.c_str());
@@ -593,7 +602,7 @@ void declare_bench_options(ArgParser& p) {
         .option("--reps", "N", "timed passes per case, median reported", "5")
         .flag("--no-wavefront", "skip the per-bounce throughput of a small full render")
         .flag("--startup", "instead of traversal: the time to the first image of each scene (`hairtrace render SCENE --width 64 --height 64 --spp 1` in a fresh process), with empty program caches and from the binary cache, medians of --reps, with the kernel build's share")
-        .flag("--embree", "also trace every ray set through Embree 3 in this process (same rays, rtcIntersect1/rtcOccluded1) and print the ratio; needs a build with libembree-dev installed")
+        .flag("--embree", "also trace every ray set through Embree 3 in this process (same rays, rtcIntersect1/rtcOccluded1) and print the ratio: each timed pass of ours is paired with one of Embree's (which runs first alternating), and hairtrace/Embree is the median of the pairs' time ratios; needs a build with libembree-dev installed")
         .flag("--json", "machine-readable report")
         .path("--answers-out", "DIR", "write each ray set read from a file again as DIR/<its name>.hairtrace.rays with this tracer's answers (the tree's, from the root, with outward normals, as render --dump-rays writes them) as its stored results, for the Embree anchor's double-precision referee: `hair_refcheck --hair X.hair --rays DIR/X.incoherent.hairtrace.rays`", PathKind::InputFolder);
     p.group("BVH builder")

@@ -1,7 +1,6 @@
 #include "bench/embree_tracer.h"
 
 #include "cl/device.h"
-#include "bench/median.h"
 #include "io/rays_file.h"
 #include "core/errors.h"
 
@@ -103,17 +102,17 @@ void embree_pass(RTCScene scene, const std::vector<HtRay>& rays, bool shadow, un
 }
 }  // namespace
 
-double EmbreeTracer::trace(const std::vector<HtRay>& rays, bool shadow, int reps, size_t* count) {
+size_t EmbreeTracer::warm_up(const std::vector<HtRay>& rays, bool shadow) {
     std::vector<unsigned char> result(rays.size());
-    embree_pass(impl_->scene, rays, shadow, result.data(), nullptr);  // warm-up
-    std::vector<double> ms;
-    for (int k = 0; k < std::max(reps, 1); ++k) {
-        const auto t0 = std::chrono::steady_clock::now();
-        embree_pass(impl_->scene, rays, shadow, result.data(), nullptr);
-        ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
-    }
-    *count = size_t(std::count(result.begin(), result.end(), 1));
-    return median(ms);
+    embree_pass(impl_->scene, rays, shadow, result.data(), nullptr);
+    return size_t(std::count(result.begin(), result.end(), 1));
+}
+
+double EmbreeTracer::pass_ms(const std::vector<HtRay>& rays, bool shadow) {
+    std::vector<unsigned char> result(rays.size());
+    const auto t0 = std::chrono::steady_clock::now();
+    embree_pass(impl_->scene, rays, shadow, result.data(), nullptr);
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
 void EmbreeTracer::answer(const std::vector<HtRay>& rays, bool shadow, std::vector<EmbreeHit>& hits,
@@ -134,7 +133,8 @@ EmbreeTracer::EmbreeTracer(const Strands&) {
 }
 EmbreeTracer::~EmbreeTracer() = default;
 double EmbreeTracer::build_ms() const { return 0; }
-double EmbreeTracer::trace(const std::vector<HtRay>&, bool, int, size_t*) { return 0; }
+size_t EmbreeTracer::warm_up(const std::vector<HtRay>&, bool) { return 0; }
+double EmbreeTracer::pass_ms(const std::vector<HtRay>&, bool) { return 0; }
 void EmbreeTracer::answer(const std::vector<HtRay>&, bool, std::vector<EmbreeHit>&, std::vector<uint32_t>&) {}
 
 #endif
