@@ -353,8 +353,8 @@ nlohmann::json measure_ray_set(DeviceTracer& tracer, const SceneGeometry& geo, c
     // Timed passes of the tracer as set up: warm-up done above (the correctness pass); median of reps.
     // With Embree, each pass is paired with one of Embree's on the same rays, which of the two runs
     // first alternating, and the ratio reported is the median of the pairs' ratios (median.h
-    // paired_speedup): this machine's speed drifts by 10-20 % between blocks of passes
-    // (docs/PERFORMANCE.md section 1), and a pair's two passes share the drift.
+    // paired_speedup): a shared machine's speed drifts between blocks of passes, and a pair's two
+    // passes share the drift (docs/PERFORMANCE.md section 1 "Ratios to Embree from paired passes").
     size_t embree_count = 0;
     if (embree) embree_count = embree->warm_up(s.rays, s.shadow);
     const auto timed = [&](std::vector<double>& times, std::vector<double>& cpu, std::vector<double>& embree_times) {
