@@ -75,6 +75,19 @@ unsigned long long max_alloc_cap() {
 // also carries.  Set before the first OpenCL call, when PoCL reads it; a user's value is kept.
 void configure_pocl() { ::setenv("POCL_WORK_GROUP_SPECIALIZATION", "0", 0); }
 
+// PoCL's settings that change the machine code a cached binary carries (it carries every kernel's
+// compiled work-group function, above): the work-group method (loopvec, loops, cbs) and extra build
+// flags.  They enter the cache key, so that a binary compiled under one is not loaded under another
+// (tests/render/program_build_test.cpp).
+std::string pocl_code_settings() {
+    std::string text;
+    for (const char* name : {"POCL_WORK_GROUP_METHOD", "POCL_EXTRA_BUILD_FLAGS"}) {
+        const char* value = std::getenv(name);
+        if (value && *value) text += std::string("\n") + name + "=" + value;
+    }
+    return text;
+}
+
 std::vector<Found> enumerate() {
     configure_pocl();
     std::vector<cl::Platform> platforms;
@@ -198,7 +211,7 @@ ProgramBuild ClContext::compile(const std::string& main_file, const std::string&
     const std::string options = options_read_by(source, requested_options);
     const std::string key_text = source + "\n--options " + options + "\n--device " + info_.name +
                                  "\n--driver " + info_.driver + "\n--platform " +
-                                 info_.platform_version;
+                                 info_.platform_version + pocl_code_settings();
     std::string dir = cache_dir();  // compiled programs: one file per key
     fs::path bin_path;
     if (dir != "off") bin_path = fs::path(dir) / (hex64(fnv1a(key_text)) + ".bin");

@@ -62,4 +62,20 @@ TEST(ProgramBuild, ImageFromTheBinaryCacheWithAnEmptyPoclCacheHasTheSameBits) {
     EXPECT_EQ(image(d / "a.exr"), image(d / "b.exr"));
 }
 
+// The binary carries the compiled work-group functions, so PoCL runs them as they are: a binary
+// compiled under one work-group method must not be loaded by a process asking for another
+// (host/cl/device.cpp pocl_code_settings).
+TEST(ProgramBuild, ABinaryCompiledUnderAnotherPoclWorkGroupMethodIsNotLoaded) {
+    TempDir d("ht_progmethod_");
+    const std::string render = kBin + " render 'builtin:strand?hairs=40&segments=8' --width 16 --height 16 --spp 1 "
+                                      "--max-depth 2 --verbose -o " + (d / "x.exr");
+    const std::string env = "HAIRTRACE_CACHE_DIR=" + (d / "ht") + " POCL_CACHE_DIR=" + (d / "pocl") + " POCL_WORK_GROUP_METHOD=";
+    ASSERT_EQ(run(env + "loopvec " + render + " 2>" + (d / "a.txt")), 0);
+    ASSERT_EQ(run(env + "loops " + render + " 2>" + (d / "b.txt")), 0);
+    ASSERT_EQ(run(env + "loops " + render + " 2>" + (d / "c.txt")), 0);
+    EXPECT_EQ(slurp(d / "a.txt").find("(cached)"), std::string::npos) << slurp(d / "a.txt");
+    EXPECT_EQ(slurp(d / "b.txt").find("(cached)"), std::string::npos) << slurp(d / "b.txt");
+    EXPECT_NE(slurp(d / "c.txt").find("(cached)"), std::string::npos) << slurp(d / "c.txt");
+}
+
 }  // namespace
