@@ -331,11 +331,15 @@ nlohmann::json measure_ray_set(DeviceTracer& tracer, const SceneGeometry& geo, c
     if (s.reference)
         agree("embree", "stored answers",
               s.shadow ? compare_occ(occ, s.reference->occluded) : compare(geo, hits, s.reference->hits));
+    // Embree's answers, checked here, are also its warm-up pass before the timed ones below
+    size_t embree_count = 0;  // its hits or occluded rays
     if (embree) {
         std::vector<EmbreeHit> eh;
         std::vector<uint32_t> eo;
         embree->answer(s.rays, s.shadow, eh, eo);
         agree("embree_same_process", "Embree (same process)", s.shadow ? compare_occ(occ, eo) : compare(geo, hits, eh));
+        embree_count = s.shadow ? size_t(std::count(eo.begin(), eo.end(), 1u))
+                                : size_t(std::count_if(eh.begin(), eh.end(), [](const EmbreeHit& h) { return h.prim != kEmbreeNoPrim; }));
     }
     if (!answers_dir.empty() && s.reference) {
         // the file with these answers (the tree's from the root) in place of its stored ones
@@ -355,8 +359,6 @@ nlohmann::json measure_ray_set(DeviceTracer& tracer, const SceneGeometry& geo, c
     // first alternating, and the ratio reported is the median of the pairs' ratios (median.h
     // paired_speedup): a shared machine's speed drifts between blocks of passes, and a pair's two
     // passes share the drift (docs/PERFORMANCE.md section 1 "Ratios to Embree from paired passes").
-    size_t embree_count = 0;
-    if (embree) embree_count = embree->warm_up(s.rays, s.shadow);
     const auto timed = [&](std::vector<double>& times, std::vector<double>& cpu, std::vector<double>& embree_times) {
         for (int k = 0; k < reps; ++k) {
             const bool embree_first = k % 2 == 0;
@@ -383,11 +385,12 @@ nlohmann::json measure_ray_set(DeviceTracer& tracer, const SceneGeometry& geo, c
     jr["mrays_per_cpu_s"] = mrays_cpu;
     jr["pass_ms"] = times;
     jr["pass_cpu_ms"] = cpu;
-    const double embree_mrays = rate(median(embree_times));
+    const double embree_ms = median(embree_times), embree_mrays = rate(embree_ms);
+    const double tree_ratio = paired_speedup(embree_times, times);
     if (embree) {
-        jr["embree_in_process"] = {{"median_ms", median(embree_times)}, {"mrays_per_s", embree_mrays},
+        jr["embree_in_process"] = {{"median_ms", embree_ms}, {"mrays_per_s", embree_mrays},
                                    {s.shadow ? "occluded" : "hits", embree_count}, {"pass_ms", embree_times},
-                                   {"ratio", paired_speedup(embree_times, times)}};
+                                   {"ratio", tree_ratio}};
     }
     // Another traversal of the same rays (set up by `use`), checked against the root's answers
     // bit for bit (or MISMATCH), then timed as above: its JSON and report line.
@@ -515,8 +518,7 @@ nlohmann::json measure_ray_set(DeviceTracer& tracer, const SceneGeometry& geo, c
                     jr["first_ms"].get<double>(), mrays_cpu);
         if (embree)
             std::printf("    Embree (same process, same rays): %.2f Mrays/s, %s %zu; hairtrace/Embree = %.2f\n",
-                        embree_mrays, s.shadow ? "occluded" : "hits", embree_count,
-                        paired_speedup(embree_times, times));
+                        embree_mrays, s.shadow ? "occluded" : "hits", embree_count, tree_ratio);
         if (!starts_line.empty()) std::printf("%s\n", starts_line.c_str());
         if (!grid_line.empty()) std::printf("%s\n", grid_line.c_str());
         if (!camera_line.empty()) std::printf("%s\n", camera_line.c_str());

@@ -102,12 +102,6 @@ void embree_pass(RTCScene scene, const std::vector<HtRay>& rays, bool shadow, un
 }
 }  // namespace
 
-size_t EmbreeTracer::warm_up(const std::vector<HtRay>& rays, bool shadow) {
-    std::vector<unsigned char> result(rays.size());
-    embree_pass(impl_->scene, rays, shadow, result.data(), nullptr);
-    return size_t(std::count(result.begin(), result.end(), 1));
-}
-
 double EmbreeTracer::pass_ms(const std::vector<HtRay>& rays, bool shadow) {
     std::vector<unsigned char> result(rays.size());
     const auto t0 = std::chrono::steady_clock::now();
@@ -133,7 +127,6 @@ EmbreeTracer::EmbreeTracer(const Strands&) {
 }
 EmbreeTracer::~EmbreeTracer() = default;
 double EmbreeTracer::build_ms() const { return 0; }
-size_t EmbreeTracer::warm_up(const std::vector<HtRay>&, bool) { return 0; }
 double EmbreeTracer::pass_ms(const std::vector<HtRay>&, bool) { return 0; }
 void EmbreeTracer::answer(const std::vector<HtRay>&, bool, std::vector<EmbreeHit>&, std::vector<uint32_t>&) {}
 

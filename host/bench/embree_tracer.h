@@ -25,10 +25,8 @@ public:
     EmbreeTracer& operator=(const EmbreeTracer&) = delete;
 
     double build_ms() const;
-    // One pass over every ray on 2 threads (4096-ray chunks), untimed, before the timed ones: the
-    // hits (closest) or occluded rays (shadow) it found.
-    size_t warm_up(const std::vector<HtRay>& rays, bool shadow);
-    // One timed pass as warm_up's: its milliseconds (the bench pairs each with one of its own).
+    // One timed pass over every ray on 2 threads (4096-ray chunks): its milliseconds (the bench
+    // pairs each with one of its own; answer() below is its warm-up).
     double pass_ms(const std::vector<HtRay>& rays, bool shadow);
     // One pass keeping every answer, to check another tracer ray by ray: closest hits in the
     // anchor's record (t, primID, u, v, Ng; misses t = inf, primID = ~0) or occlusion flags.
