@@ -297,9 +297,11 @@ struct DBox {
 
 // Sum of d d^T over a range's capsules (d = segment vector) and its triangle count: additive, so
 // a node's is the sum of its children's (Flattener::moments_of) and each reference is read once.
+// Trivial, so that the per-node array (Flattener::moments_of) is not zero-filled before it is
+// written: value-initialise (Moments{}) where a sum starts.
 struct Moments {
-    double m[3][3] = {};
-    uint32_t triangles = 0;
+    double m[3][3];
+    uint32_t triangles;
     void add(const Moments& o) {
         for (int j = 0; j < 3; ++j)
             for (int k = 0; k < 3; ++k) m[j][k] += o.m[j][k];
@@ -315,7 +317,7 @@ struct Moments {
 };
 
 Moments range_moments(const BulkVector<RefEnds>& ends, uint32_t b, uint32_t e) {
-    Moments mo;
+    Moments mo{};
     for (uint32_t i = b; i < e; ++i) {
         const RefEnds& q = ends[i];
         if (q.triangle()) {
@@ -653,7 +655,7 @@ private:
         const uint32_t n = e - b;
         // The frame from at most 511 references spread evenly over the range: a direction is all
         // it needs, and reading every reference's end points twice cost a quarter of the build.
-        Moments mo;
+        Moments mo{};
         const uint32_t stride = std::max(1u, n / 256);
         for (uint32_t i = b; i < e; i += stride) mo.add_segment(ends_[i].a, ends_[i].b);
         Frame f;
@@ -848,6 +850,42 @@ private:
 // Capsules only (a range with a triangle is never oriented).
 DBox frame_box(const BulkVector<RefEnds>& ends, uint32_t b, uint32_t e, const Frame& f, uint32_t stride = 1) {
     DBox box;
+#if defined(__SSE2__)
+    // A capsule's two end points in the two double lanes: each lane's products and sums in the
+    // scalar loop's order (the same coordinates bit for bit), the running bounds kept per lane and
+    // joined at the end.  A minimum or maximum taken in another order could differ only in the sign
+    // of a zero, and x - r and x + r are never -0 (r > 0; an exact zero of a sum is +0).  Half the
+    // instructions of the scalar loop, which was most of the flattening's time on straight.hair
+    // (host/bvh/NOTES.md "Build time: the oriented boxes in two lanes").
+    __m128d c[3], row[3][3], lo[3], hi[3];
+    for (int k = 0; k < 3; ++k) {
+        c[k] = _mm_set1_pd(f.c[k]);
+        for (int j = 0; j < 3; ++j) row[j][k] = _mm_set1_pd(f.row[j][k]);
+        lo[k] = _mm_set1_pd(INFINITY);
+        hi[k] = _mm_set1_pd(-INFINITY);
+    }
+    for (uint32_t i = b; i < e; i += stride) {
+        const RefEnds& q = ends[i];
+        const __m128 pa = _mm_load_ps(q.a), pb = _mm_load_ps(q.b);
+        const __m128 ab01 = _mm_unpacklo_ps(pa, pb), ab23 = _mm_unpackhi_ps(pa, pb);  // a0 b0 a1 b1, a2 b2 r_a r_b
+        const __m128d p[3] = {_mm_sub_pd(_mm_cvtps_pd(ab01), c[0]), _mm_sub_pd(_mm_cvtps_pd(_mm_movehl_ps(ab01, ab01)), c[1]),
+                              _mm_sub_pd(_mm_cvtps_pd(ab23), c[2])};
+        const __m128d r = _mm_set1_pd(q.radius());
+        for (int j = 0; j < 3; ++j) {
+            const __m128d x = _mm_add_pd(_mm_add_pd(_mm_mul_pd(row[j][0], p[0]), _mm_mul_pd(row[j][1], p[1])),
+                                         _mm_mul_pd(row[j][2], p[2]));
+            lo[j] = _mm_min_pd(_mm_sub_pd(x, r), lo[j]);  // std::min(lo, x - r)
+            hi[j] = _mm_max_pd(_mm_add_pd(x, r), hi[j]);  // std::max(hi, x + r)
+        }
+    }
+    for (int j = 0; j < 3; ++j) {
+        alignas(16) double l[2], h[2];
+        _mm_store_pd(l, lo[j]);
+        _mm_store_pd(h, hi[j]);
+        box.lo[j] = std::min(l[0], l[1]);
+        box.hi[j] = std::max(h[0], h[1]);
+    }
+#else
     for (uint32_t i = b; i < e; i += stride) {
         const RefEnds& q = ends[i];
         const double r = q.radius();
@@ -860,6 +898,7 @@ DBox frame_box(const BulkVector<RefEnds>& ends, uint32_t b, uint32_t e, const Fr
             }
         }
     }
+#endif
     return box;
 }
 
@@ -1116,16 +1155,28 @@ struct Flattener {
         return orient ? me | HT_NODE_ORIENTED : me;
     }
 
-    // Fills out[id] with the moments of intermediate node id's references, bottom-up.
+    // Fills out[id] with the moments of intermediate node id's references, bottom-up; with two
+    // threads or more, the root's second subtree on a thread of its own (the same sums in the same
+    // order: the serial pass was ~1.4 ms of straight.hair's build, host/bvh/NOTES.md "Build time:
+    // the oriented boxes in two lanes").
     static const Moments& moments_of(const BNode* in, const BulkVector<RefEnds>& ends, uint32_t id,
-                                     BulkVector<Moments>& out) {
+                                     BulkVector<Moments>& out, unsigned threads = 1) {
         const BNode& bn = in[id];
-        Moments mo;
+        const bool inner[2] = {bn.count[0] == 0 && bn.child[0] != 0, bn.count[1] == 0 && bn.child[1] != 0};
+        std::thread second;
+        if (threads > 1 && inner[0] && inner[1]) second = std::thread([&] { moments_of(in, ends, bn.child[1], out); });
+        Moments mo{};
         for (int s = 0; s < 2; ++s) {
-            if (bn.count[s] > 0)
+            if (bn.count[s] > 0) {
                 mo.add(range_moments(ends, bn.child[s], bn.child[s] + bn.count[s]));
-            else if (bn.child[s] != 0)
-                mo.add(moments_of(in, ends, bn.child[s], out));
+            } else if (inner[s]) {
+                if (s == 0 || !second.joinable()) {
+                    mo.add(moments_of(in, ends, bn.child[s], out));
+                } else {
+                    second.join();
+                    mo.add(out[bn.child[s]]);
+                }
+            }
         }
         return out[id] = mo;
     }
@@ -1172,7 +1223,21 @@ void add_refs(BulkVector<Ref>& refs, uint32_t seg, const float* p0, const float*
     refs.push_back(ref);
 }
 
+// fn(b, e) over [0, n) in one contiguous range per thread, the calling thread taking the first:
+// for the build's passes that write each element once (a range's pages are faulted in by the
+// thread that fills them).  Small passes stay on the calling thread.
+template <class Fn>
+void for_ranges(size_t n, unsigned threads, const Fn& fn) {
+    constexpr size_t kMinPerThread = 16384;
+    const size_t t = std::max<size_t>(1, std::min<size_t>(threads, n / kMinPerThread));
+    std::vector<std::thread> pool;
+    for (size_t k = 1; k < t; ++k) pool.emplace_back([&fn, n, t, k] { fn(n * k / t, n * (k + 1) / t); });
+    fn(0, n / t);
+    for (std::thread& th : pool) th.join();
+}
+
 void build_bvh_from(const BulkVector<HtSegment>& base, SceneGeometry& geo, const BvhOptions& opt) {
+    const unsigned threads = opt.threads ? opt.threads : std::max(1u, std::thread::hardware_concurrency());
     BulkVector<Ref> refs;
     refs.reserve(base.size());
     for (uint32_t i = 0; i < base.size(); ++i) {
@@ -1199,16 +1264,18 @@ void build_bvh_from(const BulkVector<HtSegment>& base, SceneGeometry& geo, const
     BulkVector<RefEnds> ends;
     if (opt.obb_ratio > 0) {
         ends.resize(refs.size());
-        for (size_t i = 0; i < refs.size(); ++i) {
-            const HtSegment& s = base[refs[i].seg()];
-            if (ht_seg_flags(s) & HT_SEG_TRIANGLE) {
-                ends[i] = RefEnds{{0.0f, 0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f, -1.0f}};
-                continue;
+        for_ranges(refs.size(), threads, [&](size_t b, size_t e) {
+            for (size_t i = b; i < e; ++i) {
+                const HtSegment& s = base[refs[i].seg()];
+                if (ht_seg_flags(s) & HT_SEG_TRIANGLE) {
+                    ends[i] = RefEnds{{0.0f, 0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f, -1.0f}};
+                    continue;
+                }
+                const HtPoint& a = geo.points[s.point];
+                const HtPoint& b = geo.points[s.point + 1];
+                ends[i] = RefEnds{{a.x, a.y, a.z, a.r}, {b.x, b.y, b.z, b.r}};
             }
-            const HtPoint& a = geo.points[s.point];
-            const HtPoint& b = geo.points[s.point + 1];
-            ends[i] = RefEnds{{a.x, a.y, a.z, a.r}, {b.x, b.y, b.z, b.r}};
-        }
+        });
     }
 
     // Oriented splits: hair only, a triangle has no direction to bin along.
@@ -1227,10 +1294,9 @@ void build_bvh_from(const BulkVector<HtSegment>& base, SceneGeometry& geo, const
     BulkVector<Moments> moments;
     if (opt.obb_ratio > 0) {
         moments.resize(builder.used());
-        Flattener::moments_of(builder.nodes(), ends, root, moments);
+        Flattener::moments_of(builder.nodes(), ends, root, moments, threads);
     }
-    Flattener fl{builder.nodes(), geo.nodes.data(), 0, (uint32_t)records, opt, ends, moments,
-                 opt.threads ? opt.threads : std::max(1u, std::thread::hardware_concurrency())};
+    Flattener fl{builder.nodes(), geo.nodes.data(), 0, (uint32_t)records, opt, ends, moments, threads};
     Box rb = builder.nodes()[root].box[0];
     rb.grow(builder.nodes()[root].box[1]);
     fl.root_area = std::max(rb.half_area(), 1e-30);
@@ -1238,8 +1304,10 @@ void build_bvh_from(const BulkVector<HtSegment>& base, SceneGeometry& geo, const
     geo.nodes.resize(fl.next);
 
     geo.segments.clear();
-    geo.segments.reserve(refs.size());
-    for (const Ref& ref : refs) geo.segments.push_back(base[ref.seg()]);
+    geo.segments.resize(refs.size());
+    for_ranges(refs.size(), threads, [&](size_t b, size_t e) {
+        for (size_t i = b; i < e; ++i) geo.segments[i] = base[refs[i].seg()];
+    });
 
     BvhStats& st = geo.stats;
     st.nodes = geo.nodes.size();
