@@ -854,9 +854,10 @@ DBox frame_box(const BulkVector<RefEnds>& ends, uint32_t b, uint32_t e, const Fr
     // A capsule's two end points in the two double lanes: each lane's products and sums in the
     // scalar loop's order (the same coordinates bit for bit), the running bounds kept per lane and
     // joined at the end.  A minimum or maximum taken in another order could differ only in the sign
-    // of a zero, and x - r and x + r are never -0 (r > 0; an exact zero of a sum is +0).  Half the
-    // instructions of the scalar loop, which was most of the flattening's time on straight.hair
-    // (host/bvh/NOTES.md "Build time: the oriented boxes in two lanes").
+    // of a zero, and x - r and x + r are never -0 (r > 0; an exact zero of a sum is +0).  Each
+    // operation serves both end points (the scalar loop was inlined into Flattener::visit, whose own
+    // samples were 11 % of straight.hair's build: host/bvh/NOTES.md "Build time: the oriented boxes
+    // in two lanes").
     __m128d c[3], row[3][3], lo[3], hi[3];
     for (int k = 0; k < 3; ++k) {
         c[k] = _mm_set1_pd(f.c[k]);
