@@ -36,6 +36,15 @@ static_assert((HT_BVH_WIDTH - 1) * (ht::kMaxBvhDepth / kCollapseLevels + 1) + 1 
 namespace ht {
 namespace {
 
+// The build's threads (BvhOptions::threads, 0 = one per hardware thread).
+unsigned build_threads(const BvhOptions& opt) {
+    return opt.threads ? opt.threads : std::max(1u, std::thread::hardware_concurrency());
+}
+
+// Below this many elements a thread, a pass of the build stays on the calling thread, so that small
+// scenes start no threads for it (for_ranges, Flattener::moments_of; a threshold chosen, not tuned).
+constexpr size_t kMinPerThread = 16384;
+
 // The build's arrays (points, segment records, references, intermediate nodes: ~30 MB for 250k
 // segments) are written once into fresh memory, and on this project's KVM guests a first touch of
 // a 4 KiB page costs ~10 us (8 MiB: 20 ms), so page faults were about half of the build
@@ -414,8 +423,7 @@ public:
           lanes_((uint32_t)std::max(1, opt.leaf_lanes)), lane_shift_(-1) {
         for (int k = 0; k < 31; ++k)
             if (lanes_ == 1u << k) lane_shift_ = k;
-        unsigned t = opt.threads ? opt.threads : std::max(1u, std::thread::hardware_concurrency());
-        tokens_ = (int)t - 1;
+        tokens_ = (int)build_threads(opt) - 1;
         // A binary tree over n references has at most n - 1 inner nodes (+1 for a leaf root).
         // Left uninitialised (place() constructs each node): a build uses about n / 5 of them
         // (leaves hold up to max_leaf references), and pages never written are never faulted
@@ -1157,9 +1165,9 @@ struct Flattener {
     }
 
     // Fills out[id] with the moments of intermediate node id's references, bottom-up; with two
-    // threads or more, the root's second subtree on a thread of its own (the same sums in the same
-    // order: the serial pass was ~1.4 ms of straight.hair's build, host/bvh/NOTES.md "Build time:
-    // the oriented boxes in two lanes").
+    // threads or more (the build passes one for small trees), the root's second subtree on a thread
+    // of its own (the same sums in the same order: the serial pass was ~1.4 ms of straight.hair's
+    // build, host/bvh/NOTES.md "Build time: the oriented boxes in two lanes").
     static const Moments& moments_of(const BNode* in, const BulkVector<RefEnds>& ends, uint32_t id,
                                      BulkVector<Moments>& out, unsigned threads = 1) {
         const BNode& bn = in[id];
@@ -1170,13 +1178,11 @@ struct Flattener {
         for (int s = 0; s < 2; ++s) {
             if (bn.count[s] > 0) {
                 mo.add(range_moments(ends, bn.child[s], bn.child[s] + bn.count[s]));
+            } else if (s == 1 && second.joinable()) {
+                second.join();
+                mo.add(out[bn.child[1]]);
             } else if (inner[s]) {
-                if (s == 0 || !second.joinable()) {
-                    mo.add(moments_of(in, ends, bn.child[s], out));
-                } else {
-                    second.join();
-                    mo.add(out[bn.child[s]]);
-                }
+                mo.add(moments_of(in, ends, bn.child[s], out));
             }
         }
         return out[id] = mo;
@@ -1226,10 +1232,9 @@ void add_refs(BulkVector<Ref>& refs, uint32_t seg, const float* p0, const float*
 
 // fn(b, e) over [0, n) in one contiguous range per thread, the calling thread taking the first:
 // for the build's passes that write each element once (a range's pages are faulted in by the
-// thread that fills them).  Small passes stay on the calling thread.
+// thread that fills them).  Small passes stay on the calling thread (kMinPerThread).
 template <class Fn>
 void for_ranges(size_t n, unsigned threads, const Fn& fn) {
-    constexpr size_t kMinPerThread = 16384;
     const size_t t = std::max<size_t>(1, std::min<size_t>(threads, n / kMinPerThread));
     std::vector<std::thread> pool;
     for (size_t k = 1; k < t; ++k) pool.emplace_back([&fn, n, t, k] { fn(n * k / t, n * (k + 1) / t); });
@@ -1238,7 +1243,7 @@ void for_ranges(size_t n, unsigned threads, const Fn& fn) {
 }
 
 void build_bvh_from(const BulkVector<HtSegment>& base, SceneGeometry& geo, const BvhOptions& opt) {
-    const unsigned threads = opt.threads ? opt.threads : std::max(1u, std::thread::hardware_concurrency());
+    const unsigned threads = build_threads(opt);
     BulkVector<Ref> refs;
     refs.reserve(base.size());
     for (uint32_t i = 0; i < base.size(); ++i) {
@@ -1295,7 +1300,7 @@ void build_bvh_from(const BulkVector<HtSegment>& base, SceneGeometry& geo, const
     BulkVector<Moments> moments;
     if (opt.obb_ratio > 0) {
         moments.resize(builder.used());
-        Flattener::moments_of(builder.nodes(), ends, root, moments, threads);
+        Flattener::moments_of(builder.nodes(), ends, root, moments, refs.size() >= 2 * kMinPerThread ? threads : 1);
     }
     Flattener fl{builder.nodes(), geo.nodes.data(), 0, (uint32_t)records, opt, ends, moments, threads};
     Box rb = builder.nodes()[root].box[0];
