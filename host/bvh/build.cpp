@@ -1,6 +1,7 @@
 // Binned-SAH BVH over capsule segments, built with a few std::threads and flattened depth-first
 // into HtBvhNode ("SoA in node": each node holds both children's boxes).
 #include "bvh/bvh.h"
+#include "core/parallel.h"
 
 #include <algorithm>
 #include <atomic>
@@ -1230,16 +1231,12 @@ void add_refs(BulkVector<Ref>& refs, uint32_t seg, const float* p0, const float*
     refs.push_back(ref);
 }
 
-// fn(b, e) over [0, n) in one contiguous range per thread, the calling thread taking the first:
-// for the build's passes that write each element once (a range's pages are faulted in by the
-// thread that fills them).  Small passes stay on the calling thread (kMinPerThread).
+// fn(b, e) over [0, n) on up to `threads` threads (core/parallel.h), small passes on the calling
+// thread alone (kMinPerThread).
 template <class Fn>
 void for_ranges(size_t n, unsigned threads, const Fn& fn) {
-    const size_t t = std::max<size_t>(1, std::min<size_t>(threads, n / kMinPerThread));
-    std::vector<std::thread> pool;
-    for (size_t k = 1; k < t; ++k) pool.emplace_back([&fn, n, t, k] { fn(n * k / t, n * (k + 1) / t); });
-    fn(0, n / t);
-    for (std::thread& th : pool) th.join();
+    const size_t t = std::min<size_t>(threads, n / kMinPerThread);
+    in_parallel(n, int(t), [&](int, size_t b, size_t e) { fn(b, e); });
 }
 
 void build_bvh_from(const BulkVector<HtSegment>& base, SceneGeometry& geo, const BvhOptions& opt) {

@@ -9,6 +9,7 @@
 
 #include "bvh/bvh.h"
 #include "core/bulk_vector.h"
+#include "core/parallel.h"
 #include "kernels/types.h"
 
 #include <atomic>
@@ -105,11 +106,7 @@ int host_threads();
 void set_host_threads(int threads);
 template <typename Body>
 void in_parallel(size_t n, const Body& body) {
-    const int threads = host_threads();
-    std::vector<std::thread> pool;
-    for (int t = 0; t < threads; ++t)
-        pool.emplace_back([&, t] { body(t, n * size_t(t) / size_t(threads), n * size_t(t + 1) / size_t(threads)); });
-    for (std::thread& th : pool) th.join();
+    in_parallel(n, host_threads(), body);
 }
 // body(thread, item) for every item of [0, n), each taken by whichever thread is free: for items
 // of unequal work (the lists' bands, whose rows may hold most of the geometry or none).  The
