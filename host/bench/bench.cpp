@@ -438,7 +438,8 @@ nlohmann::json measure_ray_set(DeviceTracer& tracer, const SceneGeometry& geo, c
         return line;
     };
     // The render's own traversals of these rays: the tree from the node each ray's traversal started
-    // at in the render (bvh/start_nodes.h), and the path rays' grid (render/path_grid.h).
+    // at in the render (bvh/start_nodes.h), and the path rays' grid (render/path_grid.h), which the
+    // render's shadow stage walks too.
     std::string starts_line, grid_line, lists_line;
     if (!s.starts.empty()) {
         size_t started = 0;
@@ -449,7 +450,7 @@ nlohmann::json measure_ray_set(DeviceTracer& tracer, const SceneGeometry& geo, c
                                   [&] { tracer.set_starts(s.starts); });
         jr["from_start_nodes"]["rays_not_from_root"] = started;
     }
-    if (with_grid && !s.shadow)
+    if (with_grid)
         grid_line = alternative("by_path_grid", "by the path rays' grid (" + std::to_string(s.rays.size()) + " rays",
                                 [&] { tracer.use_path_grid(); });
     // the render's camera stage with the per-pixel lists of a camera at the rays' common origin
@@ -598,7 +599,7 @@ void declare_bench_options(ArgParser& p) {
     p.group("scenes")
         .path("--hair", "FILE.hair", "a Cem Yuksel .hair file to measure", PathKind::Input, "", true)
         .option("--scene", "SCENE", "a scene to measure (file or builtin:NAME; default: builtin:strand builtin:ball)", "", true)
-        .path("--rays", "FILE.rays", "a ray set (the Embree anchor's format) for the scene named before it; without any, <stem>.{primary,incoherent,shadow}.rays beside a .hair file are used if present, else rays are generated from a framing camera; every hit is checked against the file's stored answers before any rate is printed; a closest-hit set's X.starts beside it (written by render --dump-rays) also times the rays from the nodes the render started them at, and on a hair-only scene every closest-hit set is also timed by the render's path-ray grid (render --path-rays grid: the renderer's own kernel and grid, whose size and build time are printed), each with the root's answers checked ray by ray; a closest-hit set whose rays all leave one point (a camera's, as the anchor's primary set) is also traced by the render's camera stage with the per-pixel lists (render --camera-rays lists) of a camera there fitted to the rays (its axis their mean direction, one pixel per ray); every shadow set is also answered by the render's shadow lists (render --shadow-rays lists) of the lights its rays run to (a direction 1 % of them share bit for bit: a directional light; the point where the rest's lines meet, when most of them run to it: a point light; bench/ray_sources.h), their entries, bytes per segment and making time printed, the tree's answers checked ray by ray", PathKind::Input, "", true);
+        .path("--rays", "FILE.rays", "a ray set (the Embree anchor's format) for the scene named before it; without any, <stem>.{primary,incoherent,shadow}.rays beside a .hair file are used if present, else rays are generated from a framing camera; every hit is checked against the file's stored answers before any rate is printed; a closest-hit set's X.starts beside it (written by render --dump-rays) also times the rays from the nodes the render started them at, and on a hair-only scene every set is also timed by the render's path-ray grid (render --path-rays grid: the renderer's own kernels and grid, whose size and build time are printed; a shadow set as the render's shadow stage walks it when it has no lists), each with the root's answers checked ray by ray; a closest-hit set whose rays all leave one point (a camera's, as the anchor's primary set) is also traced by the render's camera stage with the per-pixel lists (render --camera-rays lists) of a camera there fitted to the rays (its axis their mean direction, one pixel per ray); every shadow set is also answered by the render's shadow lists (render --shadow-rays lists) of the lights its rays run to (a direction 1 % of them share bit for bit: a directional light; the point where the rest's lines meet, when most of them run to it: a point light; bench/ray_sources.h), their entries, bytes per segment and making time printed, the tree's answers checked ray by ray", PathKind::Input, "", true);
     p.group("measurement")
         .option("--res", "N", "generated primary rays: N x N (rounded down to a multiple of 4)", "1024")
         .option("--reps", "N", "timed passes per case, median reported", "5")

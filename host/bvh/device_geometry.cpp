@@ -122,7 +122,10 @@ DeviceTracer::DeviceTracer(ClContext& cl, const DeviceGeometry& geo, const std::
         closest_ = cl::Kernel(program_, "intersect_closest");
         closest_from_ = cl::Kernel(program_, "intersect_closest_from");
         closest_grid_ = cl::Kernel(program_, "intersect_closest_paths");
-        shadow_ = cl::Kernel(program_, "intersect_shadow");
+        // the tree's any hit; with the grid compiled in, intersect_shadow walks the grid
+        const bool grid = options_.find("HT_FEATURE_PATH_GRID=1") != std::string::npos;
+        shadow_ = cl::Kernel(program_, grid ? "intersect_shadow_tree" : "intersect_shadow");
+        if (grid) shadow_grid_ = cl::Kernel(program_, "intersect_shadow");
     });
 }
 
@@ -274,6 +277,11 @@ void DeviceTracer::enqueue_closest() {
     }
 }
 void DeviceTracer::enqueue_shadow() {
+    // the render's stage by the grid (none in a program built with HT_FEATURE_PATH_GRID=0: the tree)
+    if (!shadow_by_lists_ && closest_mode_ == Closest::Grid && shadow_grid_()) {
+        enqueue(shadow_grid_, occluded_, [&](cl::Kernel& k, cl_uint a) { set_args(k, a, grid_cells_, grid_entries_, grid_); });
+        return;
+    }
     if (!shadow_by_lists_) {
         enqueue(shadow_, occluded_);
         return;

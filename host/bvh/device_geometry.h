@@ -79,7 +79,8 @@ public:
     void set_starts(const std::vector<uint32_t>& starts);
     // The path rays' grid (render/path_grid.h: its cell starts, entries and cells): from then on,
     // until set_rays or use_tree, enqueue_closest traces the uploaded rays by it (the renderer's own
-    // intersect_closest_paths with HT_FEATURE_PATH_GRID) instead of the tree.
+    // intersect_closest_paths with HT_FEATURE_PATH_GRID) instead of the tree, and enqueue_shadow,
+    // without shadow lists, answers them by it (the renderer's intersect_shadow with the feature).
     void set_path_grid(const BulkVector<uint32_t>& cell_start, const BulkVector<uint32_t>& entries,
                        const HtPathGrid& grid);
     void use_path_grid();
@@ -118,7 +119,7 @@ private:
     ClContext& cl_;
     const DeviceGeometry& geo_;
     cl::Program program_, lists_program_;  // the list stages' program: built on first use
-    cl::Kernel closest_, closest_from_, closest_grid_, shadow_, shadow_lists_, camera_;
+    cl::Kernel closest_, closest_from_, closest_grid_, shadow_, shadow_grid_, shadow_lists_, camera_;
     cl::Buffer camera_start_, camera_count_, camera_primitive_, camera_depth_, camera_leaf_node_, camera_paths_,
         camera_ray_path_;
     cl_float4 camera_depth_row_{};

@@ -761,6 +761,11 @@ struct Renderer::Impl {
         k.setArg(a++, rays);
         k.setArg(a++, occluded);
         k.setArg(a++, count);
+        if (!use_lists && features[Feature::PATH_GRID]) {  // intersect_shadow.cl walks the grid
+            k.setArg(a++, path_grid.cells);
+            k.setArg(a++, path_grid.entries);
+            k.setArg(a++, path_grid.grid);
+        }
         if (use_lists) {
             k.setArg(a++, shadow_lists.grid_count);
             k.setArg(a++, shadow_lists.grids);

@@ -1,15 +1,15 @@
-/* Closest hits of path rays from a uniform grid of capsule lists (kernels/types.h HtPathGrid; the
- * host's builder and the reasons are in host/render/path_grid.h).  A ray walks the cells it crosses
- * from its origin on (a 3-D DDA, Amanatides & Woo), gathers the capsules its cells list and tests
- * them eight at a time with the BVH leaves' own test (bvh_traverse.h ht_intersect_ids), and stops
- * after the first cell whose far side lies beyond its closest hit.  Every capsule that meets the
- * ray before that point is listed in a cell the walk visited (the builder pads each capsule's cells
- * by more than the walk's rounding), and the order of ht_hit_precedes decides, so the answer is the
- * tree's, bit for bit.  Gathering across cells fills the groups: a cell lists 2-4 capsules where
- * the ray passes on the scenes measured, and a group of eight costs the same however few it holds;
- * capsules tested beyond the stopping cell, or twice (listed in two cells), can only add real hits,
- * and the order picks the same one among them (docs/PERFORMANCE.md section 1 "Path rays from a
- * uniform grid"). */
+/* Closest hits of path rays, and the occlusion of shadow rays, from a uniform grid of capsule lists
+ * (kernels/types.h HtPathGrid; the host's builder and the reasons are in host/render/path_grid.h).
+ * A ray walks the cells it crosses from its origin on (a 3-D DDA, Amanatides & Woo), gathers the
+ * capsules its cells list and tests them eight at a time with the BVH leaves' own test
+ * (bvh_traverse.h ht_intersect_ids), and stops after the first cell whose far side lies beyond its
+ * closest hit (a shadow ray: at its first hit).  Every capsule that meets the ray before that point
+ * is listed in a cell the walk visited (the builder pads each capsule's cells by more than the
+ * walk's rounding), and the order of ht_hit_precedes decides, so the answer is the tree's, bit for
+ * bit.  Gathering across cells fills the groups: a cell lists 2-4 capsules where the ray passes on
+ * the scenes measured, and a group of eight costs the same however few it holds; capsules tested
+ * beyond the stopping cell, or twice (listed in two cells), can only add real hits, and the order
+ * picks the same one among them (docs/PERFORMANCE.md section 1 "Path rays from a uniform grid"). */
 #ifndef HT_GEOMETRY_PATH_GRID_H
 #define HT_GEOMETRY_PATH_GRID_H
 
@@ -21,9 +21,13 @@
  * "Path rays from a uniform grid".) */
 HT_FN uint ht_path_grid_cell(HtPathGrid grid, uint x, uint y, uint z) { return (z * grid.dims[1] + y) * grid.dims[0] + x; }
 
-/* The ray's closest hit (HT_NO_HIT for none) and its distance in *t_out. */
-HT_FN uint ht_grid_closest(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_CONST_GLOBAL uint* cell_start,
-                           HT_CONST_GLOBAL uint* entries, HtPathGrid grid, HtRay ray, real* t_out) {
+/* The walk of ht_grid_closest and ht_grid_occluded below: the closest hit (HT_NO_HIT for none) and
+ * its distance in *t_out; with `any` (a constant at each call, so each caller's walk is compiled
+ * without the other's test) it returns at the first group that holds a hit in (tmin, tmax), a hit
+ * or HT_NO_HIT: the occlusion the tree's any-hit traversal finds, since every capsule that meets
+ * the ray before tmax is listed in a cell the walk reaches. */
+HT_FN uint ht_grid_walk(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_CONST_GLOBAL uint* cell_start,
+                        HT_CONST_GLOBAL uint* entries, HtPathGrid grid, HtRay ray, const int any, real* t_out) {
     real3 o, d;
     real tbest = ht_ray_start(ray, &o, &d);
     const real tmin = ray.tmin;
@@ -68,8 +72,12 @@ HT_FN uint ht_grid_closest(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_CONST_GLOBAL uint*
             for (uint e = from; e < end; ++e) {
                 pending[np++] = entries[e];
                 if (np == 8u) {
-                    ht_intersect_ids(HT_SEGS_ARG, HT_POINTS_ARG, pending, 8u, o, d, tmin, &tbest, &best);
+                    const int found = ht_intersect_ids(HT_SEGS_ARG, HT_POINTS_ARG, pending, 8u, o, d, tmin, &tbest, &best);
                     np = 0u;
+                    if (any && found) {
+                        *t_out = tbest;
+                        return best;
+                    }
                 }
             }
             /* stop where the closest hit lies before the wall (a tie at the wall may still lose to a
@@ -86,6 +94,19 @@ HT_FN uint ht_grid_closest(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_CONST_GLOBAL uint*
     }
     *t_out = tbest;
     return best;
+}
+
+/* The ray's closest hit (HT_NO_HIT for none) and its distance in *t_out. */
+HT_FN uint ht_grid_closest(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_CONST_GLOBAL uint* cell_start,
+                           HT_CONST_GLOBAL uint* entries, HtPathGrid grid, HtRay ray, real* t_out) {
+    return ht_grid_walk(HT_SEGS_ARG, HT_POINTS_ARG, cell_start, entries, grid, ray, 0, t_out);
+}
+
+/* Whether anything blocks the ray in (tmin, tmax): 1 or 0, as ht_trace_any answers. */
+HT_FN uint ht_grid_occluded(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_CONST_GLOBAL uint* cell_start,
+                            HT_CONST_GLOBAL uint* entries, HtPathGrid grid, HtRay ray) {
+    real t;
+    return ht_grid_walk(HT_SEGS_ARG, HT_POINTS_ARG, cell_start, entries, grid, ray, 1, &t) != HT_NO_HIT;
 }
 
 /* The closest hit with the fibre quantities the shading stages need (ht_closest_hit_record). */

@@ -1,7 +1,7 @@
 // The path rays' uniform grid (render/path_grid.h, kernels/geometry/path_grid.h): the walk finds the
-// tree's answer, bit for bit (the capsule, at a tie too, and its t), for rays leaving the fibres in
-// random directions as path rays do, for rays from outside the grid, along the axes and with a
-// short tmax, at cells from a tenth of a segment to one cell for the whole scene; and the builder
+// tree's answer, bit for bit (the capsule, at a tie too, and its t; as a shadow ray, its occlusion),
+// for rays leaving the fibres in random directions as path rays do, for rays from outside the grid,
+// along the axes and with a short tmax, at cells from a tenth of a segment to one cell for the whole scene; and the builder
 // lists every capsule in ascending order in every cell it may meet a ray in.
 #include <gtest/gtest.h>
 
@@ -79,7 +79,7 @@ std::vector<HtRay> test_rays(const SceneGeometry& g, uint32_t seed, size_t n) {
 void expect_tree_answers(const SceneGeometry& g, const ht::PathGrid& grid, const std::vector<HtRay>& rays,
                          const char* what) {
     ASSERT_FALSE(grid.empty()) << what;
-    size_t hits = 0, wrong = 0;
+    size_t hits = 0, wrong = 0, occluded = 0, wrong_occlusion = 0;
     for (const HtRay& r : rays) {
         real t0, t1;
         const uint32_t b0 = ht_traverse(g.nodes.data(), g.segments.data(), g.points.data(), r, 0, &t0);
@@ -87,9 +87,17 @@ void expect_tree_answers(const SceneGeometry& g, const ht::PathGrid& grid, const
                                             grid.entries.data(), grid.grid, r, &t1);
         hits += b0 != HT_NO_HIT;
         if (b1 != b0 || (b0 != HT_NO_HIT && t1 != t0)) ++wrong;
+        // as a shadow ray: the same occlusion as the tree's any-hit traversal
+        const uint32_t o0 = ht_trace_any(g.nodes.data(), g.segments.data(), g.points.data(), r);
+        const uint32_t o1 = ht_grid_occluded(g.segments.data(), g.points.data(), grid.cell_start.data(),
+                                             grid.entries.data(), grid.grid, r);
+        occluded += o0;
+        wrong_occlusion += o1 != o0;
     }
     EXPECT_EQ(wrong, 0u) << what << ": " << rays.size() << " rays";
+    EXPECT_EQ(wrong_occlusion, 0u) << what << ": " << rays.size() << " rays as shadow rays";
     EXPECT_GT(hits, rays.size() / 20) << what;  // not a test of empty space alone
+    EXPECT_EQ(occluded, hits) << what;          // a ray is blocked where it has a closest hit
 }
 
 }  // namespace
