@@ -159,10 +159,7 @@ struct Renderer::Impl {
     } shadow_lists;
     cl::Kernel k_shadow_lists;
     // The path rays' grid (render/path_grid.h), when the trace program walks it (features[PATH_GRID])
-    struct PathGridBuffers {
-        cl::Buffer cells, entries;
-        HtPathGrid grid{};
-    } path_grid;
+    PathGridBuffers path_grid;
     cl::Kernel k_compact_count, k_compact_scan, k_compact_scatter;
     cl::Kernel k_shadow_afs, k_resolve_afs, k_shadow_dual;
     cl::Kernel k_pilot_record, k_pilot_accumulate;  // --first-hit-splits auto's pilot
@@ -658,12 +655,8 @@ struct Renderer::Impl {
     // The rays of queue q, each starting its traversal at the node of its path's last hit
     // (kernels/stages/intersect_closest_paths.cl).
     void intersect_closest(int q, uint32_t count) {
-        cl_uint a = set_closest_queue_args(k_closest_paths, q, count);
-        if (features[Feature::PATH_GRID]) {
-            k_closest_paths.setArg(a++, path_grid.cells);
-            k_closest_paths.setArg(a++, path_grid.entries);
-            k_closest_paths.setArg(a++, path_grid.grid);
-        }
+        const cl_uint a = set_closest_queue_args(k_closest_paths, q, count);
+        if (features[Feature::PATH_GRID]) set_bundle_args(k_closest_paths, a, path_grid);
         launch(k_closest_paths, count);
     }
 
@@ -761,11 +754,7 @@ struct Renderer::Impl {
         k.setArg(a++, rays);
         k.setArg(a++, occluded);
         k.setArg(a++, count);
-        if (!use_lists && features[Feature::PATH_GRID]) {  // intersect_shadow.cl walks the grid
-            k.setArg(a++, path_grid.cells);
-            k.setArg(a++, path_grid.entries);
-            k.setArg(a++, path_grid.grid);
-        }
+        if (!use_lists && features[Feature::PATH_GRID]) a = set_bundle_args(k, a, path_grid);  // intersect_shadow.cl walks the grid
         if (use_lists) {
             k.setArg(a++, shadow_lists.grid_count);
             k.setArg(a++, shadow_lists.grids);

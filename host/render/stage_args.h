@@ -59,7 +59,21 @@ void for_each_arg(const ShadeQueue& q, F&& f) {
     f("counters", q.counters);
 }
 
-// Sets a bundle (either struct above) from argument index a on; returns the next free index.
+// HT_PATH_GRID_PARAMS: the path rays' grid (render/path_grid.h) on the device, for the stages that
+// walk it (features[PATH_GRID]).
+struct PathGridBuffers {
+    cl::Buffer cells, entries;
+    HtPathGrid grid{};
+};
+
+template <typename F>
+void for_each_arg(const PathGridBuffers& g, F&& f) {
+    f("grid_cells", g.cells);
+    f("grid_entries", g.entries);
+    f("grid", g.grid);
+}
+
+// Sets a bundle (any struct above) from argument index a on; returns the next free index.
 template <typename Bundle>
 cl_uint set_bundle_args(cl::Kernel& k, cl_uint a, const Bundle& b) {
     for_each_arg(b, [&](const char*, const auto& value) { k.setArg(a++, value); });

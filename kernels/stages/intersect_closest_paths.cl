@@ -7,11 +7,10 @@
 #include "../geometry/bvh_traverse.h"
 #if HT_FEATURE_PATH_GRID
 #include "../geometry/path_grid.h"
+#include "stage_args.h"
 
 __kernel void intersect_closest_paths(HT_GEOMETRY_PARAMS, __global const HtRay* rays, __global HtHit* hits, uint count,
-                                      __global const uint* ray_path, __global HtPathState* paths,
-                                      __global const uint* grid_cells, __global const uint* grid_entries,
-                                      HtPathGrid grid) {
+                                      __global const uint* ray_path, __global HtPathState* paths, HT_PATH_GRID_PARAMS) {
     const uint i = (uint)get_global_id(0);
     if (i >= count) return;
     HtHit hit;

@@ -8,9 +8,10 @@
 #include "../geometry/bvh_traverse.h"
 #if HT_FEATURE_PATH_GRID
 #include "../geometry/path_grid.h"
+#include "stage_args.h"
 
 __kernel void intersect_shadow(HT_GEOMETRY_PARAMS, __global const HtRay* rays, __global uint* occluded, uint count,
-                               __global const uint* grid_cells, __global const uint* grid_entries, HtPathGrid grid) {
+                               HT_PATH_GRID_PARAMS) {
     const uint i = (uint)get_global_id(0);
     if (i >= count) return;
     const HtRay r = rays[i];

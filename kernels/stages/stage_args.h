@@ -43,6 +43,10 @@
 #define HT_SHADE_DUAL_PARAMS
 #endif
 
+/* The path rays' grid (kernels/geometry/path_grid.h), after their own arguments, for the stages that
+ * walk it with HT_FEATURE_PATH_GRID: intersect_closest_paths.cl and intersect_shadow.cl. */
+#define HT_PATH_GRID_PARAMS __global const uint *grid_cells, __global const uint *grid_entries, HtPathGrid grid
+
 /* --light-vertices (kernels/integrator/light_vertices.h): the pass's light rays and their hits in,
  * shade's connection per ray (shadow ray and contribution) out */
 #ifdef HT_LIGHT_VERTICES

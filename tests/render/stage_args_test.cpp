@@ -31,4 +31,20 @@ TEST(StageArgs, ShadeTakesGeometrySceneQueueAndBounceInTheHostsOrder) {
     EXPECT_EQ(kernel_arg_names(cl::Kernel(prog, "shade")), expected);
 }
 
+// The stages that walk the path rays' grid take its bundle after their own arguments, as the
+// renderer sets it (render/renderer.cpp: the path stage and the shadow stage).
+TEST(StageArgs, TheGridWalkingStagesEndWithThePathGridBundle) {
+    ht::ClContext cl;
+    ht::KernelFeatures features;
+    features[ht::Feature::PATH_GRID] = true;
+    cl::Program prog = cl.build("stages/trace.cl", ht::kernel_build_options(features) + " -cl-kernel-arg-info");
+    const std::vector<std::string> grid = ht::bundle_arg_names<ht::PathGridBuffers>();
+    ASSERT_EQ(grid.size(), 3u);
+    for (const char* stage : {"intersect_closest_paths", "intersect_shadow"}) {
+        const std::vector<std::string> names = kernel_arg_names(cl::Kernel(prog, stage));
+        ASSERT_GT(names.size(), grid.size()) << stage;
+        EXPECT_EQ(std::vector<std::string>(names.end() - grid.size(), names.end()), grid) << stage;
+    }
+}
+
 }  // namespace
