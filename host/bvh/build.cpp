@@ -42,9 +42,13 @@ unsigned build_threads(const BvhOptions& opt) {
     return opt.threads ? opt.threads : std::max(1u, std::thread::hardware_concurrency());
 }
 
-// Below this many elements a thread, a pass of the build stays on the calling thread, so that small
-// scenes start no threads for it (for_ranges, Flattener::moments_of; a threshold chosen, not tuned).
-constexpr size_t kMinPerThread = 16384;
+// The threads a pass over n elements uses: at most `threads`, and none beside the calling thread
+// below 16,384 elements a thread, so that small scenes start no threads for it (for_ranges,
+// Flattener::moments_of; a threshold chosen, not tuned).
+unsigned pass_threads(size_t n, unsigned threads) {
+    constexpr size_t kMinPerThread = 16384;
+    return unsigned(std::max<size_t>(1, std::min<size_t>(threads, n / kMinPerThread)));
+}
 
 // The build's arrays (points, segment records, references, intermediate nodes: ~30 MB for 250k
 // segments) are written once into fresh memory, and on this project's KVM guests a first touch of
@@ -1231,12 +1235,10 @@ void add_refs(BulkVector<Ref>& refs, uint32_t seg, const float* p0, const float*
     refs.push_back(ref);
 }
 
-// fn(b, e) over [0, n) on up to `threads` threads (core/parallel.h), small passes on the calling
-// thread alone (kMinPerThread).
+// fn(b, e) over [0, n) on pass_threads(n, threads) threads (core/parallel.h).
 template <class Fn>
 void for_ranges(size_t n, unsigned threads, const Fn& fn) {
-    const size_t t = std::min<size_t>(threads, n / kMinPerThread);
-    in_parallel(n, int(t), [&](int, size_t b, size_t e) { fn(b, e); });
+    in_parallel(n, int(pass_threads(n, threads)), [&](int, size_t b, size_t e) { fn(b, e); });
 }
 
 void build_bvh_from(const BulkVector<HtSegment>& base, SceneGeometry& geo, const BvhOptions& opt) {
@@ -1297,7 +1299,7 @@ void build_bvh_from(const BulkVector<HtSegment>& base, SceneGeometry& geo, const
     BulkVector<Moments> moments;
     if (opt.obb_ratio > 0) {
         moments.resize(builder.used());
-        Flattener::moments_of(builder.nodes(), ends, root, moments, refs.size() >= 2 * kMinPerThread ? threads : 1);
+        Flattener::moments_of(builder.nodes(), ends, root, moments, pass_threads(refs.size(), threads));
     }
     Flattener fl{builder.nodes(), geo.nodes.data(), 0, (uint32_t)records, opt, ends, moments, threads};
     Box rb = builder.nodes()[root].box[0];

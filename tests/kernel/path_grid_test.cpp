@@ -1,8 +1,9 @@
 // The path rays' uniform grid (render/path_grid.h, kernels/geometry/path_grid.h): the walk finds the
 // tree's answer, bit for bit (the capsule, at a tie too, and its t; as a shadow ray, its occlusion),
 // for rays leaving the fibres in random directions as path rays do, for rays from outside the grid,
-// along the axes and with a short tmax, at cells from a tenth of a segment to one cell for the whole scene; and the builder
-// lists every capsule in ascending order in every cell it may meet a ray in.
+// along the axes and with a short tmax, at cells from a tenth of a segment to one cell for the
+// whole scene; and the builder lists every capsule in ascending order in every cell it may meet a
+// ray in.
 #include <gtest/gtest.h>
 
 #include "bvh/bvh.h"
