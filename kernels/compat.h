@@ -12,6 +12,7 @@
  *   HT_FIBER_FN                        the same for kernels/fiber/ (force-inlined where HT_FIBER_INLINE is defined)
  *   HT_NOINLINE                        keeps a helper a called function in the kernels (a hint; the host ignores it)
  *   HT_GLOBAL, HT_CONST_GLOBAL         address-space qualifiers for buffer pointers
+ *   HT_PREFETCH(p)                     a hint to start loading *p's cache line (nothing where unsupported)
  *   ht_select(c, a, b)                 compare-select min/max friendly form (PoCL: faster than fmin)
  *   ht_as_uint / ht_as_float           bit casts
  *   HT_PI, HT_INV_PI, HT_REAL_MAX
@@ -127,6 +128,15 @@ HT_FN uint mul_hi(uint a, uint b) { return (uint)(((ulong)a * (ulong)b) >> 32); 
 #define HT_INV_PI HT_R(0.31830988618379067154)
 #define HT_INV_TWO_PI HT_R(0.15915494309189533577)
 #define HT_INV_FOUR_PI HT_R(0.07957747154594766788)
+
+/* A hint that the cache line holding *p will be read soon, which lets a load that may miss start
+ * before the code that needs it: clang's and GCC's builtin (OpenCL's own prefetch() compiles to
+ * nothing on PoCL: host/bvh/NOTES.md "Tried in session 28"); elsewhere nothing. */
+#if defined(__clang__) || defined(__GNUC__)
+#define HT_PREFETCH(p) __builtin_prefetch(p)
+#else
+#define HT_PREFETCH(p) ((void)0)
+#endif
 
 #define ht_select(c, a, b) ((c) ? (a) : (b))
 HT_FN real ht_min(real a, real b) { return a < b ? a : b; }

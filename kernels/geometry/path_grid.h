@@ -69,8 +69,17 @@ HT_FN uint ht_grid_walk(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_CONST_GLOBAL uint* ce
             const int stride = a == 0 ? 1 : a == 1 ? row : slice;
             const uint next_cell = inside ? (uint)((int)cell + step[a] * stride) : cell;
             const uint next_from = cell_start[next_cell], next_end = cell_start[next_cell + 1u];
+            /* and that cell's first entries asked for as soon as their place is known (a prefetch
+             * past the array's end, after the last cell, reads nothing) */
+            HT_PREFETCH(&entries[next_from]);
             for (uint e = from; e < end; ++e) {
-                pending[np++] = entries[e];
+                const uint id = entries[e];
+                /* its leaf record is read when its group is tested, after up to seven more entries
+                 * and a cell or two of the walk: asked for now, a record that misses the caches
+                 * arrives meanwhile (docs/PERFORMANCE.md section 1 "The grid's leaf records and
+                 * next entries prefetched") */
+                HT_PREFETCH(&HT_SEG(id));
+                pending[np++] = id;
                 if (np == 8u) {
                     const int found = ht_intersect_ids(HT_SEGS_ARG, HT_POINTS_ARG, pending, 8u, o, d, tmin, &tbest, &best);
                     np = 0u;
