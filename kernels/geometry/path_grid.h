@@ -69,8 +69,8 @@ HT_FN uint ht_grid_walk(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_CONST_GLOBAL uint* ce
             const int stride = a == 0 ? 1 : a == 1 ? row : slice;
             const uint next_cell = inside ? (uint)((int)cell + step[a] * stride) : cell;
             const uint next_from = cell_start[next_cell], next_end = cell_start[next_cell + 1u];
-            /* and that cell's first entries asked for as soon as their place is known (a prefetch
-             * past the array's end, after the last cell, reads nothing) */
+            /* and that cell's first entries asked for as soon as their place is known (where every
+             * later cell is empty the address is one past the array's end: a prefetch never faults) */
             HT_PREFETCH(&entries[next_from]);
             for (uint e = from; e < end; ++e) {
                 const uint id = entries[e];
