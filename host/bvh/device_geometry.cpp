@@ -100,10 +100,11 @@ template <typename Array>
 cl::Buffer copied(ClContext& cl, const char* what, const Array& a) {
     return read_only_buffer(cl, what, a.data(), a.size() * sizeof(a[0]), GeometryMemory::Copy);
 }
-// Kernel arguments from index `a` on, in order.
+// Kernel arguments from index `a` on, in order; returns the next free index.
 template <typename... Args>
-void set_args(cl::Kernel& k, cl_uint a, const Args&... args) {
+cl_uint set_args(cl::Kernel& k, cl_uint a, const Args&... args) {
     (k.setArg(a++, args), ...);
+    return a;
 }
 }  // namespace
 
@@ -172,13 +173,13 @@ void DeviceTracer::set_starts(const std::vector<uint32_t>& starts) {
 
 void DeviceTracer::set_path_grid(const BulkVector<uint32_t>& cell_start, const BulkVector<uint32_t>& entries,
                                  const HtPathGrid& grid) {
-    grid_cells_ = copied(cl_, "path grid cells", cell_start);
-    grid_entries_ = copied(cl_, "path grid entries", entries);
-    grid_ = grid;
+    path_grid_.cells = copied(cl_, "path grid cells", cell_start);
+    path_grid_.entries = copied(cl_, "path grid entries", entries);
+    path_grid_.grid = grid;
 }
 
 void DeviceTracer::use_path_grid() {
-    if (!grid_cells_()) throw std::logic_error("DeviceTracer::use_path_grid before set_path_grid");
+    if (!path_grid_.cells()) throw std::logic_error("DeviceTracer::use_path_grid before set_path_grid");
     closest_mode_ = Closest::Grid;
 }
 
@@ -265,7 +266,7 @@ void DeviceTracer::enqueue_closest() {
         // the path stage's arguments: ray i of path ray_path[i] in paths, which its grid variant
         // reads neither of (any buffers do), then the grid
         enqueue(closest_grid_, hits_, [&](cl::Kernel& k, cl_uint a) {
-            set_args(k, a, starts_, occluded_, grid_cells_, grid_entries_, grid_);
+            set_bundle_args(k, set_args(k, a, starts_, occluded_), path_grid_);
         });
         break;
     case Closest::CameraLists:  // intersect_camera.cl's order
@@ -279,7 +280,7 @@ void DeviceTracer::enqueue_closest() {
 void DeviceTracer::enqueue_shadow() {
     // the render's stage by the grid (none in a program built with HT_FEATURE_PATH_GRID=0: the tree)
     if (!shadow_by_lists_ && closest_mode_ == Closest::Grid && shadow_grid_()) {
-        enqueue(shadow_grid_, occluded_, [&](cl::Kernel& k, cl_uint a) { set_args(k, a, grid_cells_, grid_entries_, grid_); });
+        enqueue(shadow_grid_, occluded_, [&](cl::Kernel& k, cl_uint a) { set_bundle_args(k, a, path_grid_); });
         return;
     }
     if (!shadow_by_lists_) {

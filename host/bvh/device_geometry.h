@@ -4,6 +4,7 @@
 #include "bvh/bvh.h"
 #include "cl/device.h"
 #include "bvh/geometry_paging.h"
+#include "bvh/path_grid_buffers.h"
 #include "core/bulk_vector.h"
 
 #include <string>
@@ -123,11 +124,10 @@ private:
     cl::Buffer camera_start_, camera_count_, camera_primitive_, camera_depth_, camera_leaf_node_, camera_paths_,
         camera_ray_path_;
     cl_float4 camera_depth_row_{};
-    cl::Buffer grid_cells_, grid_entries_;
+    PathGridBuffers path_grid_;  // as the renderer sets it (render/renderer.cpp)
     cl::Buffer list_grids_, list_start_, list_count_, list_primitive_, list_key_;
     cl_uint list_grid_count_ = 0;
     bool shadow_by_lists_ = false;
-    HtPathGrid grid_{};
     cl::Buffer rays_, hits_, occluded_, starts_;
     enum class Closest { Root, Starts, Grid, CameraLists } closest_mode_ = Closest::Root;
     size_t capacity_ = 0, count_ = 0;

@@ -1,14 +1,15 @@
 // The host side of the stage kernels' argument bundles (kernels/stages/stage_args.h): one struct
-// per bundle, the names in the kernels' order declared once here, and one template that sets any
-// bundle (tests/render/stage_args_test.cpp compares the names with the compiled kernels').
+// per bundle, with the names in the kernels' order declared once beside it, set by
+// cl/arg_bundle.h's set_bundle_args (tests/render/stage_args_test.cpp compares the names with the
+// compiled kernels').  The path grid's bundle is bvh/path_grid_buffers.h's, which bench's tracer
+// sets too.
 #pragma once
 
+#include "bvh/path_grid_buffers.h"
+#include "cl/arg_bundle.h"
 #include "kernels/types.h"
 
 #include <CL/opencl.hpp>
-
-#include <string>
-#include <vector>
 
 namespace ht {
 
@@ -57,35 +58,6 @@ void for_each_arg(const ShadeQueue& q, F&& f) {
     f("stage_rays", q.stage_rays);
     f("stage_path", q.stage_path);
     f("counters", q.counters);
-}
-
-// HT_PATH_GRID_PARAMS: the path rays' grid (render/path_grid.h) on the device, for the stages that
-// walk it (features[PATH_GRID]).
-struct PathGridBuffers {
-    cl::Buffer cells, entries;
-    HtPathGrid grid{};
-};
-
-template <typename F>
-void for_each_arg(const PathGridBuffers& g, F&& f) {
-    f("grid_cells", g.cells);
-    f("grid_entries", g.entries);
-    f("grid", g.grid);
-}
-
-// Sets a bundle (any struct above) from argument index a on; returns the next free index.
-template <typename Bundle>
-cl_uint set_bundle_args(cl::Kernel& k, cl_uint a, const Bundle& b) {
-    for_each_arg(b, [&](const char*, const auto& value) { k.setArg(a++, value); });
-    return a;
-}
-
-// A bundle's argument names, in order.
-template <typename Bundle>
-std::vector<std::string> bundle_arg_names() {
-    std::vector<std::string> names;
-    for_each_arg(Bundle{}, [&](const char* name, const auto&) { names.push_back(name); });
-    return names;
 }
 
 }  // namespace ht

@@ -1,8 +1,8 @@
 /* Argument bundles of the stage kernels, declared once.  OpenCL C 1.2 allows no pointers in
  * kernel-argument structs, so a bundle is a parameter list; the host sets each bundle with one
- * call (host/render/stage_args.h), and tests/render/stage_args_test.cpp checks that the host's
- * argument names and order equal these (CL_KERNEL_ARG_NAME).  Stage signatures read
- * (geometry, scene, queue, per-launch values). */
+ * call (host/render/stage_args.h; the path grid's: host/bvh/path_grid_buffers.h), and
+ * tests/render/stage_args_test.cpp checks that the host's argument names and order equal these
+ * (CL_KERNEL_ARG_NAME).  Stage signatures read (geometry, scene, queue, per-launch values). */
 #ifndef HT_STAGE_ARGS_H
 #define HT_STAGE_ARGS_H
 
