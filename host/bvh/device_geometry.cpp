@@ -1,5 +1,6 @@
 #include "bvh/device_geometry.h"
 
+#include "kernels/geometry/candidate_list.h"
 #include "kernels/geometry/pages.h"
 
 #include <algorithm>
@@ -252,9 +253,9 @@ void DeviceTracer::enqueue(cl::Kernel& k, cl::Buffer& out, const std::function<v
         k.setArg(a++, out);
         k.setArg(a++, (cl_uint)count_);
         if (extra) extra(k, a);
-        cl_.queue().enqueueNDRangeKernel(k, cl::NullRange,
-                                         cl::NDRange(round_up(count_, kLocalSize)),
-                                         cl::NDRange(kLocalSize));
+        // intersect_shadow_lists answers several rays per work-item (kernels/geometry/candidate_list.h)
+        const size_t items = &k == &shadow_lists_ ? ht_shadow_list_items(cl_uint(count_)) : count_;
+        cl_.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up(items, kLocalSize)), cl::NDRange(kLocalSize));
     });
 }
 

@@ -24,6 +24,7 @@
 #include "render/ray_dump.h"
 #include "render/split_choice.h"
 #include "render/stage_args.h"
+#include "kernels/geometry/candidate_list.h"
 #include "kernels/surface/texture.h"
 
 #include <algorithm>
@@ -763,7 +764,7 @@ struct Renderer::Impl {
             k.setArg(a++, shadow_lists.primitive);
             k.setArg(a++, shadow_lists.key);
         }
-        launch(k, count);
+        launch(k, use_lists ? ht_shadow_list_items(count) : count);  // several rays per work-item
     }
 
     // The arguments the translucent shadow stages share: geometry, the strands' materials, the

@@ -142,6 +142,18 @@ HT_FN uint ht_shadow_grid_of(HT_CONST_GLOBAL HtShadowGrid* grids, uint grid_coun
     return grid_count;
 }
 
+/* intersect_shadow_lists answers this many rays per work-item: it finds every ray's cell and asks
+ * for its list bounds, then reads those and asks for each list's first group, then tests the rays,
+ * so the loads of one ray overlap those of the others instead of each ray waiting on its own three
+ * in turn (a render's shadow rays come from scattered points, for two or three lights in turn:
+ * neighbouring rays rarely share a list).  Measured on the CPU device, 2, 4, 8 and 16
+ * (docs/PERFORMANCE.md section 1 "Shadow lists: sixteen rays per work-item"). */
+#define HT_SHADOW_LIST_RAYS_PER_ITEM 16u
+/* The stage's work-items for n rays (the host's global size before rounding to the local size). */
+HT_FN uint ht_shadow_list_items(uint n) {
+    return n / HT_SHADOW_LIST_RAYS_PER_ITEM + (n % HT_SHADOW_LIST_RAYS_PER_ITEM != 0u ? 1u : 0u);
+}
+
 /* Whether shadow ray r is blocked, from the n entries of its cell's list in `grid` (n > 0 and not
  * HT_CANDIDATES_USE_TREE): the tree's answer. */
 HT_FN uint ht_shadow_list_any(HT_SEGS_PARAM, HT_POINTS_PARAM, HT_CONST_GLOBAL HtShadowGrid* grid, HT_CONST_GLOBAL uint* prim,
