@@ -243,7 +243,8 @@ void DeviceTracer::use_shadow_lists() {
     shadow_by_lists_ = true;
 }
 
-void DeviceTracer::enqueue(cl::Kernel& k, cl::Buffer& out, const std::function<void(cl::Kernel&, cl_uint)>& extra) {
+void DeviceTracer::enqueue(cl::Kernel& k, cl::Buffer& out, const std::function<void(cl::Kernel&, cl_uint)>& extra,
+                           size_t work_items) {
     if (!count_) return;
     device_step("kernel launch", [&] {
         cl_uint a = set_paged_args(k, 0, geo_.nodes);
@@ -253,8 +254,7 @@ void DeviceTracer::enqueue(cl::Kernel& k, cl::Buffer& out, const std::function<v
         k.setArg(a++, out);
         k.setArg(a++, (cl_uint)count_);
         if (extra) extra(k, a);
-        // intersect_shadow_lists answers several rays per work-item (kernels/geometry/candidate_list.h)
-        const size_t items = &k == &shadow_lists_ ? ht_shadow_list_items(cl_uint(count_)) : count_;
+        const size_t items = work_items ? work_items : count_;
         cl_.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up(items, kLocalSize)), cl::NDRange(kLocalSize));
     });
 }
@@ -288,9 +288,13 @@ void DeviceTracer::enqueue_shadow() {
         enqueue(shadow_, occluded_);
         return;
     }
-    enqueue(shadow_lists_, occluded_, [&](cl::Kernel& k, cl_uint a) {  // intersect_shadow_lists.cl's order
-        set_args(k, a, list_grid_count_, list_grids_, list_start_, list_count_, list_primitive_, list_key_);
-    });
+    // intersect_shadow_lists.cl's order; several rays per work-item (kernels/geometry/candidate_list.h)
+    enqueue(
+        shadow_lists_, occluded_,
+        [&](cl::Kernel& k, cl_uint a) {
+            set_args(k, a, list_grid_count_, list_grids_, list_start_, list_count_, list_primitive_, list_key_);
+        },
+        ht_shadow_list_items(cl_uint(count_)));
 }
 void DeviceTracer::finish() {
     device_step("kernel execution", [&] { cl_.queue().finish(); });

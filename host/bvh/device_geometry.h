@@ -115,7 +115,9 @@ public:
 private:
     void build_lists_program();
     // k's arguments: the geometry, the rays, `out`, the count, then extra(k, next index)'s
-    void enqueue(cl::Kernel& k, cl::Buffer& out, const std::function<void(cl::Kernel&, cl_uint)>& extra = {});
+    // (work_items: the launch's work-items before rounding to the local size, 0 for one per ray)
+    void enqueue(cl::Kernel& k, cl::Buffer& out, const std::function<void(cl::Kernel&, cl_uint)>& extra = {},
+                 size_t work_items = 0);
 
     ClContext& cl_;
     const DeviceGeometry& geo_;
